@@ -1,0 +1,21 @@
+"""Multibody models: the immutable :class:`Model`, URDF loading and the robot registry.
+
+``load("panda")`` loads a robot by name (see ``robots()``), a URDF path or URDF text;
+``load_urdf(source)`` loads a URDF file or text.
+"""
+
+from cgadyn.multibody.model import PRISMATIC, REVOLUTE, Model, build_model, merge_inertias
+from cgadyn.multibody.registry import load, robot_path, robots
+from cgadyn.multibody.urdf import load_urdf
+
+__all__ = [
+    "Model",
+    "PRISMATIC",
+    "REVOLUTE",
+    "build_model",
+    "load",
+    "load_urdf",
+    "merge_inertias",
+    "robot_path",
+    "robots",
+]

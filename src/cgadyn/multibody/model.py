@@ -1,0 +1,374 @@
+"""The immutable multibody :class:`Model`: a kinematic tree of one-dof joints.
+
+A model holds, for every movable joint ``j = 0..n-1`` (in Pinocchio's order for the same
+URDF), the index of its parent joint, its placement at ``q = 0`` as a CGA motor, its screw
+axis as a CGA twist and the CGA inertia of its body (every link attached to it through
+fixed joints merged in). It also keeps the raw physical data (4x4 placements, unit axes,
+mass, centre of mass, rotational inertia) and the frames of every URDF link.
+
+All arrays are read-only; build a model with :func:`build_model` (from raw data) or
+:func:`cgadyn.multibody.load_urdf` (from a URDF).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+REVOLUTE = 0
+PRISMATIC = 1
+
+JOINT_KINDS = ("revolute", "continuous", "prismatic")
+_KIND_TYPE = {"revolute": REVOLUTE, "continuous": REVOLUTE, "prismatic": PRISMATIC}
+
+_ARRAY_FIELDS = (
+    "joint_types",
+    "parents",
+    "placements",
+    "axes",
+    "inertias",
+    "body_mass",
+    "body_com",
+    "body_rotational_inertia",
+    "lower",
+    "upper",
+    "velocity_limit",
+    "effort_limit",
+    "link_joint",
+    "link_placements",
+    "placement_matrices",
+    "axis_vectors",
+    "link_placement_matrices",
+)
+
+
+@dataclass(frozen=True, eq=False)
+class Model:
+    """A robot: a tree of one-dof joints with rigid bodies, the root link fixed to the world.
+
+    Joint ``j`` (``0 <= j < n``) moves body ``j``; its frame is the URDF child link frame
+    of that joint. The order of the joints, and so of ``q``, ``v``, ``a`` and ``tau``, is
+    Pinocchio's for the same URDF (see ``joint_names``). Every joint has one degree of
+    freedom: a continuous joint takes one angle, so ``nq == nv == n``.
+
+    Mimic joints are treated as independent joints, as Pinocchio does by default; the
+    ``mimic`` attribute records the URDF ``<mimic>`` data (leader joint name, multiplier,
+    offset) or ``None`` per joint, for information only.
+
+    Attributes
+    ----------
+    name : str
+        The robot's name.
+    joint_names : tuple[str, ...]
+        Movable joints, in Pinocchio's order (``pin_model.names[1:]``).
+    joint_kinds : tuple[str, ...]
+        ``'revolute'``, ``'continuous'`` or ``'prismatic'`` per joint.
+    joint_types : int64 (n,)
+        ``REVOLUTE`` (0, for revolute and continuous) or ``PRISMATIC`` (1).
+    parents : int64 (n,)
+        Parent joint index, ``-1`` for the world; ``parents[j] < j``.
+    placements : float64 (n, 8)
+        CGA motor of joint frame ``j`` in its parent joint frame (the world for ``-1``)
+        at ``q = 0``, fixed joints in between composed in (Pinocchio's
+        ``model.jointPlacements[j + 1]``).
+    axes : float64 (n, 6)
+        Joint screw ``B_j`` as a CGA twist in joint frame ``j``, with a unit axis.
+    inertias : float64 (n, 6, 6)
+        CGA inertia of body ``j`` in joint frame ``j`` (Pinocchio's ``model.inertias[j+1]``).
+    body_mass : float64 (n,)
+    body_com : float64 (n, 3)
+        Centre of mass of body ``j`` in joint frame ``j``.
+    body_rotational_inertia : float64 (n, 3, 3)
+        Rotational inertia of body ``j`` about its centre of mass, axes of joint frame ``j``.
+    lower, upper : float64 (n,)
+        Position limits (``-inf``/``inf`` for continuous joints).
+    velocity_limit, effort_limit : float64 (n,)
+        Velocity and effort limits (``inf`` where the URDF gives none).
+    link_names : tuple[str, ...]
+        Every URDF link, in the order of the URDF file.
+    link_joint : int64 (nl,)
+        Index of the joint whose body the link is rigidly attached to, ``-1`` for the world.
+    link_placements : float64 (nl, 8)
+        CGA motor of the link frame in the frame of joint ``link_joint`` (or the world).
+    root_link : str
+        The URDF root link, fixed to the world.
+    placement_matrices : float64 (n, 4, 4)
+        ``placements`` as homogeneous 4x4 matrices.
+    axis_vectors : float64 (n, 3)
+        Unit joint axes in joint frame ``j``.
+    link_placement_matrices : float64 (nl, 4, 4)
+        ``link_placements`` as homogeneous 4x4 matrices.
+    mimic : tuple
+        ``None`` or ``(leader_joint_name, multiplier, offset)`` per joint (information only).
+    """
+
+    name: str
+    joint_names: tuple
+    joint_kinds: tuple
+    joint_types: np.ndarray
+    parents: np.ndarray
+    placements: np.ndarray
+    axes: np.ndarray
+    inertias: np.ndarray
+    body_mass: np.ndarray
+    body_com: np.ndarray
+    body_rotational_inertia: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    velocity_limit: np.ndarray
+    effort_limit: np.ndarray
+    link_names: tuple
+    link_joint: np.ndarray
+    link_placements: np.ndarray
+    root_link: str
+    placement_matrices: np.ndarray
+    axis_vectors: np.ndarray
+    link_placement_matrices: np.ndarray
+    mimic: tuple
+
+    def __post_init__(self):
+        for field in _ARRAY_FIELDS:
+            arr = getattr(self, field)
+            dtype = np.int64 if field in ("joint_types", "parents", "link_joint") else np.float64
+            arr = np.array(arr, dtype=dtype, copy=True)
+            arr.flags.writeable = False
+            object.__setattr__(self, field, arr)
+        for field in ("joint_names", "joint_kinds", "link_names", "mimic"):
+            object.__setattr__(self, field, tuple(getattr(self, field)))
+        self._check()
+
+    def _check(self):
+        n = len(self.joint_names)
+        nl = len(self.link_names)
+        shapes = {
+            "joint_types": (n,),
+            "parents": (n,),
+            "placements": (n, 8),
+            "axes": (n, 6),
+            "inertias": (n, 6, 6),
+            "body_mass": (n,),
+            "body_com": (n, 3),
+            "body_rotational_inertia": (n, 3, 3),
+            "lower": (n,),
+            "upper": (n,),
+            "velocity_limit": (n,),
+            "effort_limit": (n,),
+            "link_joint": (nl,),
+            "link_placements": (nl, 8),
+            "placement_matrices": (n, 4, 4),
+            "axis_vectors": (n, 3),
+            "link_placement_matrices": (nl, 4, 4),
+        }
+        for field, shape in shapes.items():
+            got = getattr(self, field).shape
+            if got != shape:
+                raise ValueError(f"Model.{field} has shape {got}, expected {shape}")
+        for field in ("joint_kinds", "mimic"):
+            if len(getattr(self, field)) != n:
+                raise ValueError(f"Model.{field} has {len(getattr(self, field))} entries, "
+                                 f"expected {n}")
+        for kind in self.joint_kinds:
+            if kind not in JOINT_KINDS:
+                raise ValueError(f"unknown joint kind {kind!r}, expected one of {JOINT_KINDS}")
+        for j, p in enumerate(self.parents):
+            if not -1 <= p < j:
+                raise ValueError(f"parents[{j}] = {p}: a parent must come before its child "
+                                 f"(-1 <= parents[j] < j)")
+        if np.any((self.link_joint < -1) | (self.link_joint >= n)):
+            raise ValueError("link_joint entries must lie in [-1, n)")
+        if len(set(self.joint_names)) != n:
+            raise ValueError("joint names must be unique")
+
+    # --- sizes -----------------------------------------------------------------------
+
+    @property
+    def njoints(self) -> int:
+        """Number of movable joints n."""
+        return len(self.joint_names)
+
+    @property
+    def nq(self) -> int:
+        """Size of the configuration vector q (= n: one angle per continuous joint)."""
+        return len(self.joint_names)
+
+    @property
+    def nv(self) -> int:
+        """Size of the velocity vector v (= n)."""
+        return len(self.joint_names)
+
+    @property
+    def nlinks(self) -> int:
+        """Number of URDF links."""
+        return len(self.link_names)
+
+    # --- look-ups --------------------------------------------------------------------
+
+    def joint_index(self, name: str) -> int:
+        """Index of the movable joint called ``name``."""
+        try:
+            return self.joint_names.index(name)
+        except ValueError:
+            raise ValueError(f"no movable joint {name!r} in {self.name!r}; "
+                             f"joints: {', '.join(self.joint_names)}") from None
+
+    def link_index(self, name: str) -> int:
+        """Index of the link called ``name`` (into ``link_names``)."""
+        try:
+            return self.link_names.index(name)
+        except ValueError:
+            raise ValueError(f"no link {name!r} in {self.name!r}; "
+                             f"links: {', '.join(self.link_names)}") from None
+
+    def children(self, j: int) -> tuple:
+        """Indices of the joints whose parent is ``j`` (``-1``: the world)."""
+        return tuple(int(i) for i in np.flatnonzero(self.parents == j))
+
+    def subtree(self, j: int) -> tuple:
+        """Indices of joint ``j`` and all joints below it, in increasing order."""
+        inside = np.zeros(self.njoints, dtype=bool)
+        inside[j] = True
+        for i in range(j + 1, self.njoints):
+            p = self.parents[i]
+            inside[i] = p >= 0 and inside[p]
+        return tuple(int(i) for i in np.flatnonzero(inside))
+
+    @property
+    def total_mass(self) -> float:
+        """Mass of all moving bodies (links fixed to the world not included)."""
+        return float(self.body_mass.sum())
+
+    def __repr__(self) -> str:
+        kinds = {k: self.joint_kinds.count(k) for k in JOINT_KINDS if k in self.joint_kinds}
+        kinds_s = ", ".join(f"{v} {k}" for k, v in kinds.items())
+        return (f"Model({self.name!r}, n={self.njoints} ({kinds_s}), "
+                f"links={self.nlinks}, root={self.root_link!r})")
+
+
+def merge_inertias(masses, coms, rotational_inertias):
+    """Merge rigid pieces given in one frame into one body.
+
+    ``masses (k,)``, ``coms (k, 3)``, ``rotational_inertias (k, 3, 3)`` (about each
+    piece's centre of mass, in the common frame's axes). Returns ``(mass, com, inertia
+    about com)``; a massless result has its com at the origin.
+    """
+    masses = np.asarray(masses, dtype=float).reshape(-1)
+    coms = np.asarray(coms, dtype=float).reshape(-1, 3)
+    rot = np.asarray(rotational_inertias, dtype=float).reshape(-1, 3, 3)
+    mass = float(masses.sum())
+    if mass > 0.0:
+        com = (masses[:, None] * coms).sum(axis=0) / mass
+    else:
+        com = np.zeros(3)
+    inertia = np.zeros((3, 3))
+    eye = np.eye(3)
+    for m, c, ic in zip(masses, coms, rot, strict=True):
+        d = c - com
+        inertia += ic + m * (d @ d * eye - np.outer(d, d))
+    return mass, com, 0.5 * (inertia + inertia.T)
+
+
+def build_model(
+    name,
+    joint_names,
+    joint_kinds,
+    parents,
+    placement_matrices,
+    axis_vectors,
+    body_mass,
+    body_com,
+    body_rotational_inertia,
+    lower=None,
+    upper=None,
+    velocity_limit=None,
+    effort_limit=None,
+    link_names=None,
+    link_joint=None,
+    link_placement_matrices=None,
+    root_link="world",
+    mimic=None,
+) -> Model:
+    """Build a :class:`Model` from raw physical data; computes the CGA fields.
+
+    ``placement_matrices (n,4,4)`` are the joint placements at q = 0 in the parent joint
+    frame; ``axis_vectors (n,3)`` the joint axes in the joint frames (normalised here,
+    a zero axis raises ``ValueError``); ``body_*`` the merged bodies in the joint frames.
+    Links default to one per joint (named after the joint) plus the root link.
+    """
+    from cgadyn.cga.conventions import (
+        inertia_from_parameters,
+        motor_from_matrix,
+        twist_from_axis,
+    )
+
+    joint_names = tuple(str(s) for s in joint_names)
+    joint_kinds = tuple(str(s) for s in joint_kinds)
+    n = len(joint_names)
+    for kind in joint_kinds:
+        if kind not in _KIND_TYPE:
+            raise ValueError(f"unknown joint kind {kind!r}, expected one of {JOINT_KINDS}")
+    joint_types = np.array([_KIND_TYPE[k] for k in joint_kinds], dtype=np.int64)
+    placement_matrices = np.asarray(placement_matrices, dtype=float).reshape(n, 4, 4)
+    axis_vectors = np.asarray(axis_vectors, dtype=float).reshape(n, 3)
+    norms = np.linalg.norm(axis_vectors, axis=1)
+    for j in range(n):
+        if not norms[j] > 1e-12 or not np.isfinite(norms[j]):
+            raise ValueError(f"joint {joint_names[j]!r} has a zero (or invalid) axis "
+                             f"{axis_vectors[j].tolist()}; expected a non-zero 3-vector")
+    axis_vectors = axis_vectors / norms[:, None] if n else axis_vectors
+    body_mass = np.asarray(body_mass, dtype=float).reshape(n)
+    body_com = np.asarray(body_com, dtype=float).reshape(n, 3)
+    body_rot = np.asarray(body_rotational_inertia, dtype=float).reshape(n, 3, 3)
+
+    continuous = np.array([k == "continuous" for k in joint_kinds], dtype=bool)
+    lower = np.full(n, -np.inf) if lower is None else np.asarray(lower, dtype=float).copy()
+    upper = np.full(n, np.inf) if upper is None else np.asarray(upper, dtype=float).copy()
+    lower[continuous] = -np.inf
+    upper[continuous] = np.inf
+    velocity_limit = (np.full(n, np.inf) if velocity_limit is None
+                      else np.asarray(velocity_limit, dtype=float))
+    effort_limit = (np.full(n, np.inf) if effort_limit is None
+                    else np.asarray(effort_limit, dtype=float))
+
+    if link_names is None:
+        link_names = (root_link, *joint_names)
+        link_joint = np.arange(-1, n)
+        link_placement_matrices = np.broadcast_to(np.eye(4), (n + 1, 4, 4))
+    link_names = tuple(str(s) for s in link_names)
+    nl = len(link_names)
+    link_placement_matrices = np.asarray(link_placement_matrices, dtype=float).reshape(nl, 4, 4)
+
+    placements = np.array([motor_from_matrix(T) for T in placement_matrices]).reshape(n, 8)
+    axes = np.array([twist_from_axis("prismatic" if t == PRISMATIC else "revolute", a)
+                     for t, a in zip(joint_types, axis_vectors, strict=True)]).reshape(n, 6)
+    inertias = np.array([inertia_from_parameters(m, c, i)
+                         for m, c, i in zip(body_mass, body_com, body_rot, strict=True)]
+                         ).reshape(n, 6, 6)
+    link_placements = np.array([motor_from_matrix(T)
+                                for T in link_placement_matrices]).reshape(nl, 8)
+
+    return Model(
+        name=str(name),
+        joint_names=joint_names,
+        joint_kinds=joint_kinds,
+        joint_types=joint_types,
+        parents=np.asarray(parents, dtype=np.int64).reshape(n),
+        placements=placements,
+        axes=axes,
+        inertias=inertias,
+        body_mass=body_mass,
+        body_com=body_com,
+        body_rotational_inertia=body_rot,
+        lower=lower,
+        upper=upper,
+        velocity_limit=velocity_limit,
+        effort_limit=effort_limit,
+        link_names=link_names,
+        link_joint=np.asarray(link_joint, dtype=np.int64).reshape(nl),
+        link_placements=link_placements,
+        root_link=str(root_link),
+        placement_matrices=placement_matrices,
+        axis_vectors=axis_vectors,
+        link_placement_matrices=link_placement_matrices,
+        mimic=tuple(mimic) if mimic is not None else (None,) * n,
+    )
