@@ -1,0 +1,45 @@
+"""Compiled kernels for the typed subspaces of CGA: motors, twists, wrenches, inertias.
+
+``_generated`` holds the explicit formulas produced by ``tools/generate_kernels.py``;
+``motors`` the closed forms (exp, log, joint motors, normalisation) built on them;
+``batch`` the ``(B, k)`` forms that run in parallel over samples.
+"""
+
+from ._generated import (
+    dot,
+    inertia_apply,
+    inertia_transform,
+    motor_mul,
+    motor_reverse,
+    motor_translation,
+    translator_rotor,
+    twist_cross,
+    twist_cross_wrench,
+    twist_sandwich,
+    twist_sandwich_rev,
+    wrench_adjoint,
+    wrench_sandwich,
+    wrench_sandwich_rev,
+)
+from .motors import joint_motor, motor_log, motor_normalize, twist_exp
+
+__all__ = [
+    "dot",
+    "inertia_apply",
+    "inertia_transform",
+    "joint_motor",
+    "motor_log",
+    "motor_mul",
+    "motor_normalize",
+    "motor_reverse",
+    "motor_translation",
+    "translator_rotor",
+    "twist_cross",
+    "twist_cross_wrench",
+    "twist_exp",
+    "twist_sandwich",
+    "twist_sandwich_rev",
+    "wrench_adjoint",
+    "wrench_sandwich",
+    "wrench_sandwich_rev",
+]

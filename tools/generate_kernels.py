@@ -1,0 +1,366 @@
+"""Generate ``src/cgadyn/kernels/_generated.py`` from the reference algebra.
+
+Every kernel is derived by running the reference ``Multivector`` products of
+``cgadyn.algebra`` on sympy symbols in the CGA null basis (``cgadyn.cga.basis``), expanding,
+and printing one explicit formula per output coefficient. Sandwiches are printed in two
+stages (``T = M X``, then ``<T M~>``), which is how a person would compute them by hand and
+costs far fewer operations than the fully expanded quadratic form.
+
+Usage::
+
+    python tools/generate_kernels.py            # rewrite the file
+    python tools/generate_kernels.py --check    # exit 1 if the committed file is stale
+
+Never edit the generated file by hand: change this script and run it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+import sympy as sp
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "src"))
+
+from cgadyn.cga.basis import (  # noqa: E402
+    MOTOR_BLADES,
+    NULL,
+    TWIST_BLADES,
+    WRENCH_BLADES,
+)
+
+TARGET = ROOT / "src" / "cgadyn" / "kernels" / "_generated.py"
+
+
+# --- symbolic helpers ---------------------------------------------------------------------
+
+
+def symbols(prefix: str, n: int) -> list[sp.Symbol]:
+    return list(sp.symbols(f"{prefix}0:{n}", real=True))
+
+
+def mv(values, blades):
+    return NULL.multivector(np.array(values, dtype=object), list(blades))
+
+
+def clean(expr) -> sp.Expr:
+    """Expand, and turn the float signs of reverse/involution into exact rationals."""
+    expr = sp.expand(sp.sympify(expr))
+    return sp.expand(expr.xreplace({f: sp.nsimplify(f) for f in expr.atoms(sp.Float)}))
+
+
+def coeffs(m, blades) -> list[sp.Expr]:
+    return [clean(c) for c in NULL.coeffs(m, list(blades))]
+
+
+def all_coeffs(m) -> dict[str, sp.Expr]:
+    """Nonzero coefficients of ``m`` on every null-basis blade."""
+    c = NULL.coeffs(m)
+    out = {}
+    for name, v in zip(NULL.blade_names, c, strict=True):
+        v = clean(v)
+        if v != 0:
+            out[name] = v
+    return out
+
+
+def as_float(expr: sp.Expr) -> sp.Expr:
+    return expr.xreplace({r: sp.Float(r) for r in expr.atoms(sp.Rational) if not r.is_Integer})
+
+
+def count_ops(exprs: list[sp.Expr]) -> tuple[int, int]:
+    mul = add = 0
+    for e in exprs:
+        ops = sp.count_ops(e, visual=True)
+        d = {str(k): v for k, v in ops.as_coefficients_dict().items()}
+        mul += int(d.get("MUL", 0)) + int(d.get("DIV", 0))
+        add += int(d.get("ADD", 0)) + int(d.get("SUB", 0))
+    return mul, add
+
+
+def load(name: str, sym: list[sp.Symbol]) -> str:
+    return f"    {', '.join(map(str, sym))} = " + ", ".join(f"{name}[{i}]" for i in range(len(sym)))
+
+
+def assign_lines(target: str, exprs: list[sp.Expr]) -> list[str]:
+    return [f"    {target}[{i}] = {sp.sstr(as_float(e))}" for i, e in enumerate(exprs)]
+
+
+# --- kernels ------------------------------------------------------------------------------
+
+a8, b8 = symbols("a", 8), symbols("b", 8)
+m8 = symbols("m", 8)
+v6, w6, u6 = symbols("v", 6), symbols("w", 6), symbols("u", 6)
+
+
+class Kernel:
+    def __init__(self, name, args, doc, body, exprs, returns=None, out_shape=None):
+        self.name, self.args, self.doc, self.body = name, args, doc, body
+        self.exprs, self.returns, self.out_shape = exprs, returns, out_shape
+
+    def source(self) -> str:
+        mul, add = count_ops(self.exprs)
+        lines = ["", "", "@njit(cache=True, nogil=True)", f"def {self.name}({', '.join(self.args)}):"]
+        lines.append(f'    """{self.doc}')
+        lines.append("")
+        lines.append(f"    {mul} multiplications, {add} additions.")
+        lines.append('    """')
+        lines += self.body
+        if self.returns:
+            lines.append(f"    return {self.returns}")
+        return "\n".join(lines)
+
+
+def motor_mul() -> Kernel:
+    out = coeffs(mv(a8, MOTOR_BLADES) * mv(b8, MOTOR_BLADES), MOTOR_BLADES)
+    body = [load("a", a8), load("b", b8)] + assign_lines("out", out)
+    return Kernel(
+        "motor_mul", ["a", "b", "out"],
+        "Geometric product of two motors, ``out = a b`` (composition, eq. 5).", body, out,
+    )
+
+
+def motor_reverse() -> Kernel:
+    out = coeffs(~mv(a8, MOTOR_BLADES), MOTOR_BLADES)
+    body = [load("a", a8)] + assign_lines("out", out)
+    return Kernel("motor_reverse", ["a", "out"], "Reverse of a motor, ``out = ~a``.", body, out)
+
+
+def sandwich(name: str, doc: str, blades_in, blades_out, reverse: bool) -> Kernel:
+    """``out = <M X ~M>`` (or ``<~M X M>``) in two explicit stages."""
+    m = mv(m8, MOTOR_BLADES)
+    x = mv(v6, blades_in)
+    left, right = (~m, m) if reverse else (m, ~m)
+    stage = all_coeffs(left * x)
+    t = symbols("t", len(stage))
+    t_mv = NULL.multivector(np.array(t, dtype=object), list(stage))
+    out = coeffs(t_mv * right, blades_out)
+    body = [load("m", m8), load("x", v6)]
+    body.append(f"    # stage 1: T = {'~M' if reverse else 'M'} X on blades {', '.join(stage)}")
+    body += [f"    {s} = {sp.sstr(as_float(e))}" for s, e in zip(t, stage.values(), strict=True)]
+    body.append(f"    # stage 2: out = <T {'M' if reverse else '~M'}> on the output blades")
+    body += assign_lines("out", out)
+    return Kernel(name, ["m", "x", "out"], doc, body, list(stage.values()) + out)
+
+
+def commutator(name, doc, blades_a, blades_b, blades_out, sym_a, sym_b) -> Kernel:
+    a, b = mv(sym_a, blades_a), mv(sym_b, blades_b)
+    out = coeffs((a * b - b * a) * sp.Rational(1, 2), blades_out)
+    body = [load("a", sym_a), load("b", sym_b)] + assign_lines("out", out)
+    return Kernel(name, ["a", "b", "out"], doc, body, out)
+
+
+def twist_wrench_dot() -> Kernel:
+    e = clean(np.asarray(mv(v6, TWIST_BLADES).scalar_product(mv(w6, WRENCH_BLADES))).item())
+    body = [load("v", v6), load("w", w6)]
+    return Kernel(
+        "dot",
+        ["v", "w"],
+        "Inner product ``v · w`` of a twist and a wrench (a scalar).\n\n"
+        "    The power of the motion is ``p = -v · w`` (eq. 9).",
+        body, [e], returns=sp.sstr(as_float(e)),
+    )
+
+
+def inertia_apply() -> Kernel:
+    """W = I[V] = -sum_k (I^{e_k} . V) e_k, eq. (15)."""
+    isym = [symbols(f"i{k}_", 6) for k in range(6)]
+    v = mv(v6, TWIST_BLADES)
+    out = []
+    for k in range(6):
+        element = mv(isym[k], WRENCH_BLADES)
+        out.append(clean(-np.asarray(element.scalar_product(v)).item()))
+    body = [load("v", v6)]
+    for k in range(6):
+        body.append(f"    {', '.join(map(str, isym[k]))} = " +
+                    ", ".join(f"inertia[{k}, {j}]" for j in range(6)))
+    body += assign_lines("out", out)
+    return Kernel(
+        "inertia_apply", ["inertia", "v", "out"],
+        "Apply an inertia tensor to a twist: ``out = I[v] = -Σ_k (I^{e_k} · v) e_k`` (eq. 15).\n\n"
+        "    ``inertia[k, j]`` is the coefficient of element I^{e_k} on wrench blade j.",
+        body, out,
+    )
+
+
+def wrench_adjoint() -> Kernel:
+    """The 6x6 matrix X with <M W ~M>_wrench = X @ W."""
+    m = mv(m8, MOTOR_BLADES)
+    mr = ~m
+    exprs = []
+    body = [load("m", m8)]
+    for j in range(6):
+        unit = [0] * 6
+        unit[j] = 1
+        col = coeffs(m * mv(unit, WRENCH_BLADES) * mr, WRENCH_BLADES)
+        exprs += col
+        body += [f"    out[{i}, {j}] = {sp.sstr(as_float(e))}" for i, e in enumerate(col)]
+    return Kernel(
+        "wrench_adjoint", ["m", "out"],
+        "Matrix of the projected wrench sandwich: ``<M W ~M>_wrench = out @ W``.",
+        body, exprs,
+    )
+
+
+def inertia_transform() -> Kernel:
+    """Eq. (16): out^{e_j} = M (Σ_k <M I^{e_k} ~M>_{e_j} e_k) ~M, with X the wrench adjoint."""
+    m = mv(m8, MOTOR_BLADES)
+    mr = ~m
+    x = [[None] * 6 for _ in range(6)]
+    for j in range(6):
+        unit = [0] * 6
+        unit[j] = 1
+        col = coeffs(m * mv(unit, WRENCH_BLADES) * mr, WRENCH_BLADES)
+        for i in range(6):
+            x[i][j] = col[i]
+    body = [load("m", m8)]
+    body.append("    # stage 1: X, the matrix of the wrench sandwich <M W ~M>_wrench")
+    xs = [[sp.Symbol(f"x{i}{j}") if x[i][j] != 0 else 0 for j in range(6)] for i in range(6)]
+    exprs = []
+    for i in range(6):
+        for j in range(6):
+            if x[i][j] != 0:
+                body.append(f"    x{i}{j} = {sp.sstr(as_float(x[i][j]))}")
+                exprs.append(x[i][j])
+    isym = [[sp.Symbol(f"i{k}{j}") for j in range(6)] for k in range(6)]
+    for k in range(6):
+        body.append(f"    {', '.join(str(s) for s in isym[k])} = " +
+                    ", ".join(f"inertia[{k}, {j}]" for j in range(6)))
+    body.append("    # stage 2: A[k, j] = <M I^{e_k} ~M>_{e_j}")
+    for k in range(6):
+        for j in range(6):
+            e = sum(isym[k][l] * xs[j][l] for l in range(6))
+            exprs.append(e)
+            body.append(f"    a{k}{j} = {sp.sstr(e)}")
+    body.append("    # stage 3: out^{e_j} = M (Σ_k A[k, j] e_k) ~M")
+    for j in range(6):
+        for mm in range(6):
+            e = sum(xs[mm][k] * sp.Symbol(f"a{k}{j}") for k in range(6))
+            exprs.append(e)
+            body.append(f"    out[{j}, {mm}] = {sp.sstr(e)}")
+    return Kernel(
+        "inertia_transform", ["m", "inertia", "out"],
+        "Move an inertia tensor by a motor: ``out = M * I`` (eq. 16).\n\n"
+        "    Satisfies eq. (17): ``M I[V] ~M = (M * I)[M V ~M]``.",
+        body, exprs,
+    )
+
+
+def translator_rotor() -> Kernel:
+    """M = T R with T = 1 - ½ p e∞ and R a rotor, from scalars."""
+    p = sp.symbols("p1:4", real=True)
+    r = sp.symbols("r0:4", real=True)
+    t = mv([1, 0, 0, 0, -p[0] / 2, -p[1] / 2, -p[2] / 2, 0], MOTOR_BLADES)
+    out = coeffs(t * mv(list(r) + [0, 0, 0, 0], MOTOR_BLADES), MOTOR_BLADES)
+    return Kernel(
+        "translator_rotor", ["p1", "p2", "p3", "r0", "r1", "r2", "r3", "out"],
+        "Motor ``out = T R``: the rotor ``r0 + r1 e12 + r2 e13 + r3 e23`` followed by the\n"
+        "    translator ``T = 1 - ½ p e∞`` (Dorst's convention for e0·e∞ = -1).",
+        assign_lines("out", out), out,
+    )
+
+
+def motor_translation() -> Kernel:
+    """p = -2 <M ~R>_{e∞} where R is the rotor part of M."""
+    m = mv(m8, MOTOR_BLADES)
+    r = mv(m8[:4] + [0, 0, 0, 0], MOTOR_BLADES)
+    p = [clean(-2 * c) for c in coeffs(m * ~r, MOTOR_BLADES)[4:7]]
+    return Kernel(
+        "motor_translation", ["m"],
+        "Translation ``p`` of a normalised motor ``M = T R``: ``p = -2 <M ~R>_(e∞)``.",
+        [load("m", m8)], p, returns=", ".join(sp.sstr(e) for e in p),
+    )
+
+
+KERNELS = [
+    motor_mul,
+    motor_reverse,
+    lambda: sandwich(
+        "twist_sandwich", "Move a twist by a motor: ``out = M X ~M`` (eq. 4; twists are closed).",
+        TWIST_BLADES, TWIST_BLADES, reverse=False,
+    ),
+    lambda: sandwich(
+        "twist_sandwich_rev", "Move a twist by the inverse motor: ``out = ~M X M``.",
+        TWIST_BLADES, TWIST_BLADES, reverse=True,
+    ),
+    lambda: sandwich(
+        "wrench_sandwich",
+        "Move a wrench by a motor: ``out = <M X ~M>_wrench`` (eq. 4, then projected).\n\n"
+        "    A wrench is not closed under the CGA sandwich: translating ``e01`` adds ``e∞``\n"
+        "    terms that pair to zero with every twist (eq. 9); the projection drops them.",
+        WRENCH_BLADES, WRENCH_BLADES, reverse=False,
+    ),
+    lambda: sandwich(
+        "wrench_sandwich_rev",
+        "Move a wrench by the inverse motor: ``out = <~M X M>_wrench`` (projected).",
+        WRENCH_BLADES, WRENCH_BLADES, reverse=True,
+    ),
+    lambda: commutator(
+        "twist_cross", "Commutator of two twists, ``out = a × b`` (eqs. 10-11): the Lie bracket.",
+        TWIST_BLADES, TWIST_BLADES, TWIST_BLADES, v6, u6,
+    ),
+    lambda: commutator(
+        "twist_cross_wrench",
+        "Commutator of a twist and a wrench, ``out = <a × b>_wrench`` (eqs. 10-11).\n\n"
+        "    The dropped ``e0∞`` term pairs to zero with every twist.",
+        TWIST_BLADES, WRENCH_BLADES, WRENCH_BLADES, v6, w6,
+    ),
+    twist_wrench_dot,
+    inertia_apply,
+    wrench_adjoint,
+    inertia_transform,
+    translator_rotor,
+    motor_translation,
+]
+
+HEADER = '''"""Explicit-formula kernels of CGA G(4,1) for motors, twists, wrenches and inertias.
+
+GENERATED by tools/generate_kernels.py from the reference algebra: do not edit by hand.
+
+Layouts (coefficients in the null basis, e0·e∞ = -1):
+    motor  (8,): {motor}
+    twist  (6,): {twist}
+    wrench (6,): {wrench}
+    inertia (6, 6): inertia[k, j] = coefficient of element I^(e_k) on wrench blade j.
+Each kernel writes into ``out`` (which may alias an input) and allocates nothing, so it can
+be called from other compiled code.
+"""
+
+from numba import njit
+'''
+
+
+def generate() -> str:
+    text = HEADER.format(
+        motor=", ".join(MOTOR_BLADES), twist=", ".join(TWIST_BLADES),
+        wrench=", ".join(WRENCH_BLADES),
+    )
+    for make in KERNELS:
+        text += make().source() + "\n"
+    return text
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--check", action="store_true", help="fail if the file is stale")
+    args = parser.parse_args()
+    text = generate()
+    if args.check:
+        current = TARGET.read_text() if TARGET.exists() else ""
+        if current != text:
+            print(f"{TARGET} is stale: run python tools/generate_kernels.py", file=sys.stderr)
+            return 1
+        print(f"{TARGET} is up to date")
+        return 0
+    TARGET.parent.mkdir(parents=True, exist_ok=True)
+    TARGET.write_text(text)
+    print(f"wrote {TARGET}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
