@@ -104,7 +104,8 @@ class Kernel:
 
     def source(self) -> str:
         mul, add = count_ops(self.exprs)
-        lines = ["", "", "@njit(cache=True, nogil=True)", f"def {self.name}({', '.join(self.args)}):"]
+        signature = f"def {self.name}({', '.join(self.args)}):"
+        lines = ["", "", "@njit(cache=True, nogil=True)", signature]
         lines.append(f'    """{self.doc}')
         lines.append("")
         lines.append(f"    {mul} multiplications, {add} additions.")
@@ -141,10 +142,16 @@ def sandwich(name: str, doc: str, blades_in, blades_out, reverse: bool) -> Kerne
     out = coeffs(t_mv * right, blades_out)
     body = [load("m", m8), load("x", v6)]
     body.append(f"    # stage 1: T = {'~M' if reverse else 'M'} X on blades {', '.join(stage)}")
-    body += [f"    {s} = {sp.sstr(as_float(e))}" for s, e in zip(t, stage.values(), strict=True)]
+    used = set().union(*(e.free_symbols for e in out))
+    body += [
+        f"    {s} = {sp.sstr(as_float(e))}"
+        for s, e in zip(t, stage.values(), strict=True)
+        if s in used
+    ]
     body.append(f"    # stage 2: out = <T {'M' if reverse else '~M'}> on the output blades")
     body += assign_lines("out", out)
-    return Kernel(name, ["m", "x", "out"], doc, body, list(stage.values()) + out)
+    kept = [e for s, e in zip(t, stage.values(), strict=True) if s in used]
+    return Kernel(name, ["m", "x", "out"], doc, body, kept + out)
 
 
 def commutator(name, doc, blades_a, blades_b, blades_out, sym_a, sym_b) -> Kernel:

@@ -123,7 +123,8 @@ def motor_normalize(m, out):
     """
     n = math.sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2] + m[3] * m[3])
     p1, p2, p3 = motor_translation(m)
-    translator_rotor(p1 / n / n, p2 / n / n, p3 / n / n, m[0] / n, m[1] / n, m[2] / n, m[3] / n, out)
+    s = 1.0 / (n * n)
+    translator_rotor(p1 * s, p2 * s, p3 * s, m[0] / n, m[1] / n, m[2] / n, m[3] / n, out)
 
 
 __all__ = ["joint_motor", "motor_log", "motor_mul", "motor_normalize", "twist_exp"]
