@@ -29,6 +29,11 @@ def normalize_motor(model: PGA, m) -> np.ndarray:
     m = model.grade(m, 0) + sum(model.grade(m, k) for k in range(2, model.d + 2, 2))
     if model.d == 3:
         return _normalize_motor_3d(model, m)
+    return _normalize_motor_series(model, m)
+
+
+def _normalize_motor_series(model: PGA, m) -> np.ndarray:
+    """N^(-1/2) M with N = M M~, for any d (the general path of ``normalize_motor``)."""
     n = model.gp(m, model.reverse(m))
     a = n[..., :1]
     if np.any(a <= 0):
