@@ -76,8 +76,16 @@ def _inertial(link):
     origin = np.eye(4) if inertial.origin is None else np.asarray(inertial.origin, dtype=float)
     inertia = np.zeros((3, 3)) if inertial.inertia is None else np.asarray(inertial.inertia,
                                                                            dtype=float)
+    mass = float(inertial.mass)
+    scale = max(1.0, float(np.abs(inertia).max()))
+    if not np.isfinite(mass) or mass < 0:
+        raise ValueError(f"link {link.name!r} has mass {mass}; expected a finite mass >= 0")
+    if not np.all(np.isfinite(inertia)) or np.linalg.eigvalsh(inertia).min() < -1e-12 * scale:
+        raise ValueError(
+            f"link {link.name!r} has a rotational inertia that is not positive semi-definite "
+            f"(eigenvalues {np.linalg.eigvalsh(inertia).tolist()}); expected a physical inertia")
     rot = origin[:3, :3]
-    return float(inertial.mass), origin[:3, 3].copy(), rot @ inertia @ rot.T
+    return mass, origin[:3, 3].copy(), rot @ inertia @ rot.T
 
 
 def _limit(joint, attr, default):
@@ -211,7 +219,10 @@ def load_urdf(source: str | os.PathLike, name: str | None = None) -> Model:
         j = link_joint[lk]
         if j < 0:
             continue
-        mass, com, rot = _inertial(links[lk])
+        try:
+            mass, com, rot = _inertial(links[lk])
+        except ValueError as exc:
+            raise ValueError(f"{where}: {exc}") from None
         pose = link_pose[lk]
         r = pose[:3, :3]
         pieces[j][0].append(mass)
