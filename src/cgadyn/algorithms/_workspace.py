@@ -1,0 +1,40 @@
+"""Per-call workspaces of the recursive algorithms, and the parallel batch loop pattern.
+
+Each algorithm's single-sample core writes into a workspace it is given and allocates
+nothing; the Python-facing function allocates one workspace per call, and a batch
+allocates one per thread chunk, so concurrent calls never share memory.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True, nogil=True)
+def motors(n):
+    return np.empty((n, 8))
+
+
+@njit(cache=True, nogil=True)
+def bivectors(n):
+    return np.empty((n, 6))
+
+
+@njit(cache=True, nogil=True)
+def inertias(n):
+    return np.empty((n, 6, 6))
+
+
+@njit(cache=True, nogil=True)
+def chunks(batch):
+    """Split ``batch`` samples into one contiguous chunk per thread: (starts, stops)."""
+    t = min(numba.get_num_threads(), max(batch, 1))
+    size = (batch + t - 1) // t
+    starts = np.empty(t, dtype=np.int64)
+    stops = np.empty(t, dtype=np.int64)
+    for c in range(t):
+        starts[c] = min(c * size, batch)
+        stops[c] = min((c + 1) * size, batch)
+    return starts, stops

@@ -1,0 +1,130 @@
+"""Articulated-body forward dynamics (ABA) in CGA: Algorithms 1 and 3 of the CGA paper.
+
+On trees, with ``λ(j) = parents[j]``. First forward pass (j = 1..n)::
+
+    M_j  = X_j exp(q_j B_j / 2)
+    V_j  = ~M_j V_λ M_j + q̇_j B_j
+    c_j  = q̇_j (V_j × B_j)                      velocity-product acceleration
+    Î_j  = I_j                                   articulated-body inertia, Algorithm 1
+    Ŵ_j  = V_j × I_j[V_j] - W_ext,j              bias wrench
+
+Backward pass (j = n..1), Algorithm 1 folded into Algorithm 3::
+
+    W_Bj = Î_j[B_j]                             the paper's W_B (up to the factor Ω)
+    D_j  = -B_j · W_Bj                          Ω_j = 1 / D_j
+    τ̂_j  = τ_j + B_j · Ŵ_j
+    Ĩ_j  = {Î_j^{e_k} - (W_Bj)_k W_Bj / D_j}    Algorithm 1, second line
+    W̄_j  = Ŵ_j + Ĩ_j[c_j] + τ̂_j W_Bj / D_j
+    Î_λ += M_j * Ĩ_j                            eq. (16)
+    Ŵ_λ += M_j W̄_j ~M_j
+
+Second forward pass (j = 1..n), with V̇_0 = -g::
+
+    V̄_j  = ~M_j V̇_λ M_j + c_j
+    q̈_j  = (τ̂_j + V̄_j · W_Bj) / D_j
+    V̇_j  = V̄_j + q̈_j B_j
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+from ..kernels import (
+    dot,
+    inertia_apply,
+    inertia_transform,
+    joint_motor,
+    motor_mul,
+    twist_cross,
+    twist_cross_wrench,
+    twist_sandwich_rev,
+    wrench_sandwich,
+)
+from . import _workspace as ws
+
+
+@njit(cache=True, nogil=True)
+def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, has_ext,
+             qdd, M, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It):
+    """One sample of Algorithm 3 into ``qdd``; the other arrays are workspace."""
+    n = parents.shape[0]
+    for j in range(n):
+        p = parents[j]
+        joint_motor(axes[j], types[j] == 1, q[j], joint)
+        motor_mul(placements[j], joint, M[j])
+        if p < 0:
+            V[j, :] = 0.0
+        else:
+            twist_sandwich_rev(M[j], V[p], V[j])
+        for k in range(6):
+            V[j, k] += qd[j] * axes[j, k]
+        twist_cross(V[j], axes[j], C[j])
+        for k in range(6):
+            C[j, k] *= qd[j]
+        Ih[j] = inertias[j]
+        inertia_apply(inertias[j], V[j], tmp)
+        twist_cross_wrench(V[j], tmp, Wh[j])
+        if has_ext:
+            for k in range(6):
+                Wh[j, k] -= f_ext[j, k]
+    for j in range(n - 1, -1, -1):
+        inertia_apply(Ih[j], axes[j], WB[j])
+        D[j] = -dot(axes[j], WB[j])
+        u[j] = tau[j] + dot(axes[j], Wh[j])
+        p = parents[j]
+        if p >= 0:
+            for k in range(6):
+                for l in range(6):
+                    It[k, l] = Ih[j, k, l] - WB[j, k] * WB[j, l] / D[j]
+            inertia_apply(It, C[j], tmp)
+            for k in range(6):
+                tmp[k] += Wh[j, k] + u[j] * WB[j, k] / D[j]
+            wrench_sandwich(M[j], tmp, tmp2)
+            inertia_transform(M[j], It, It)
+            for k in range(6):
+                Wh[p, k] += tmp2[k]
+                for l in range(6):
+                    Ih[p, k, l] += It[k, l]
+    for j in range(n):
+        p = parents[j]
+        if p < 0:
+            twist_sandwich_rev(M[j], gravity, tmp)
+        else:
+            twist_sandwich_rev(M[j], V[p], tmp)
+        for k in range(6):
+            tmp[k] += C[j, k]
+        qdd[j] = (u[j] + dot(tmp, WB[j])) / D[j]
+        for k in range(6):
+            V[j, k] = tmp[k] + qdd[j] * axes[j, k]
+
+
+@njit(cache=True, nogil=True)
+def _workspace(n):
+    return (ws.motors(n), ws.bivectors(n), ws.bivectors(n), ws.bivectors(n), ws.bivectors(n),
+            ws.inertias(n), np.empty(n), np.empty(n), np.empty(6), np.empty(6), np.empty(8),
+            np.empty((6, 6)))
+
+
+@njit(cache=True, nogil=True)
+def aba_single(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, has_ext):
+    n = parents.shape[0]
+    qdd = np.empty(n)
+    M, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It = _workspace(n)
+    aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, has_ext,
+             qdd, M, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It)
+    return qdd
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def aba_batch(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, has_ext):
+    n = parents.shape[0]
+    batch = q.shape[0]
+    qdd = np.empty((batch, n))
+    starts, stops = ws.chunks(batch)
+    for c in prange(starts.shape[0]):
+        M, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It = _workspace(n)
+        for b in range(starts[c], stops[c]):
+            aba_core(parents, types, placements, axes, inertias, q[b], qd[b], tau[b], gravity,
+                     f_ext[b], has_ext, qdd[b], M, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It)
+    return qdd

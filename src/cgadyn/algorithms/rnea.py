@@ -1,0 +1,99 @@
+"""Recursive inverse dynamics (RNEA) in CGA: Algorithm 2 of the CGA paper, on trees.
+
+Every body j has the frame of its joint; ``λ(j) = parents[j]`` is its parent (-1: the world).
+Forward pass (j = 1..n)::
+
+    M_j  = X_j exp(q_j B_j / 2)                         pose of j in λ(j) (eqs. 5-6)
+    V_j  = ~M_j V_λ M_j + q̇_j B_j                       twist
+    V̇_j  = ~M_j V̇_λ M_j + q̇_j (V_j × B_j) + q̈_j B_j     its derivative, eqs. (10-11)
+    W_j  = I_j[V̇_j] + V_j × I_j[V_j] - W_ext,j         eq. (15)
+
+Backward pass (j = n..1)::
+
+    τ_j  = -B_j · W_j                                    power pairing, eq. (9)
+    W_λ += M_j W_j ~M_j
+
+Gravity enters as the base acceleration ``V̇_0 = -g`` (Featherstone's fictitious base
+acceleration). The paper writes the bracket as ``B_j × V_j`` and the gyroscopic term with
+a minus sign: with the sign conventions of ``cgadyn.cga.conventions`` (where ``×`` is the
+Lie bracket of twists) these are the same quantities.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+from ..kernels import (
+    dot,
+    inertia_apply,
+    joint_motor,
+    motor_mul,
+    twist_cross,
+    twist_cross_wrench,
+    twist_sandwich_rev,
+    wrench_sandwich,
+)
+from . import _workspace as ws
+
+
+@njit(cache=True, nogil=True)
+def rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, has_ext,
+              tau, M, V, A, W, tmp, joint):
+    """One sample of Algorithm 2 into ``tau``; M, V, A, W, tmp, joint are workspace."""
+    n = parents.shape[0]
+    for j in range(n):
+        p = parents[j]
+        joint_motor(axes[j], types[j] == 1, q[j], joint)
+        motor_mul(placements[j], joint, M[j])
+        if p < 0:
+            V[j, :] = 0.0
+            twist_sandwich_rev(M[j], gravity, A[j])
+        else:
+            twist_sandwich_rev(M[j], V[p], V[j])
+            twist_sandwich_rev(M[j], A[p], A[j])
+        for k in range(6):
+            V[j, k] += qd[j] * axes[j, k]
+        twist_cross(V[j], axes[j], tmp)
+        for k in range(6):
+            A[j, k] += qd[j] * tmp[k] + qdd[j] * axes[j, k]
+        inertia_apply(inertias[j], A[j], W[j])
+        inertia_apply(inertias[j], V[j], tmp)
+        twist_cross_wrench(V[j], tmp, tmp)
+        for k in range(6):
+            W[j, k] += tmp[k]
+        if has_ext:
+            for k in range(6):
+                W[j, k] -= f_ext[j, k]
+    for j in range(n - 1, -1, -1):
+        tau[j] = -dot(axes[j], W[j])
+        p = parents[j]
+        if p >= 0:
+            wrench_sandwich(M[j], W[j], tmp)
+            for k in range(6):
+                W[p, k] += tmp[k]
+
+
+@njit(cache=True, nogil=True)
+def rnea_single(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, has_ext):
+    n = parents.shape[0]
+    tau = np.empty(n)
+    rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, has_ext,
+              tau, ws.motors(n), ws.bivectors(n), ws.bivectors(n), ws.bivectors(n),
+              np.empty(6), np.empty(8))
+    return tau
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def rnea_batch(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, has_ext):
+    n = parents.shape[0]
+    batch = q.shape[0]
+    tau = np.empty((batch, n))
+    starts, stops = ws.chunks(batch)
+    for c in prange(starts.shape[0]):
+        M, V, A, W = ws.motors(n), ws.bivectors(n), ws.bivectors(n), ws.bivectors(n)
+        tmp, joint = np.empty(6), np.empty(8)
+        for b in range(starts[c], stops[c]):
+            rnea_core(parents, types, placements, axes, inertias, q[b], qd[b], qdd[b], gravity,
+                      f_ext[b], has_ext, tau[b], M, V, A, W, tmp, joint)
+    return tau
