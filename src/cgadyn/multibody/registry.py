@@ -84,6 +84,7 @@ def _own_robots() -> dict:
     return {p.stem: p for p in sorted(OWN_ROBOTS_DIR.glob("*.urdf"))}
 
 
+@functools.lru_cache(maxsize=1)
 def _table() -> dict:
     table = {}
     erd = example_robot_data_dir()

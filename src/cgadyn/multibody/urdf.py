@@ -103,7 +103,8 @@ def load_urdf(source: str | os.PathLike, name: str | None = None) -> Model:
 
     Raises ``FileNotFoundError`` for a missing file and ``ValueError`` for malformed XML,
     unsupported joint types (``floating``, ``planar``), closed loops, several roots, links
-    that do not exist, a zero joint axis, or a revolute/prismatic joint without ``<limit>``.
+    that do not exist, a zero joint axis, a revolute/prismatic joint without ``<limit>``, or
+    a moving link whose rotational inertia is not positive semi-definite.
     """
     xml, path = _read_source(source)
     where = repr(path) if path is not None else "the URDF text"
