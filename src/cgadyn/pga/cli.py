@@ -103,6 +103,8 @@ def _plot(result: dict, path: str) -> None:
         ax1.plot(tr["vertex"][:, 0], tr["vertex"][:, up], label="spring vertex")
         ax1.set_xlabel("x")
         ax1.set_ylabel("y (up)")
+        if s["floor_height"] is not None:
+            ax1.axhline(s["floor_height"], color="k", lw=1, label="floor")
         ax1.set_aspect("equal", adjustable="datalim")
     ax1.legend()
     ax1.set_title(f"{s['dim']}D hypercube trajectory")

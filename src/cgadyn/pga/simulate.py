@@ -77,7 +77,7 @@ def hypercube_on_spring(
     damping: bool = True,
     k: float = 12.0,
     alpha: float = 0.25,
-    floor_height: float = -1.0,
+    floor_height: float = -0.6,
     restitution: float = 0.5,
 ) -> dict:
     """The unit hypercube of figs. 2.4/2.5: mass 1, edges 1, its vertex (½, ..., ½) on a
@@ -86,7 +86,8 @@ def hypercube_on_spring(
     and a floor at ``floor_height``. 'Up' is e2 as in the paper's demos (e1 for d = 1).
 
     Returns a dict: 'summary' (JSON-ready scalars and the final state) and 'trajectory'
-    (t, centroid, spring vertex, kinetic/potential/total energy arrays).
+    (t, centroid, spring vertex, height of the lowest vertex, kinetic/potential/total
+    energy arrays).
     """
     d = check_dimension(d)
     get_integrator(integrator)
@@ -109,6 +110,8 @@ def hypercube_on_spring(
     ms = run["M"]
     centroid = model.coords(model.sandwich(ms, model.origin))
     vertex = model.coords(model.sandwich(ms, model.point(corner)))
+    lowest = model.coords(model.sandwich(ms[:, None, :], model.point(body.vertices)))
+    lowest = lowest[..., int(np.argmax(up))].min(axis=1)
     energy = run["kinetic"] + run["potential"]
     norm_err = np.abs(model.gp(ms, model.reverse(ms)) - model.scalar()).max()
     summary = {
@@ -120,6 +123,8 @@ def hypercube_on_spring(
         "contact": bool(contact),
         "damping": bool(damping),
         "contacts": int(run["contacts"]),
+        "floor_height": float(floor_height) if contact else None,
+        "lowest_height": float(lowest.min()),
         "final_centroid": centroid[-1].tolist(),
         "final_motor": {n: float(c) for n, c in zip(model.algebra.blade_names, ms[-1],
                                                      strict=True) if c != 0.0},
@@ -135,6 +140,7 @@ def hypercube_on_spring(
         "t": run["t"],
         "centroid": centroid,
         "vertex": vertex,
+        "lowest": lowest,
         "kinetic": run["kinetic"],
         "potential": run["potential"],
         "energy": energy,
