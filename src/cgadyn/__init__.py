@@ -1,3 +1,54 @@
-"""cgadyn: robot dynamics in conformal geometric algebra G(4,1), checked against Pinocchio."""
+"""cgadyn: robot dynamics in conformal geometric algebra G(4,1), checked against Pinocchio.
+
+    >>> import cgadyn
+    >>> model = cgadyn.load("panda")
+    >>> tau = cgadyn.rnea(model, q, v, a)
+
+The algorithms (``rnea``, ``aba``, ``crba``, ``jacobian``, ...) are imported on first use,
+so that ``import cgadyn`` stays fast: numba and the compiled kernels load only when needed.
+"""
+
+from __future__ import annotations
+
+import importlib
 
 __version__ = "0.1.0"
+
+_LAZY = {
+    "load": "cgadyn.multibody",
+    "load_urdf": "cgadyn.multibody",
+    "robots": "cgadyn.multibody",
+    "Model": "cgadyn.multibody",
+    "rnea": "cgadyn.algorithms",
+    "aba": "cgadyn.algorithms",
+    "crba": "cgadyn.algorithms",
+    "gravity_torques": "cgadyn.algorithms",
+    "nonlinear_effects": "cgadyn.algorithms",
+    "forward_kinematics": "cgadyn.algorithms",
+    "link_placements": "cgadyn.algorithms",
+    "jacobian": "cgadyn.algorithms",
+    "energy": "cgadyn.algorithms",
+    "kinetic_energy": "cgadyn.algorithms",
+    "potential_energy": "cgadyn.algorithms",
+    "twist_from_motion": "cgadyn.cga.conventions",
+    "motion_from_twist": "cgadyn.cga.conventions",
+    "wrench_from_force": "cgadyn.cga.conventions",
+    "force_from_wrench": "cgadyn.cga.conventions",
+    "motor_from_matrix": "cgadyn.cga.conventions",
+    "matrix_from_motor": "cgadyn.cga.conventions",
+}
+
+__all__ = sorted(_LAZY)
+
+
+def __getattr__(name: str):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'cgadyn' has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(list(globals()) + list(_LAZY))

@@ -7,7 +7,8 @@ allocates one per thread chunk, so concurrent calls never share memory.
 
 from __future__ import annotations
 
-import numba
+import math
+
 import numpy as np
 from numba import njit
 
@@ -28,9 +29,17 @@ def inertias(n):
 
 
 @njit(cache=True, nogil=True)
-def chunks(batch):
+def require_finite(a, b, c):
+    """Raise ``FloatingPointError`` when an input holds NaN or inf (explained by the caller)."""
+    for j in range(a.shape[0]):
+        if not (math.isfinite(a[j]) and math.isfinite(b[j]) and math.isfinite(c[j])):
+            raise FloatingPointError("non-finite input")
+
+
+@njit(cache=True, nogil=True)
+def chunks(batch, threads):
     """Split ``batch`` samples into one contiguous chunk per thread: (starts, stops)."""
-    t = min(numba.get_num_threads(), max(batch, 1))
+    t = min(max(threads, 1), max(batch, 1))
     size = (batch + t - 1) // t
     starts = np.empty(t, dtype=np.int64)
     stops = np.empty(t, dtype=np.int64)

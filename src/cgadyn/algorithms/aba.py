@@ -109,6 +109,7 @@ def _workspace(n):
 @njit(cache=True, nogil=True)
 def aba_single(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, has_ext):
     n = parents.shape[0]
+    ws.require_finite(q, qd, tau)
     qdd = np.empty(n)
     M, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It = _workspace(n)
     aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, has_ext,
@@ -117,14 +118,16 @@ def aba_single(parents, types, placements, axes, inertias, q, qd, tau, gravity, 
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def aba_batch(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, has_ext):
+def aba_batch(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, has_ext,
+                threads):
     n = parents.shape[0]
     batch = q.shape[0]
     qdd = np.empty((batch, n))
-    starts, stops = ws.chunks(batch)
+    starts, stops = ws.chunks(batch, threads)
     for c in prange(starts.shape[0]):
         M, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It = _workspace(n)
         for b in range(starts[c], stops[c]):
             aba_core(parents, types, placements, axes, inertias, q[b], qd[b], tau[b], gravity,
-                     f_ext[b], has_ext, qdd[b], M, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It)
+                     f_ext[b if has_ext else 0], has_ext, qdd[b], M, V, C, Wh, WB, Ih, D, u,
+                     tmp, tmp2, joint, It)
     return qdd

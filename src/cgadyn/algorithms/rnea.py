@@ -77,6 +77,7 @@ def rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f
 @njit(cache=True, nogil=True)
 def rnea_single(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, has_ext):
     n = parents.shape[0]
+    ws.require_finite(q, qd, qdd)
     tau = np.empty(n)
     rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, has_ext,
               tau, ws.motors(n), ws.bivectors(n), ws.bivectors(n), ws.bivectors(n),
@@ -85,15 +86,16 @@ def rnea_single(parents, types, placements, axes, inertias, q, qd, qdd, gravity,
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def rnea_batch(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, has_ext):
+def rnea_batch(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, has_ext,
+                threads):
     n = parents.shape[0]
     batch = q.shape[0]
     tau = np.empty((batch, n))
-    starts, stops = ws.chunks(batch)
+    starts, stops = ws.chunks(batch, threads)
     for c in prange(starts.shape[0]):
         M, V, A, W = ws.motors(n), ws.bivectors(n), ws.bivectors(n), ws.bivectors(n)
         tmp, joint = np.empty(6), np.empty(8)
         for b in range(starts[c], stops[c]):
             rnea_core(parents, types, placements, axes, inertias, q[b], qd[b], qdd[b], gravity,
-                      f_ext[b], has_ext, tau[b], M, V, A, W, tmp, joint)
+                      f_ext[b if has_ext else 0], has_ext, tau[b], M, V, A, W, tmp, joint)
     return tau

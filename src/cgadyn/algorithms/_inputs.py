@@ -1,0 +1,100 @@
+"""Input checks shared by the algorithm wrappers: shapes, dtypes, finiteness, gravity.
+
+The checks on the hot path are cheap (a contiguous float64 view and a shape test); the
+finiteness of the inputs is checked inside the compiled code, which raises a bare
+``FloatingPointError`` that ``explain`` turns into a message naming the array and joint.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+
+from ..cga.conventions import twist_from_motion, wrench_from_force
+
+DEFAULT_GRAVITY = (0.0, 0.0, -9.81)
+
+
+def state(model, x, name: str) -> np.ndarray:
+    """``x`` as a contiguous float64 array of shape (n,) or (B, n)."""
+    try:
+        a = np.ascontiguousarray(x, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be an array of floats: {exc}") from None
+    if a.ndim not in (1, 2) or a.shape[-1] != model.nv:
+        raise ValueError(
+            f"{name} must have shape ({model.nv},) or (B, {model.nv}) for {model.name!r}, "
+            f"got {a.shape}; joint order: {', '.join(model.joint_names)}"
+        )
+    return a
+
+
+def same_batch(*arrays: np.ndarray, names: tuple[str, ...]) -> None:
+    shapes = {a.shape for a in arrays}
+    if len(shapes) > 1:
+        detail = ", ".join(f"{n} {a.shape}" for n, a in zip(names, arrays, strict=True))
+        raise ValueError(f"inputs must share one shape: {detail}")
+
+
+@lru_cache(maxsize=64)
+def _gravity_twist(g: tuple[float, float, float]) -> np.ndarray:
+    out = twist_from_motion(np.array([-g[0], -g[1], -g[2], 0.0, 0.0, 0.0]))
+    out.flags.writeable = False
+    return out
+
+
+def gravity_twist(gravity) -> np.ndarray:
+    """The base acceleration ``V̇_0 = -g`` as a twist (Featherstone's trick)."""
+    if gravity is DEFAULT_GRAVITY:
+        return _gravity_twist(DEFAULT_GRAVITY)
+    return _gravity_twist(gravity_vector(gravity))
+
+
+def gravity_vector(gravity) -> tuple[float, float, float]:
+    g = np.asarray(gravity, dtype=float)
+    if g.shape != (3,) or not np.all(np.isfinite(g)):
+        raise ValueError(f"gravity must be 3 finite numbers (world frame), got {gravity!r}")
+    return (float(g[0]), float(g[1]), float(g[2]))
+
+
+_NO_EXT: dict[int, np.ndarray] = {}
+
+
+def external(model, f_ext, batch: tuple[int, ...]) -> tuple[np.ndarray, bool]:
+    """External wrenches as CGA wrench coefficients (..., n, 6), and whether any are given.
+
+    ``f_ext`` follows Pinocchio: one force per joint, ``[f, τ]`` (linear, angular), applied
+    to the joint's body and expressed in that joint's frame.
+    """
+    n = model.nv
+    if f_ext is None:
+        dummy = _NO_EXT.get(n)
+        if dummy is None:
+            dummy = _NO_EXT[n] = np.zeros((1, n, 6))
+        return (dummy[0] if not batch else dummy), False
+    f = np.asarray(f_ext, dtype=float)
+    if f.shape not in ((n, 6), batch + (n, 6)):
+        raise ValueError(
+            f"f_ext must have shape ({n}, 6) or {batch + (n, 6)} (one [f, τ] per joint, "
+            f"in the joint's frame), got {f.shape}"
+        )
+    if not np.all(np.isfinite(f)):
+        raise ValueError("f_ext contains NaN or inf")
+    w = np.ascontiguousarray(wrench_from_force(f))
+    if batch and w.ndim == 2:
+        w = np.ascontiguousarray(np.broadcast_to(w, batch + (n, 6)))
+    return w, True
+
+
+def explain(model, **arrays) -> ValueError:
+    """A message naming the first non-finite input and its joint."""
+    for name, a in arrays.items():
+        if a is None:
+            continue
+        bad = np.argwhere(~np.isfinite(a))
+        if bad.size:
+            idx = tuple(int(i) for i in bad[0])
+            joint = model.joint_names[idx[-1]] if a.shape[-1] == model.nv else "?"
+            return ValueError(f"{name} contains NaN or inf at index {idx} (joint {joint!r})")
+    return ValueError("the computation produced NaN or inf from finite inputs")

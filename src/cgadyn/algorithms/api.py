@@ -1,0 +1,187 @@
+"""The Python-facing algorithms: validate, dispatch to one compiled call, return arrays.
+
+Every function takes the model first and accepts one sample ``(n,)`` or a batch ``(B, n)``
+(run in parallel over samples), returning the same leading shape. ``q, v, a, tau`` are
+ordered like ``model.joint_names`` (Pinocchio's order); gravity is a world-frame 3-vector.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from ..cga.conventions import motion_from_twist
+from . import _inputs as chk
+from .aba import aba_batch, aba_single
+from .crba import crba_batch, crba_single
+from .energy import energy_batch
+from .jacobian import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, jacobian_batch, jacobian_single
+from .kinematics import link_motors_batch, link_motors_single
+from .rnea import rnea_batch, rnea_single
+
+G = chk.DEFAULT_GRAVITY
+
+
+def _dyn(model):
+    return model.parents, model.joint_types, model.placements, model.axes, model.inertias
+
+
+def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
+    """Joint torques ``τ`` of inverse dynamics (Algorithm 2): ``M(q) a + C(q, v) v + g(q)``.
+
+    ``f_ext``: optional external force per joint, Pinocchio's ``[f, τ]`` in the joint frame.
+    """
+    q = chk.state(model, q, "q")
+    v = chk.state(model, v, "v")
+    a = chk.state(model, a, "a")
+    chk.same_batch(q, v, a, names=("q", "v", "a"))
+    g = chk.gravity_twist(gravity)
+    fe, has = chk.external(model, f_ext, q.shape[:-1])
+    if q.ndim == 1:
+        try:
+            return rnea_single(*_dyn(model), q, v, a, g, fe, has)
+        except FloatingPointError:
+            raise chk.explain(model, q=q, v=v, a=a) from None
+    _require_finite(model, q=q, v=v, a=a)
+    return rnea_batch(*_dyn(model), q, v, a, g, fe, has, _threads())
+
+
+def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
+    """Joint accelerations ``q̈`` of forward dynamics (Algorithms 1 and 3)."""
+    q = chk.state(model, q, "q")
+    v = chk.state(model, v, "v")
+    tau = chk.state(model, tau, "tau")
+    chk.same_batch(q, v, tau, names=("q", "v", "tau"))
+    g = chk.gravity_twist(gravity)
+    fe, has = chk.external(model, f_ext, q.shape[:-1])
+    if q.ndim == 1:
+        try:
+            return aba_single(*_dyn(model), q, v, tau, g, fe, has)
+        except FloatingPointError:
+            raise chk.explain(model, q=q, v=v, tau=tau) from None
+        except ZeroDivisionError:
+            raise _singular(model) from None
+    _require_finite(model, q=q, v=v, tau=tau)
+    out = aba_batch(*_dyn(model), q, v, tau, g, fe, has, _threads())
+    if not np.all(np.isfinite(out)):
+        raise _singular(model)
+    return out
+
+
+def crba(model, q) -> np.ndarray:
+    """Joint-space mass matrix ``M(q)``, full and symmetric, (n, n) or (B, n, n)."""
+    q = chk.state(model, q, "q")
+    _require_finite(model, q=q)
+    if q.ndim == 1:
+        return crba_single(*_dyn(model), q)
+    return crba_batch(*_dyn(model), q, _threads())
+
+
+def gravity_torques(model, q, gravity=G) -> np.ndarray:
+    """Generalized gravity ``g(q)``: RNEA with zero velocity and acceleration."""
+    q = chk.state(model, q, "q")
+    z = np.zeros_like(q)
+    return rnea(model, q, z, z, gravity)
+
+
+def nonlinear_effects(model, q, v, gravity=G) -> np.ndarray:
+    """``C(q, v) v + g(q)``: RNEA with zero acceleration."""
+    q = chk.state(model, q, "q")
+    return rnea(model, q, v, np.zeros_like(q), gravity)
+
+
+def forward_kinematics(model, q) -> tuple[np.ndarray, np.ndarray]:
+    """World motors of the joint frames (..., n, 8) and of every link frame (..., nl, 8)."""
+    q = chk.state(model, q, "q")
+    _require_finite(model, q=q)
+    args = (model.parents, model.joint_types, model.placements, model.axes, model.link_joint,
+            model.link_placements, q)
+    return link_motors_single(*args) if q.ndim == 1 else link_motors_batch(*args, _threads())
+
+
+def link_placements(model, q) -> np.ndarray:
+    """World 4x4 homogeneous matrices of every link frame, (..., nl, 4, 4)."""
+    from ..cga.conventions import matrix_from_motor
+
+    _, links = forward_kinematics(model, q)
+    flat = links.reshape(-1, 8)
+    mats = np.array([matrix_from_motor(m) for m in flat])
+    return mats.reshape(links.shape[:-1] + (4, 4))
+
+
+_FRAMES = {"world": WORLD, "local": LOCAL, "local_world_aligned": LOCAL_WORLD_ALIGNED}
+
+
+def jacobian(model, q, link: str | int, frame: str = "world", layout: str = "pinocchio"):
+    """Geometric Jacobian of a link.
+
+    ``frame``: ``'world'`` (twists at the world origin, Pinocchio's WORLD), ``'local'`` (in
+    the link frame, LOCAL) or ``'local_world_aligned'`` (at the link origin, world axes).
+    ``layout='pinocchio'`` returns Pinocchio's (..., 6, n) matrix, rows ``[v, ω]``;
+    ``layout='twist'`` returns the CGA twist of each joint's column, (..., n, 6).
+    """
+    q = chk.state(model, q, "q")
+    _require_finite(model, q=q)
+    if frame not in _FRAMES:
+        raise ValueError(f"frame must be one of {sorted(_FRAMES)}, got {frame!r}")
+    if layout not in ("pinocchio", "twist"):
+        raise ValueError(f"layout must be 'pinocchio' or 'twist', got {layout!r}")
+    index = model.link_index(link) if isinstance(link, str) else int(link)
+    if not 0 <= index < model.nlinks:
+        raise ValueError(f"link index {index} out of range 0..{model.nlinks - 1}")
+    args = (model.parents, model.joint_types, model.placements, model.axes, model.link_joint,
+            model.link_placements, q, index, _FRAMES[frame])
+    J = jacobian_single(*args) if q.ndim == 1 else jacobian_batch(*args, _threads())
+    if layout == "twist":
+        return J
+    return np.swapaxes(motion_from_twist(J), -1, -2)
+
+
+def energy(model, q, v, gravity=G) -> np.ndarray:
+    """Kinetic and potential energy, ``[..., (T, U)]``; ``U = -Σ m g·c`` as in Pinocchio."""
+    q = chk.state(model, q, "q")
+    v = chk.state(model, v, "v")
+    chk.same_batch(q, v, names=("q", "v"))
+    _require_finite(model, q=q, v=v)
+    g = np.array(chk.gravity_vector(gravity))
+    out = energy_batch(*_dyn(model), model.body_mass, model.body_com, np.atleast_2d(q),
+                       np.atleast_2d(v), g)
+    return out[0] if q.ndim == 1 else out
+
+
+def kinetic_energy(model, q, v) -> np.ndarray | float:
+    """``T = ½ Σ_j p(V_j, I_j[V_j])`` (eqs. 9, 15)."""
+    e = energy(model, q, v)
+    return e[..., 0] if e.ndim > 1 else float(e[0])
+
+
+def potential_energy(model, q, gravity=G) -> np.ndarray | float:
+    """``U = -Σ_j m_j g · c_j`` with c_j the world centre of mass of body j."""
+    q = chk.state(model, q, "q")
+    e = energy(model, q, np.zeros_like(q), gravity)
+    return e[..., 1] if e.ndim > 1 else float(e[1])
+
+
+def _threads() -> int:
+    """numba's current thread count (``NUMBA_NUM_THREADS``, ``numba.set_num_threads``)."""
+    return numba.get_num_threads()
+
+
+def _require_finite(model, **arrays) -> None:
+    for a in arrays.values():
+        if not np.all(np.isfinite(a)):
+            raise chk.explain(model, **arrays)
+
+
+def _singular(model) -> ValueError:
+    massless = [
+        model.joint_names[j]
+        for j in range(model.nv)
+        if sum(model.body_mass[k] for k in model.subtree(j)) <= 0.0
+    ]
+    detail = (
+        f"the subtree moved by joint(s) {', '.join(massless)} has zero mass"
+        if massless
+        else "a joint's articulated inertia along its axis is zero"
+    )
+    return ValueError(f"singular articulated-body inertia: {detail}; ABA cannot solve for q̈")

@@ -1,0 +1,67 @@
+"""Joint-space mass matrix by composite rigid bodies (CRBA), in CGA.
+
+Backward pass (j = n..1): the composite inertia of the subtree at j is carried to the
+parent with the motor transformation of eq. (16), ``I^c_λ += M_j * I^c_j``. Then for each
+joint j the wrench ``F = I^c_j[B_j]`` (eq. 15) is moved down the path to the root
+(``F ← M_i F ~M_i``), and each supporting joint i reads its entry by the power pairing
+``H_ij = H_ji = -B_i · F`` (eq. 9). The full symmetric matrix is returned.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+from ..kernels import dot, inertia_apply, inertia_transform, joint_motor, motor_mul, wrench_sandwich
+from . import _workspace as ws
+
+
+@njit(cache=True, nogil=True)
+def crba_core(parents, types, placements, axes, inertias, q, H, M, Ic, F, tmp, joint, It):
+    n = parents.shape[0]
+    for j in range(n):
+        joint_motor(axes[j], types[j] == 1, q[j], joint)
+        motor_mul(placements[j], joint, M[j])
+        Ic[j] = inertias[j]
+    for j in range(n - 1, -1, -1):
+        p = parents[j]
+        if p >= 0:
+            inertia_transform(M[j], Ic[j], It)
+            for k in range(6):
+                for l in range(6):
+                    Ic[p, k, l] += It[k, l]
+    H[:, :] = 0.0
+    for j in range(n):
+        inertia_apply(Ic[j], axes[j], F)
+        H[j, j] = -dot(axes[j], F)
+        i = j
+        while parents[i] >= 0:
+            wrench_sandwich(M[i], F, tmp)
+            F[:] = tmp
+            i = parents[i]
+            H[i, j] = -dot(axes[i], F)
+            H[j, i] = H[i, j]
+
+
+@njit(cache=True, nogil=True)
+def crba_single(parents, types, placements, axes, inertias, q):
+    n = parents.shape[0]
+    H = np.empty((n, n))
+    crba_core(parents, types, placements, axes, inertias, q, H, ws.motors(n), ws.inertias(n),
+              np.empty(6), np.empty(6), np.empty(8), np.empty((6, 6)))
+    return H
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def crba_batch(parents, types, placements, axes, inertias, q, threads):
+    n = parents.shape[0]
+    batch = q.shape[0]
+    H = np.empty((batch, n, n))
+    starts, stops = ws.chunks(batch, threads)
+    for c in prange(starts.shape[0]):
+        M, Ic = ws.motors(n), ws.inertias(n)
+        F, tmp, joint, It = np.empty(6), np.empty(6), np.empty(8), np.empty((6, 6))
+        for b in range(starts[c], stops[c]):
+            crba_core(parents, types, placements, axes, inertias, q[b], H[b], M, Ic, F, tmp,
+                      joint, It)
+    return H
