@@ -145,7 +145,7 @@ def energy(model, q, v, gravity=G) -> np.ndarray:
     _require_finite(model, q=q, v=v)
     g = np.array(chk.gravity_vector(gravity))
     out = energy_batch(*_dyn(model), model.body_mass, model.body_com, np.atleast_2d(q),
-                       np.atleast_2d(v), g)
+                       np.atleast_2d(v), g, _threads())
     return out[0] if q.ndim == 1 else out
 
 
