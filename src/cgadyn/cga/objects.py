@@ -23,11 +23,13 @@ def _run(kernel, out_tail: tuple[int, ...], *args: tuple[np.ndarray, int]) -> np
     """Call a batch kernel on ``(array, core ndim)`` pairs with broadcast batch axes."""
     batch = np.broadcast_shapes(*(a.shape[: a.ndim - k] for a, k in args))
     size = int(np.prod(batch, dtype=int))
-    flat = [
-        np.ascontiguousarray(np.broadcast_to(a, batch + a.shape[a.ndim - k :]), dtype=float)
-        .reshape((size,) + a.shape[a.ndim - k :])
-        for a, k in args
-    ]
+    flat = []
+    for a, k in args:
+        core = a.shape[a.ndim - k :]
+        if a.shape != batch + core:
+            a = np.broadcast_to(a, batch + core)
+        # C-contiguous and writable: one compiled specialisation per kernel
+        flat.append(np.require(a, float, ["C", "W"]).reshape((size,) + core))
     out = np.empty((size,) + out_tail)
     kernel(*flat, out)
     return out.reshape(batch + out_tail)
