@@ -262,6 +262,76 @@ def inertia_transform() -> Kernel:
     )
 
 
+def _adjoint_pattern() -> list[list[sp.Expr]]:
+    """Symbolic entries of the wrench adjoint X(M) (to know its structural zeros)."""
+    m = mv(m8, MOTOR_BLADES)
+    mr = ~m
+    x = [[None] * 6 for _ in range(6)]
+    for j in range(6):
+        unit = [0] * 6
+        unit[j] = 1
+        col = coeffs(m * mv(unit, WRENCH_BLADES) * mr, WRENCH_BLADES)
+        for i in range(6):
+            x[i][j] = col[i]
+    return x
+
+
+def adjoint_apply(transpose: bool) -> Kernel:
+    """out = X w (wrench sandwich) or out = Xᵀ v (inverse twist sandwich)."""
+    x = _adjoint_pattern()
+    xs = [[sp.Symbol(f"x{i}{j}") if x[i][j] != 0 else 0 for j in range(6)] for i in range(6)]
+    v = v6
+    body = [load("v", v)]
+    used = sorted({str(e) for row in xs for e in row if e != 0})
+    body.append("    " + ", ".join(used) + " = " + ", ".join(f"x[{u[1]}, {u[2]}]" for u in used))
+    if transpose:
+        exprs = [sum(xs[i][j] * v[i] for i in range(6)) for j in range(6)]
+        name = "adjoint_apply_transpose"
+        doc = ("Inverse twist sandwich from the adjoint: ``out = Xᵀ v = ~M v M``.\n\n"
+               "    The power pairing is invariant (eq. 9), so the matrix of ``~M (·) M`` on\n"
+               "    twists is the transpose of the wrench adjoint X of ``M (·) ~M``.")
+    else:
+        exprs = [sum(xs[i][j] * v[j] for j in range(6)) for i in range(6)]
+        name = "adjoint_apply"
+        doc = "Wrench sandwich from the adjoint: ``out = X w = <M w ~M>_wrench``."
+    body += assign_lines("out", exprs)
+    return Kernel(name, ["x", "v", "out"], doc, body, exprs)
+
+
+def inertia_congruence() -> Kernel:
+    """out = X I Xᵀ for a symmetric I, upper triangle computed and mirrored."""
+    x = _adjoint_pattern()
+    xs = [[sp.Symbol(f"x{i}{j}") if x[i][j] != 0 else 0 for j in range(6)] for i in range(6)]
+    isym = [[sp.Symbol(f"i{min(k, j)}{max(k, j)}") for j in range(6)] for k in range(6)]
+    used = sorted({str(e) for row in xs for e in row if e != 0})
+    body = ["    " + ", ".join(used) + " = " + ", ".join(f"x[{u[1]}, {u[2]}]" for u in used)]
+    for k in range(6):
+        names = [f"i{k}{j}" for j in range(k, 6)]
+        body.append("    " + ", ".join(names) + " = " + ", ".join(f"inertia[{k}, {j}]"
+                                                            for j in range(k, 6)))
+    exprs = []
+    body.append("    # A = I Xᵀ, then out = X A (upper triangle, mirrored)")
+    for k in range(6):
+        for j in range(6):
+            e = sum(isym[k][l] * xs[j][l] for l in range(6))
+            exprs.append(e)
+            body.append(f"    a{k}{j} = {sp.sstr(e)}")
+    for j in range(6):
+        for mm in range(j, 6):
+            e = sum(xs[j][k] * sp.Symbol(f"a{k}{mm}") for k in range(6))
+            exprs.append(e)
+            body.append(f"    out[{j}, {mm}] = {sp.sstr(e)}")
+            if mm != j:
+                body.append(f"    out[{mm}, {j}] = out[{j}, {mm}]")
+    return Kernel(
+        "inertia_congruence", ["x", "inertia", "out"],
+        "``out = M * I`` (eq. 16) for a symmetric inertia, from the wrench adjoint X of M.\n\n"
+        "    Eq. (16) applies the sandwich twice, once to each element and once to the\n"
+        "    transposed set: as matrices ``out = X I Xᵀ``. ``out`` may alias ``inertia``.",
+        body, exprs,
+    )
+
+
 def translator_rotor() -> Kernel:
     """M = T R with T = 1 - ½ p e∞ and R a rotor, from scalars."""
     p = sp.symbols("p1:4", real=True)
@@ -327,6 +397,9 @@ KERNELS = [
     inertia_transform,
     translator_rotor,
     motor_translation,
+    lambda: adjoint_apply(transpose=False),
+    lambda: adjoint_apply(transpose=True),
+    inertia_congruence,
 ]
 
 HEADER = '''"""Explicit-formula kernels of CGA G(4,1) for motors, twists, wrenches and inertias.

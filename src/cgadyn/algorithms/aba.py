@@ -23,6 +23,9 @@ Second forward pass (j = 1..n), with V̇_0 = -g::
     V̄_j  = ~M_j V̇_λ M_j + c_j
     q̈_j  = (τ̂_j + V̄_j · W_Bj) / D_j
     V̇_j  = V̄_j + q̈_j B_j
+
+As in ``rnea``, each joint's sandwich is expanded once into its matrix ``Ad_j``
+(``M_j W ~M_j = Ad_j W``, ``~M_j V M_j = Ad_jᵀ V``, ``M_j * I = Ad_j I Ad_jᵀ``).
 """
 
 from __future__ import annotations
@@ -31,32 +34,34 @@ import numpy as np
 from numba import njit, prange
 
 from ..kernels import (
+    adjoint_apply,
+    adjoint_apply_transpose,
     dot,
     inertia_apply,
-    inertia_transform,
+    inertia_congruence,
     joint_motor,
     motor_mul,
     twist_cross,
     twist_cross_wrench,
-    twist_sandwich_rev,
-    wrench_sandwich,
+    wrench_adjoint,
 )
 from . import _workspace as ws
 
 
 @njit(cache=True, nogil=True)
 def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, has_ext,
-             qdd, M, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It):
+             qdd, Ad, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It, M):
     """One sample of Algorithm 3 into ``qdd``; the other arrays are workspace."""
     n = parents.shape[0]
     for j in range(n):
         p = parents[j]
         joint_motor(axes[j], types[j] == 1, q[j], joint)
-        motor_mul(placements[j], joint, M[j])
+        motor_mul(placements[j], joint, M)
+        wrench_adjoint(M, Ad[j])
         if p < 0:
             V[j, :] = 0.0
         else:
-            twist_sandwich_rev(M[j], V[p], V[j])
+            adjoint_apply_transpose(Ad[j], V[p], V[j])
         for k in range(6):
             V[j, k] += qd[j] * axes[j, k]
         twist_cross(V[j], axes[j], C[j])
@@ -80,8 +85,8 @@ def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_
             inertia_apply(It, C[j], tmp)
             for k in range(6):
                 tmp[k] += Wh[j, k] + u[j] * WB[j, k] / D[j]
-            wrench_sandwich(M[j], tmp, tmp2)
-            inertia_transform(M[j], It, It)
+            adjoint_apply(Ad[j], tmp, tmp2)
+            inertia_congruence(Ad[j], It, It)
             for k in range(6):
                 Wh[p, k] += tmp2[k]
                 for l in range(6):
@@ -89,9 +94,9 @@ def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_
     for j in range(n):
         p = parents[j]
         if p < 0:
-            twist_sandwich_rev(M[j], gravity, tmp)
+            adjoint_apply_transpose(Ad[j], gravity, tmp)
         else:
-            twist_sandwich_rev(M[j], V[p], tmp)
+            adjoint_apply_transpose(Ad[j], V[p], tmp)
         for k in range(6):
             tmp[k] += C[j, k]
         qdd[j] = (u[j] + dot(tmp, WB[j])) / D[j]
@@ -101,9 +106,9 @@ def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_
 
 @njit(cache=True, nogil=True)
 def _workspace(n):
-    return (ws.motors(n), ws.bivectors(n), ws.bivectors(n), ws.bivectors(n), ws.bivectors(n),
+    return (ws.inertias(n), ws.bivectors(n), ws.bivectors(n), ws.bivectors(n), ws.bivectors(n),
             ws.inertias(n), np.empty(n), np.empty(n), np.empty(6), np.empty(6), np.empty(8),
-            np.empty((6, 6)))
+            np.empty((6, 6)), np.empty(8))
 
 
 @njit(cache=True, nogil=True)
@@ -111,9 +116,9 @@ def aba_single(parents, types, placements, axes, inertias, q, qd, tau, gravity, 
     n = parents.shape[0]
     ws.require_finite(q, qd, tau)
     qdd = np.empty(n)
-    M, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It = _workspace(n)
+    Ad, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It, M = _workspace(n)
     aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, has_ext,
-             qdd, M, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It)
+             qdd, Ad, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It, M)
     return qdd
 
 
@@ -125,9 +130,9 @@ def aba_batch(parents, types, placements, axes, inertias, q, qd, tau, gravity, f
     qdd = np.empty((batch, n))
     starts, stops = ws.chunks(batch, threads)
     for c in prange(starts.shape[0]):
-        M, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It = _workspace(n)
+        Ad, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It, M = _workspace(n)
         for b in range(starts[c], stops[c]):
             aba_core(parents, types, placements, axes, inertias, q[b], qd[b], tau[b], gravity,
-                     f_ext[b if has_ext else 0], has_ext, qdd[b], M, V, C, Wh, WB, Ih, D, u,
-                     tmp, tmp2, joint, It)
+                     f_ext[b if has_ext else 0], has_ext, qdd[b], Ad, V, C, Wh, WB, Ih, D, u,
+                     tmp, tmp2, joint, It, M)
     return qdd

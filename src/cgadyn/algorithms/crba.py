@@ -12,21 +12,30 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from ..kernels import dot, inertia_apply, inertia_transform, joint_motor, motor_mul, wrench_sandwich
+from ..kernels import (
+    adjoint_apply,
+    dot,
+    inertia_apply,
+    inertia_congruence,
+    joint_motor,
+    motor_mul,
+    wrench_adjoint,
+)
 from . import _workspace as ws
 
 
 @njit(cache=True, nogil=True)
-def crba_core(parents, types, placements, axes, inertias, q, H, M, Ic, F, tmp, joint, It):
+def crba_core(parents, types, placements, axes, inertias, q, H, Ad, Ic, F, tmp, joint, M, It):
     n = parents.shape[0]
     for j in range(n):
         joint_motor(axes[j], types[j] == 1, q[j], joint)
-        motor_mul(placements[j], joint, M[j])
+        motor_mul(placements[j], joint, M)
+        wrench_adjoint(M, Ad[j])
         Ic[j] = inertias[j]
     for j in range(n - 1, -1, -1):
         p = parents[j]
         if p >= 0:
-            inertia_transform(M[j], Ic[j], It)
+            inertia_congruence(Ad[j], Ic[j], It)
             for k in range(6):
                 for l in range(6):
                     Ic[p, k, l] += It[k, l]
@@ -36,7 +45,7 @@ def crba_core(parents, types, placements, axes, inertias, q, H, M, Ic, F, tmp, j
         H[j, j] = -dot(axes[j], F)
         i = j
         while parents[i] >= 0:
-            wrench_sandwich(M[i], F, tmp)
+            adjoint_apply(Ad[i], F, tmp)
             F[:] = tmp
             i = parents[i]
             H[i, j] = -dot(axes[i], F)
@@ -47,8 +56,8 @@ def crba_core(parents, types, placements, axes, inertias, q, H, M, Ic, F, tmp, j
 def crba_single(parents, types, placements, axes, inertias, q):
     n = parents.shape[0]
     H = np.empty((n, n))
-    crba_core(parents, types, placements, axes, inertias, q, H, ws.motors(n), ws.inertias(n),
-              np.empty(6), np.empty(6), np.empty(8), np.empty((6, 6)))
+    crba_core(parents, types, placements, axes, inertias, q, H, ws.inertias(n), ws.inertias(n),
+              np.empty(6), np.empty(6), np.empty(8), np.empty(8), np.empty((6, 6)))
     return H
 
 
@@ -59,9 +68,10 @@ def crba_batch(parents, types, placements, axes, inertias, q, threads):
     H = np.empty((batch, n, n))
     starts, stops = ws.chunks(batch, threads)
     for c in prange(starts.shape[0]):
-        M, Ic = ws.motors(n), ws.inertias(n)
-        F, tmp, joint, It = np.empty(6), np.empty(6), np.empty(8), np.empty((6, 6))
+        Ad, Ic = ws.inertias(n), ws.inertias(n)
+        F, tmp, joint, M = np.empty(6), np.empty(6), np.empty(8), np.empty(8)
+        It = np.empty((6, 6))
         for b in range(starts[c], stops[c]):
-            crba_core(parents, types, placements, axes, inertias, q[b], H[b], M, Ic, F, tmp,
-                      joint, It)
+            crba_core(parents, types, placements, axes, inertias, q[b], H[b], Ad, Ic, F, tmp,
+                      joint, M, It)
     return H

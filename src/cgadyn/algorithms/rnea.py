@@ -17,6 +17,10 @@ Gravity enters as the base acceleration ``V̇_0 = -g`` (Featherstone's fictitiou
 acceleration). The paper writes the bracket as ``B_j × V_j`` and the gyroscopic term with
 a minus sign: with the sign conventions of ``cgadyn.cga.conventions`` (where ``×`` is the
 Lie bracket of twists) these are the same quantities.
+
+Each joint's sandwich ``M_j (·) ~M_j`` is applied three times, so it is expanded once into
+its matrix ``Ad_j`` (``wrench_adjoint``, generated from eq. 4): ``M_j W ~M_j = Ad_j W`` and,
+by the invariance of the power pairing, ``~M_j V M_j = Ad_jᵀ V``.
 """
 
 from __future__ import annotations
@@ -25,33 +29,35 @@ import numpy as np
 from numba import njit, prange
 
 from ..kernels import (
+    adjoint_apply,
+    adjoint_apply_transpose,
     dot,
     inertia_apply,
     joint_motor,
     motor_mul,
     twist_cross,
     twist_cross_wrench,
-    twist_sandwich_rev,
-    wrench_sandwich,
+    wrench_adjoint,
 )
 from . import _workspace as ws
 
 
 @njit(cache=True, nogil=True)
 def rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, has_ext,
-              tau, M, V, A, W, tmp, joint):
-    """One sample of Algorithm 2 into ``tau``; M, V, A, W, tmp, joint are workspace."""
+              tau, Ad, V, A, W, tmp, joint, M):
+    """One sample of Algorithm 2 into ``tau``; Ad, V, A, W, tmp, joint, M are workspace."""
     n = parents.shape[0]
     for j in range(n):
         p = parents[j]
         joint_motor(axes[j], types[j] == 1, q[j], joint)
-        motor_mul(placements[j], joint, M[j])
+        motor_mul(placements[j], joint, M)
+        wrench_adjoint(M, Ad[j])
         if p < 0:
             V[j, :] = 0.0
-            twist_sandwich_rev(M[j], gravity, A[j])
+            adjoint_apply_transpose(Ad[j], gravity, A[j])
         else:
-            twist_sandwich_rev(M[j], V[p], V[j])
-            twist_sandwich_rev(M[j], A[p], A[j])
+            adjoint_apply_transpose(Ad[j], V[p], V[j])
+            adjoint_apply_transpose(Ad[j], A[p], A[j])
         for k in range(6):
             V[j, k] += qd[j] * axes[j, k]
         twist_cross(V[j], axes[j], tmp)
@@ -69,9 +75,15 @@ def rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f
         tau[j] = -dot(axes[j], W[j])
         p = parents[j]
         if p >= 0:
-            wrench_sandwich(M[j], W[j], tmp)
+            adjoint_apply(Ad[j], W[j], tmp)
             for k in range(6):
                 W[p, k] += tmp[k]
+
+
+@njit(cache=True, nogil=True)
+def _workspace(n):
+    return ws.inertias(n), ws.bivectors(n), ws.bivectors(n), ws.bivectors(n), np.empty(6), \
+        np.empty(8), np.empty(8)
 
 
 @njit(cache=True, nogil=True)
@@ -79,23 +91,22 @@ def rnea_single(parents, types, placements, axes, inertias, q, qd, qdd, gravity,
     n = parents.shape[0]
     ws.require_finite(q, qd, qdd)
     tau = np.empty(n)
+    Ad, V, A, W, tmp, joint, M = _workspace(n)
     rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, has_ext,
-              tau, ws.motors(n), ws.bivectors(n), ws.bivectors(n), ws.bivectors(n),
-              np.empty(6), np.empty(8))
+              tau, Ad, V, A, W, tmp, joint, M)
     return tau
 
 
 @njit(cache=True, nogil=True, parallel=True)
 def rnea_batch(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, has_ext,
-                threads):
+               threads):
     n = parents.shape[0]
     batch = q.shape[0]
     tau = np.empty((batch, n))
     starts, stops = ws.chunks(batch, threads)
     for c in prange(starts.shape[0]):
-        M, V, A, W = ws.motors(n), ws.bivectors(n), ws.bivectors(n), ws.bivectors(n)
-        tmp, joint = np.empty(6), np.empty(8)
+        Ad, V, A, W, tmp, joint, M = _workspace(n)
         for b in range(starts[c], stops[c]):
             rnea_core(parents, types, placements, axes, inertias, q[b], qd[b], qdd[b], gravity,
-                      f_ext[b if has_ext else 0], has_ext, tau[b], M, V, A, W, tmp, joint)
+                      f_ext[b if has_ext else 0], has_ext, tau[b], Ad, V, A, W, tmp, joint, M)
     return tau

@@ -6,8 +6,11 @@
 """
 
 from ._generated import (
+    adjoint_apply,
+    adjoint_apply_transpose,
     dot,
     inertia_apply,
+    inertia_congruence,
     inertia_transform,
     motor_mul,
     motor_reverse,
@@ -24,8 +27,11 @@ from ._generated import (
 from .motors import joint_motor, motor_log, motor_normalize, twist_exp
 
 __all__ = [
+    "adjoint_apply",
+    "adjoint_apply_transpose",
     "dot",
     "inertia_apply",
+    "inertia_congruence",
     "inertia_transform",
     "joint_motor",
     "motor_log",
