@@ -1,0 +1,55 @@
+"""Smoke test of the benchmark harness: structure and positive times, never speed."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+import pytest
+
+from cgadyn import bench
+
+OPS = ("rnea", "aba", "crba")
+
+
+@pytest.fixture(scope="module")
+def result() -> dict:
+    return bench.benchmark("double_pendulum", batches=(1, 8), repeats=1, quick=True)
+
+
+def test_keys_and_positive_times(result: dict) -> None:
+    for key in ("robot", "nv", "threads", "first_call_ms", "single_us", "batch_us_per_sample",
+                "compute_us_per_sample", "ratios", "targets", "machine", "pygafro"):
+        assert key in result
+    assert result["robot"] == "double_pendulum" and result["nv"] == 2
+    for op in OPS:
+        assert result["single_us"][op]["cgadyn"] > 0
+        assert result["single_us"][op]["pinocchio"] > 0
+        assert result["first_call_ms"][op]["single"] > 0
+        for b in ("1", "8"):
+            t = result["batch_us_per_sample"][b][op]
+            assert t["cgadyn"] > 0 and t["pinocchio_loop"] > 0
+            assert (t.get("pinocchio_parallel", 1.0) > 0) and (op != "crba") == (
+                "pinocchio_parallel" in t)
+        assert result["compute_us_per_sample"][op]["cgadyn"] > 0
+    assert result["single_us"]["aba"].get("pygafro") is None  # pygafro only for panda
+    assert all(t["ratio"] is None or t["ratio"] > 0 for t in result["targets"])
+
+
+def test_report_files_and_json(result: dict, tmp_path) -> None:
+    files = bench.write_report(result, tmp_path)
+    assert [p.name for p in files] == ["benchmark.md", "benchmark.json", "benchmark.png"]
+    assert all(p.stat().st_size > 0 for p in files)
+    assert "Pinocchio" in (tmp_path / "benchmark.md").read_text()
+    assert json.loads((tmp_path / "benchmark.json").read_text())["robot"] == "double_pendulum"
+
+
+def test_cli_parser_and_bad_arguments(capsys) -> None:
+    parser = argparse.ArgumentParser(prog="cgadyn")
+    bench.add_parser(parser.add_subparsers(dest="command"))
+    args = parser.parse_args(["bench", "double_pendulum", "--batch", "2", "--threads", "999"])
+    assert args.robot == "double_pendulum" and args.batch == [2] and args.func is bench.run
+    assert bench.run(args) == 2
+    assert "threads" in capsys.readouterr().err
+    with pytest.raises(ValueError, match="batch"):
+        bench.benchmark("double_pendulum", batches=(0,))
