@@ -206,3 +206,24 @@ def test_equivariance_eq17(seed):
     K.inertia_transform(m, I, mI)
     K.inertia_apply(mI, mv_, rhs)
     assert np.allclose(lhs, rhs, atol=1e-9)
+
+
+def test_adjoint_kernels_equal_the_sandwiches_single_and_batched():
+    rng = np.random.default_rng(7)
+    m = np.stack([rigid_motor(rng) for _ in range(B)])
+    I = np.stack([spd_inertia(rng) for _ in range(B)])
+    v, w = rng.normal(size=(B, 6)), rng.normal(size=(B, 6))
+    X = KB.wrench_adjoint_batch(m, np.empty((B, 6, 6)))
+    pairs = [
+        (KB.adjoint_apply_batch(X, w, np.empty((B, 6))),
+         KB.wrench_sandwich_batch(m, w, np.empty((B, 6)))),
+        (KB.adjoint_apply_transpose_batch(X, v, np.empty((B, 6))),
+         KB.twist_sandwich_rev_batch(m, v, np.empty((B, 6)))),
+        (KB.inertia_congruence_batch(X, I, np.empty((B, 6, 6))),
+         KB.inertia_transform_batch(m, I, np.empty((B, 6, 6)))),
+    ]
+    for got, want in pairs:
+        assert np.allclose(got, want, atol=1e-10)
+    out = np.empty(6)
+    K.adjoint_apply(X[0], w[0], out)
+    assert np.allclose(out, pairs[0][1][0])

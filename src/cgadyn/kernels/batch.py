@@ -14,8 +14,11 @@ from __future__ import annotations
 from numba import njit, prange
 
 from ._generated_batch import (
+    adjoint_apply_batch,
+    adjoint_apply_transpose_batch,
     dot_batch,
     inertia_apply_batch,
+    inertia_congruence_batch,
     inertia_transform_batch,
     motor_mul_batch,
     motor_reverse_batch,
@@ -65,8 +68,11 @@ def joint_motor_batch(axis, prismatic, q, out):
 
 
 __all__ = [
+    "adjoint_apply_batch",
+    "adjoint_apply_transpose_batch",
     "dot_batch",
     "inertia_apply_batch",
+    "inertia_congruence_batch",
     "inertia_transform_batch",
     "joint_motor_batch",
     "motor_log_batch",
