@@ -400,7 +400,7 @@ def _compute_table(res: dict) -> list[str]:
         f"### Where the time goes: compute per sample (batch of {nc} on 1 thread / {nc}) "
         "vs a single call", "",
         "| op | cgadyn compute | Pinocchio compute (InParallel, 1 thread) | cgadyn single call "
-        "| cgadyn call overhead | cgadyn first call: single / batch (ms) |",
+        "| cgadyn call overhead | cgadyn first call, single / batch (ms; compile or cache load) |",
         "|---|---:|---:|---:|---:|---:|",
     ]
     for op in OPS:
