@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import pinocchio as pin
@@ -11,7 +11,7 @@ import cgadyn
 from cgadyn.multibody import robot_path
 
 
-@lru_cache(maxsize=None)
+@cache
 def pin_model(name: str):
     model = pin.buildModelFromUrdf(str(robot_path(name)))
     return model, model.createData()

@@ -22,7 +22,7 @@ def state(model, x, name: str) -> np.ndarray:
         a = np.ascontiguousarray(x, dtype=np.float64)
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{name} must be an array of floats: {exc}") from None
-    if a.ndim not in (1, 2) or a.shape[-1] != model.nv:
+    if a.shape[-1:] != (model.nv,) or a.ndim > 2:
         raise ValueError(
             f"{name} must have shape ({model.nv},) or (B, {model.nv}) for {model.name!r}, "
             f"got {a.shape}; joint order: {', '.join(model.joint_names)}"
@@ -30,24 +30,41 @@ def state(model, x, name: str) -> np.ndarray:
     return a
 
 
+def states(model, arrays: tuple, names: tuple[str, ...]) -> tuple[np.ndarray, ...]:
+    """Three state arrays of one shape; a single sample costs a few checks only."""
+    x, y, z = arrays
+    if type(x) is np.ndarray and type(y) is np.ndarray and type(z) is np.ndarray:
+        x = np.ascontiguousarray(x, dtype=np.float64)
+        y = np.ascontiguousarray(y, dtype=np.float64)
+        z = np.ascontiguousarray(z, dtype=np.float64)
+        n1 = (model.nv,)
+        if x.shape == n1 and y.shape == n1 and z.shape == n1:
+            return x, y, z
+    out = tuple(state(model, a, name) for a, name in zip(arrays, names, strict=True))
+    same_batch(*out, names=names)
+    return out
+
+
 def same_batch(*arrays: np.ndarray, names: tuple[str, ...]) -> None:
-    shapes = {a.shape for a in arrays}
-    if len(shapes) > 1:
+    first = arrays[0].shape
+    if any(a.shape != first for a in arrays[1:]):
         detail = ", ".join(f"{n} {a.shape}" for n, a in zip(names, arrays, strict=True))
         raise ValueError(f"inputs must share one shape: {detail}")
 
 
 @lru_cache(maxsize=64)
 def _gravity_twist(g: tuple[float, float, float]) -> np.ndarray:
-    out = twist_from_motion(np.array([-g[0], -g[1], -g[2], 0.0, 0.0, 0.0]))
-    out.flags.writeable = False
-    return out
+    # kept writable (numba's fastest argument type); never handed to users
+    return twist_from_motion(np.array([-g[0], -g[1], -g[2], 0.0, 0.0, 0.0]))
+
+
+DEFAULT_GRAVITY_TWIST = _gravity_twist(DEFAULT_GRAVITY)
 
 
 def gravity_twist(gravity) -> np.ndarray:
     """The base acceleration ``V̇_0 = -g`` as a twist (Featherstone's trick)."""
     if gravity is DEFAULT_GRAVITY:
-        return _gravity_twist(DEFAULT_GRAVITY)
+        return DEFAULT_GRAVITY_TWIST
     return _gravity_twist(gravity_vector(gravity))
 
 
@@ -58,7 +75,7 @@ def gravity_vector(gravity) -> tuple[float, float, float]:
     return (float(g[0]), float(g[1]), float(g[2]))
 
 
-_NO_EXT: dict[int, np.ndarray] = {}
+_NO_EXT: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
 
 def external(model, f_ext, batch: tuple[int, ...]) -> tuple[np.ndarray, bool]:
@@ -71,8 +88,8 @@ def external(model, f_ext, batch: tuple[int, ...]) -> tuple[np.ndarray, bool]:
     if f_ext is None:
         dummy = _NO_EXT.get(n)
         if dummy is None:
-            dummy = _NO_EXT[n] = np.zeros((1, n, 6))
-        return (dummy[0] if not batch else dummy), False
+            dummy = _NO_EXT[n] = (np.zeros((n, 6)), np.zeros((1, n, 6)))
+        return dummy[1 if batch else 0], False
     f = np.asarray(f_ext, dtype=float)
     if f.shape not in ((n, 6), batch + (n, 6)):
         raise ValueError(

@@ -12,6 +12,7 @@ import numpy as np
 
 from ..cga.conventions import motion_from_twist
 from . import _inputs as chk
+from ._fastcall import Entry
 from .aba import aba_batch, aba_single
 from .crba import crba_batch, crba_single
 from .energy import energy_batch
@@ -20,10 +21,11 @@ from .kinematics import link_motors_batch, link_motors_single
 from .rnea import rnea_batch, rnea_single
 
 G = chk.DEFAULT_GRAVITY
+_RNEA, _ABA, _CRBA = Entry(rnea_single), Entry(aba_single), Entry(crba_single)
 
 
 def _dyn(model):
-    return model.parents, model.joint_types, model.placements, model.axes, model.inertias
+    return model.dynamics_arrays
 
 
 def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
@@ -31,15 +33,12 @@ def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
 
     ``f_ext``: optional external force per joint, Pinocchio's ``[f, τ]`` in the joint frame.
     """
-    q = chk.state(model, q, "q")
-    v = chk.state(model, v, "v")
-    a = chk.state(model, a, "a")
-    chk.same_batch(q, v, a, names=("q", "v", "a"))
+    q, v, a = chk.states(model, (q, v, a), ("q", "v", "a"))
     g = chk.gravity_twist(gravity)
     fe, has = chk.external(model, f_ext, q.shape[:-1])
     if q.ndim == 1:
         try:
-            return rnea_single(*_dyn(model), q, v, a, g, fe, has)
+            return _RNEA.call(*model.dynamics_arrays, q, v, a, g, fe, has)
         except FloatingPointError:
             raise chk.explain(model, q=q, v=v, a=a) from None
     _require_finite(model, q=q, v=v, a=a)
@@ -48,15 +47,12 @@ def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
 
 def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
     """Joint accelerations ``q̈`` of forward dynamics (Algorithms 1 and 3)."""
-    q = chk.state(model, q, "q")
-    v = chk.state(model, v, "v")
-    tau = chk.state(model, tau, "tau")
-    chk.same_batch(q, v, tau, names=("q", "v", "tau"))
+    q, v, tau = chk.states(model, (q, v, tau), ("q", "v", "tau"))
     g = chk.gravity_twist(gravity)
     fe, has = chk.external(model, f_ext, q.shape[:-1])
     if q.ndim == 1:
         try:
-            return aba_single(*_dyn(model), q, v, tau, g, fe, has)
+            return _ABA.call(*model.dynamics_arrays, q, v, tau, g, fe, has)
         except FloatingPointError:
             raise chk.explain(model, q=q, v=v, tau=tau) from None
         except ZeroDivisionError:
@@ -71,9 +67,12 @@ def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
 def crba(model, q) -> np.ndarray:
     """Joint-space mass matrix ``M(q)``, full and symmetric, (n, n) or (B, n, n)."""
     q = chk.state(model, q, "q")
-    _require_finite(model, q=q)
     if q.ndim == 1:
-        return crba_single(*_dyn(model), q)
+        try:
+            return _CRBA.call(*model.dynamics_arrays, q)
+        except FloatingPointError:
+            raise chk.explain(model, q=q) from None
+    _require_finite(model, q=q)
     return crba_batch(*_dyn(model), q, _threads())
 
 

@@ -55,6 +55,7 @@ def crba_core(parents, types, placements, axes, inertias, q, H, Ad, Ic, F, tmp, 
 @njit(cache=True, nogil=True)
 def crba_single(parents, types, placements, axes, inertias, q):
     n = parents.shape[0]
+    ws.require_finite(q, q, q)
     H = np.empty((n, n))
     crba_core(parents, types, placements, axes, inertias, q, H, ws.inertias(n), ws.inertias(n),
               np.empty(6), np.empty(6), np.empty(8), np.empty(8), np.empty((6, 6)))

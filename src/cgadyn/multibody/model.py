@@ -13,6 +13,7 @@ All arrays are read-only; build a model with :func:`build_model` (from raw data)
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -179,6 +180,18 @@ class Model:
             raise ValueError("link_joint entries must lie in [-1, n)")
         if len(set(self.joint_names)) != n:
             raise ValueError("joint names must be unique")
+
+    @cached_property
+    def dynamics_arrays(self) -> tuple:
+        """(parents, joint_types, placements, axes, inertias) for the compiled algorithms.
+
+        Private writable copies: numba dispatches faster on writable arrays, and the
+        compiled code never writes to them. Not for users: read the public fields.
+        """
+        return tuple(
+            np.array(getattr(self, f))
+            for f in ("parents", "joint_types", "placements", "axes", "inertias")
+        )
 
     # --- sizes -----------------------------------------------------------------------
 
