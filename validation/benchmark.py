@@ -73,6 +73,7 @@ def main(argv: list[str] | None = None) -> int:
            f"- Python {m['python']}, numpy {m['numpy']}, numba {m['numba']}, Pinocchio "
            f"{m['pinocchio']}, pygafro {m['pygafro']}, cgadyn {m['cgadyn']}",
            f"- git commit: {m['commit']}", f"- date: {m['date']}; {m['platform']}",
+           f"- load average (1/5/15 min) at the end: {m['load_average']} on {m['cores']} cores",
            f"- medians over {args.repeats} repeats, libraries alternating case by case; other "
            "jobs shared the machine", ""]
     args.output.mkdir(parents=True, exist_ok=True)

@@ -314,7 +314,16 @@ def machine_info(threads: int) -> dict[str, Any]:
         "pygafro": _dist_version("pygafro"), "cgadyn": _dist_version("cgadyn"),
         "platform": platform.platform(), "commit": _git_commit(Path(cgadyn.__file__).parent),
         "date": _dt.datetime.now().astimezone().isoformat(timespec="seconds"),
+        "load_average": _load_average(),
     }
+
+
+def _load_average() -> str:
+    """1/5/15-minute load average (other jobs on the machine slow parallel regions)."""
+    try:
+        return " / ".join(f"{x:.2f}" for x in os.getloadavg())
+    except OSError:
+        return "unknown"
 
 
 def _cpu_model() -> str:
@@ -333,10 +342,11 @@ def _git_commit(where: Path) -> str:
         head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=where, text=True,
                               capture_output=True, check=True).stdout.strip()
         dirty = subprocess.run(["git", "status", "--porcelain", "--", "."], cwd=where,
-                               text=True, capture_output=True, check=True).stdout.strip()
+                               text=True, capture_output=True, check=True).stdout
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
-    return head + (" (+ uncommitted changes in src/cgadyn)" if dirty else "")
+    files = [line[3:].strip() for line in dirty.splitlines() if line.strip()]
+    return head + (f" + uncommitted changes in {', '.join(files)}" if files else "")
 
 
 # --------------------------------------------------------------------------- report
@@ -437,7 +447,7 @@ def _machine_lines(res: dict) -> list[str]:
         f"Pinocchio {m['pinocchio']}, cgadyn {m['cgadyn']}",
         f"- pygafro: {res['pygafro']}",
         f"- git commit: {m['commit']}",
-        f"- date: {m['date']}; {m['platform']}",
+        f"- date: {m['date']}; {m['platform']}; load average at the end: {m['load_average']}",
         f"- medians over {res['repeats']} repeats, libraries alternating case by case"
         + (" (quick mode)" if res["quick"] else ""),
     ]
