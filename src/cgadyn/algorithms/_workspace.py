@@ -14,6 +14,18 @@ from numba import njit
 
 
 @njit(cache=True, nogil=True)
+def carve(buf, offset, shape):
+    """A C-contiguous view of ``shape`` into ``buf`` at ``offset``, and the next offset.
+
+    One allocation per call holds every array of an algorithm's workspace.
+    """
+    size = 1
+    for s in shape:
+        size *= s
+    return buf[offset:offset + size].reshape(shape), offset + size
+
+
+@njit(cache=True, nogil=True)
 def motors(n):
     return np.empty((n, 8))
 

@@ -106,9 +106,22 @@ def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_
 
 @njit(cache=True, nogil=True)
 def _workspace(n):
-    return (ws.inertias(n), ws.bivectors(n), ws.bivectors(n), ws.bivectors(n), ws.bivectors(n),
-            ws.inertias(n), np.empty(n), np.empty(n), np.empty(6), np.empty(6), np.empty(8),
-            np.empty((6, 6)), np.empty(8))
+    """Ad, Ih (n,6,6), V, C, Wh, WB (n,6), D, u (n), tmp, tmp2 (6), joint, M (8), It (6,6)."""
+    buf = np.empty(98 * n + 64)
+    Ad, o = ws.carve(buf, 0, (n, 6, 6))
+    V, o = ws.carve(buf, o, (n, 6))
+    C, o = ws.carve(buf, o, (n, 6))
+    Wh, o = ws.carve(buf, o, (n, 6))
+    WB, o = ws.carve(buf, o, (n, 6))
+    Ih, o = ws.carve(buf, o, (n, 6, 6))
+    D, o = ws.carve(buf, o, (n,))
+    u, o = ws.carve(buf, o, (n,))
+    tmp, o = ws.carve(buf, o, (6,))
+    tmp2, o = ws.carve(buf, o, (6,))
+    joint, o = ws.carve(buf, o, (8,))
+    It, o = ws.carve(buf, o, (6, 6))
+    M, o = ws.carve(buf, o, (8,))
+    return Ad, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It, M
 
 
 @njit(cache=True, nogil=True)

@@ -53,12 +53,25 @@ def crba_core(parents, types, placements, axes, inertias, q, H, Ad, Ic, F, tmp, 
 
 
 @njit(cache=True, nogil=True)
+def _workspace(n):
+    """Ad, Ic (n,6,6), F, tmp (6), joint, M (8), It (6,6): one allocation."""
+    buf = np.empty(72 * n + 64)
+    Ad, o = ws.carve(buf, 0, (n, 6, 6))
+    Ic, o = ws.carve(buf, o, (n, 6, 6))
+    F, o = ws.carve(buf, o, (6,))
+    tmp, o = ws.carve(buf, o, (6,))
+    joint, o = ws.carve(buf, o, (8,))
+    M, o = ws.carve(buf, o, (8,))
+    It, o = ws.carve(buf, o, (6, 6))
+    return Ad, Ic, F, tmp, joint, M, It
+
+
+@njit(cache=True, nogil=True)
 def crba_single(parents, types, placements, axes, inertias, q):
     n = parents.shape[0]
     ws.require_finite(q, q, q)
     H = np.empty((n, n))
-    crba_core(parents, types, placements, axes, inertias, q, H, ws.inertias(n), ws.inertias(n),
-              np.empty(6), np.empty(6), np.empty(8), np.empty(8), np.empty((6, 6)))
+    crba_core(parents, types, placements, axes, inertias, q, H, *_workspace(n))
     return H
 
 
@@ -69,9 +82,7 @@ def crba_batch(parents, types, placements, axes, inertias, q, threads):
     H = np.empty((batch, n, n))
     starts, stops = ws.chunks(batch, threads)
     for c in prange(starts.shape[0]):
-        Ad, Ic = ws.inertias(n), ws.inertias(n)
-        F, tmp, joint, M = np.empty(6), np.empty(6), np.empty(8), np.empty(8)
-        It = np.empty((6, 6))
+        Ad, Ic, F, tmp, joint, M, It = _workspace(n)
         for b in range(starts[c], stops[c]):
             crba_core(parents, types, placements, axes, inertias, q[b], H[b], Ad, Ic, F, tmp,
                       joint, M, It)

@@ -82,8 +82,16 @@ def rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f
 
 @njit(cache=True, nogil=True)
 def _workspace(n):
-    return ws.inertias(n), ws.bivectors(n), ws.bivectors(n), ws.bivectors(n), np.empty(6), \
-        np.empty(8), np.empty(8)
+    """Ad (n,6,6), V, A, W (n,6), tmp (6), joint, M (8): one allocation."""
+    buf = np.empty(54 * n + 22)
+    Ad, o = ws.carve(buf, 0, (n, 6, 6))
+    V, o = ws.carve(buf, o, (n, 6))
+    A, o = ws.carve(buf, o, (n, 6))
+    W, o = ws.carve(buf, o, (n, 6))
+    tmp, o = ws.carve(buf, o, (6,))
+    joint, o = ws.carve(buf, o, (8,))
+    M, o = ws.carve(buf, o, (8,))
+    return Ad, V, A, W, tmp, joint, M
 
 
 @njit(cache=True, nogil=True)
