@@ -200,21 +200,26 @@ def inertia_apply() -> Kernel:
 
 
 def wrench_adjoint() -> Kernel:
-    """The 6x6 matrix X with <M W ~M>_wrench = X @ W."""
+    """The 6x6 matrix X with <M W ~M>_wrench = X @ W, common products shared (sympy.cse)."""
     m = mv(m8, MOTOR_BLADES)
     mr = ~m
-    exprs = []
-    body = [load("m", m8)]
+    entries = []
     for j in range(6):
         unit = [0] * 6
         unit[j] = 1
         col = coeffs(m * mv(unit, WRENCH_BLADES) * mr, WRENCH_BLADES)
-        exprs += col
-        body += [f"    out[{i}, {j}] = {sp.sstr(as_float(e))}" for i, e in enumerate(col)]
+        entries += [(i, j, e) for i, e in enumerate(col)]
+    nonzero = [e for _, _, e in entries if e != 0]
+    shared, reduced = sp.cse(nonzero, symbols=sp.numbered_symbols("c"), optimizations="basic")
+    body = [load("m", m8), "    # products shared by several entries"]
+    body += [f"    {s_} = {sp.sstr(as_float(e))}" for s_, e in shared]
+    it = iter(reduced)
+    for i, j, e in entries:
+        body.append(f"    out[{i}, {j}] = {sp.sstr(as_float(next(it))) if e != 0 else 0}")
     return Kernel(
         "wrench_adjoint", ["m", "out"],
         "Matrix of the projected wrench sandwich: ``<M W ~M>_wrench = out @ W``.",
-        body, exprs,
+        body, [e for _, e in shared] + list(reduced),
     )
 
 

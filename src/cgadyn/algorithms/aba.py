@@ -10,18 +10,18 @@ On trees, with ``λ(j) = parents[j]``. First forward pass (j = 1..n)::
 
 Backward pass (j = n..1), Algorithm 1 folded into Algorithm 3::
 
-    W_Bj = Î_j[B_j]                             the paper's W_B (up to the factor Ω)
-    D_j  = -B_j · W_Bj                          Ω_j = 1 / D_j
+    W_Bj = Î_j[B_j]                             the paper's W_B, before the factor Ω
+    Ω_j  = (-B_j · W_Bj)^-1
     τ̂_j  = τ_j + B_j · Ŵ_j
-    Ĩ_j  = {Î_j^{e_k} - (W_Bj)_k W_Bj / D_j}    Algorithm 1, second line
-    W̄_j  = Ŵ_j + Ĩ_j[c_j] + τ̂_j W_Bj / D_j
+    Ĩ_j  = {Î_j^{e_k} - Ω_j (W_Bj)_k W_Bj}      Algorithm 1, second line
+    W̄_j  = Ŵ_j + Ĩ_j[c_j] + Ω_j τ̂_j W_Bj
     Î_λ += M_j * Ĩ_j                            eq. (16)
     Ŵ_λ += M_j W̄_j ~M_j
 
 Second forward pass (j = 1..n), with V̇_0 = -g::
 
     V̄_j  = ~M_j V̇_λ M_j + c_j
-    q̈_j  = (τ̂_j + V̄_j · W_Bj) / D_j
+    q̈_j  = Ω_j (τ̂_j + V̄_j · W_Bj)
     V̇_j  = V̄_j + q̈_j B_j
 
 As in ``rnea``, each joint's sandwich is expanded once into its matrix ``Ad_j``
@@ -50,7 +50,7 @@ from . import _workspace as ws
 
 @njit(cache=True, nogil=True)
 def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, has_ext,
-             qdd, Ad, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It, M):
+             qdd, Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M):
     """One sample of Algorithm 3 into ``qdd``; the other arrays are workspace."""
     n = parents.shape[0]
     for j in range(n):
@@ -75,16 +75,16 @@ def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_
                 Wh[j, k] -= f_ext[j, k]
     for j in range(n - 1, -1, -1):
         inertia_apply(Ih[j], axes[j], WB[j])
-        D[j] = -dot(axes[j], WB[j])
+        Omega[j] = -1.0 / dot(axes[j], WB[j])
         u[j] = tau[j] + dot(axes[j], Wh[j])
         p = parents[j]
         if p >= 0:
             for k in range(6):
                 for l in range(6):
-                    It[k, l] = Ih[j, k, l] - WB[j, k] * WB[j, l] / D[j]
+                    It[k, l] = Ih[j, k, l] - Omega[j] * WB[j, k] * WB[j, l]
             inertia_apply(It, C[j], tmp)
             for k in range(6):
-                tmp[k] += Wh[j, k] + u[j] * WB[j, k] / D[j]
+                tmp[k] += Wh[j, k] + Omega[j] * u[j] * WB[j, k]
             adjoint_apply(Ad[j], tmp, tmp2)
             inertia_congruence(Ad[j], It, It)
             for k in range(6):
@@ -99,14 +99,14 @@ def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_
             adjoint_apply_transpose(Ad[j], V[p], tmp)
         for k in range(6):
             tmp[k] += C[j, k]
-        qdd[j] = (u[j] + dot(tmp, WB[j])) / D[j]
+        qdd[j] = Omega[j] * (u[j] + dot(tmp, WB[j]))
         for k in range(6):
             V[j, k] = tmp[k] + qdd[j] * axes[j, k]
 
 
 @njit(cache=True, nogil=True)
 def _workspace(n):
-    """Ad, Ih (n,6,6), V, C, Wh, WB (n,6), D, u (n), tmp, tmp2 (6), joint, M (8), It (6,6)."""
+    """Ad, Ih (n,6,6), V, C, Wh, WB (n,6), Ω, u (n), tmp, tmp2 (6), joint, M (8), It (6,6)."""
     buf = np.empty(98 * n + 64)
     Ad, o = ws.carve(buf, 0, (n, 6, 6))
     V, o = ws.carve(buf, o, (n, 6))
@@ -114,14 +114,14 @@ def _workspace(n):
     Wh, o = ws.carve(buf, o, (n, 6))
     WB, o = ws.carve(buf, o, (n, 6))
     Ih, o = ws.carve(buf, o, (n, 6, 6))
-    D, o = ws.carve(buf, o, (n,))
+    Omega, o = ws.carve(buf, o, (n,))
     u, o = ws.carve(buf, o, (n,))
     tmp, o = ws.carve(buf, o, (6,))
     tmp2, o = ws.carve(buf, o, (6,))
     joint, o = ws.carve(buf, o, (8,))
     It, o = ws.carve(buf, o, (6, 6))
     M, o = ws.carve(buf, o, (8,))
-    return Ad, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It, M
+    return Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M
 
 
 @njit(cache=True, nogil=True)
@@ -129,9 +129,9 @@ def aba_single(parents, types, placements, axes, inertias, q, qd, tau, gravity, 
     n = parents.shape[0]
     ws.require_finite(q, qd, tau)
     qdd = np.empty(n)
-    Ad, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It, M = _workspace(n)
+    Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M = _workspace(n)
     aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, has_ext,
-             qdd, Ad, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It, M)
+             qdd, Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M)
     return qdd
 
 
@@ -143,9 +143,9 @@ def aba_batch(parents, types, placements, axes, inertias, q, qd, tau, gravity, f
     qdd = np.empty((batch, n))
     starts, stops = ws.chunks(batch, threads)
     for c in prange(starts.shape[0]):
-        Ad, V, C, Wh, WB, Ih, D, u, tmp, tmp2, joint, It, M = _workspace(n)
+        Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M = _workspace(n)
         for b in range(starts[c], stops[c]):
             aba_core(parents, types, placements, axes, inertias, q[b], qd[b], tau[b], gravity,
-                     f_ext[b if has_ext else 0], has_ext, qdd[b], Ad, V, C, Wh, WB, Ih, D, u,
+                     f_ext[b if has_ext else 0], has_ext, qdd[b], Ad, V, C, Wh, WB, Ih, Omega, u,
                      tmp, tmp2, joint, It, M)
     return qdd

@@ -58,7 +58,10 @@ def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
         except ZeroDivisionError:
             raise _singular(model) from None
     _require_finite(model, q=q, v=v, tau=tau)
-    out = aba_batch(*_dyn(model), q, v, tau, g, fe, has, _threads())
+    try:
+        out = aba_batch(*_dyn(model), q, v, tau, g, fe, has, _threads())
+    except ZeroDivisionError:
+        raise _singular(model) from None
     if not np.all(np.isfinite(out)):
         raise _singular(model)
     return out

@@ -230,45 +230,77 @@ def inertia_apply(inertia, v, out):
 def wrench_adjoint(m, out):
     """Matrix of the projected wrench sandwich: ``<M W ~M>_wrench = out @ W``.
 
-    120 multiplications, 57 additions.
+    68 multiplications, 37 additions.
     """
     m0, m1, m2, m3, m4, m5, m6, m7 = m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7]
-    out[0, 0] = m0**2 - m1**2 - m2**2 + m3**2
-    out[1, 0] = 2*m0*m1 + 2*m2*m3
-    out[2, 0] = -2*m0*m2 + 2*m1*m3
+    # products shared by several entries
+    c0 = m3**2
+    c1 = m2**2
+    c2 = -c1
+    c3 = m0**2
+    c4 = m1**2
+    c5 = c3 - c4
+    c6 = c0 + c2 + c5
+    c7 = m0*m1
+    c8 = 2*c7 + 2*m2*m3
+    c9 = m0*m2
+    c10 = -2*c9 + 2*m1*m3
+    c11 = c7 - m2*m3
+    c12 = -c0
+    c13 = c1 + c12 + c5
+    c14 = m0*m3
+    c15 = 2*c14 + 2*m1*m2
+    c16 = 2*c9 + 2*m1*m3
+    c17 = c14 - m1*m2
+    c18 = c12 + c2 + c3 + c4
+    c19 = -m2*m5
+    c20 = m3*m4
+    c21 = m0*m7
+    c22 = m1*m6
+    c23 = c21 + c22
+    c24 = m2*m4
+    c25 = m3*m5
+    c26 = m0*m6 - m1*m7
+    c27 = m0*m5 + m2*m7
+    c28 = m2*m6
+    c29 = m1*m5
+    c30 = m0*m4 - m3*m7
+    out[0, 0] = c6
+    out[1, 0] = c8
+    out[2, 0] = c10
     out[3, 0] = 0
     out[4, 0] = 0
     out[5, 0] = 0
-    out[0, 1] = -2*m0*m1 + 2*m2*m3
-    out[1, 1] = m0**2 - m1**2 + m2**2 - m3**2
-    out[2, 1] = 2*m0*m3 + 2*m1*m2
+    out[0, 1] = -2*c11
+    out[1, 1] = c13
+    out[2, 1] = c15
     out[3, 1] = 0
     out[4, 1] = 0
     out[5, 1] = 0
-    out[0, 2] = 2*m0*m2 + 2*m1*m3
-    out[1, 2] = -2*m0*m3 + 2*m1*m2
-    out[2, 2] = m0**2 + m1**2 - m2**2 - m3**2
+    out[0, 2] = c16
+    out[1, 2] = -2*c17
+    out[2, 2] = c18
     out[3, 2] = 0
     out[4, 2] = 0
     out[5, 2] = 0
-    out[0, 3] = -2*m0*m7 - 2*m1*m6 + 2*m2*m5 + 2*m3*m4
-    out[1, 3] = 2*m0*m6 - 2*m1*m7 + 2*m2*m4 - 2*m3*m5
-    out[2, 3] = 2*m0*m5 + 2*m1*m4 + 2*m2*m7 + 2*m3*m6
-    out[3, 3] = m0**2 - m1**2 - m2**2 + m3**2
-    out[4, 3] = -2*m0*m1 - 2*m2*m3
-    out[5, 3] = -2*m0*m2 + 2*m1*m3
-    out[0, 4] = 2*m0*m6 - 2*m1*m7 - 2*m2*m4 + 2*m3*m5
-    out[1, 4] = 2*m0*m7 + 2*m1*m6 + 2*m2*m5 + 2*m3*m4
-    out[2, 4] = -2*m0*m4 + 2*m1*m5 - 2*m2*m6 + 2*m3*m7
-    out[3, 4] = 2*m0*m1 - 2*m2*m3
-    out[4, 4] = m0**2 - m1**2 + m2**2 - m3**2
-    out[5, 4] = -2*m0*m3 - 2*m1*m2
-    out[0, 5] = -2*m0*m5 + 2*m1*m4 - 2*m2*m7 + 2*m3*m6
-    out[1, 5] = -2*m0*m4 - 2*m1*m5 + 2*m2*m6 + 2*m3*m7
-    out[2, 5] = -2*m0*m7 + 2*m1*m6 + 2*m2*m5 - 2*m3*m4
-    out[3, 5] = 2*m0*m2 + 2*m1*m3
-    out[4, 5] = 2*m0*m3 - 2*m1*m2
-    out[5, 5] = m0**2 + m1**2 - m2**2 - m3**2
+    out[0, 3] = -2*c19 + 2*c20 - 2*c23
+    out[1, 3] = 2*c24 - 2*c25 + 2*c26
+    out[2, 3] = 2*c27 + 2*m1*m4 + 2*m3*m6
+    out[3, 3] = c6
+    out[4, 3] = -c8
+    out[5, 3] = c10
+    out[0, 4] = -2*c24 + 2*c25 + 2*c26
+    out[1, 4] = 2*c20 + 2*c23 + 2*m2*m5
+    out[2, 4] = -2*c28 + 2*c29 - 2*c30
+    out[3, 4] = 2*c11
+    out[4, 4] = c13
+    out[5, 4] = -c15
+    out[0, 5] = -2*c27 + 2*m1*m4 + 2*m3*m6
+    out[1, 5] = 2*c28 - 2*c29 - 2*c30
+    out[2, 5] = -2*c19 - 2*c20 - 2*c21 + 2*c22
+    out[3, 5] = c16
+    out[4, 5] = 2*c17
+    out[5, 5] = c18
 
 
 @njit(cache=True, nogil=True)
