@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from cgadyn.multibody.cache import cached
 from cgadyn.multibody.model import Model, build_model, merge_inertias
 
 SUPPORTED_JOINTS = ("revolute", "continuous", "prismatic", "fixed")
@@ -107,6 +108,10 @@ def load_urdf(source: str | os.PathLike, name: str | None = None) -> Model:
     a moving link whose rotational inertia is not positive semi-definite.
     """
     xml, path = _read_source(source)
+    return cached(xml, name, lambda: _build(xml, path, name))
+
+
+def _build(xml: bytes, path: str | None, name: str | None) -> Model:
     where = repr(path) if path is not None else "the URDF text"
     robot = _parse(xml, where)
 
