@@ -8,13 +8,14 @@ Layouts (coefficients in the null basis, e0·e∞ = -1):
     wrench (6,): e23, e13, e12, e01, e02, e03
     inertia (6, 6): inertia[k, j] = coefficient of element I^(e_k) on wrench blade j.
 Each kernel writes into ``out`` (which may alias an input) and allocates nothing, so it can
-be called from other compiled code.
+be called from other compiled code, where numba inlines it (``inline="always"``: the
+recursive algorithms run about 30 % faster than with calls).
 """
 
 from numba import njit
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def motor_mul(a, b, out):
     """Geometric product of two motors, ``out = a b`` (composition, eq. 5).
 
@@ -32,7 +33,7 @@ def motor_mul(a, b, out):
     out[7] = a0*b7 + a1*b6 - a2*b5 + a3*b4 + a4*b3 - a5*b2 + a6*b1 + a7*b0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def motor_reverse(a, out):
     """Reverse of a motor, ``out = ~a``.
 
@@ -49,7 +50,7 @@ def motor_reverse(a, out):
     out[7] = a7
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def twist_sandwich(m, x, out):
     """Move a twist by a motor: ``out = M X ~M`` (eq. 4; twists are closed).
 
@@ -75,7 +76,7 @@ def twist_sandwich(m, x, out):
     out[5] = m0*t6 + m1*t7 - m2*t3 - m3*t5 + m4*t2 + m5*t4 - m6*t0 - m7*t1
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def twist_sandwich_rev(m, x, out):
     """Move a twist by the inverse motor: ``out = ~M X M``.
 
@@ -101,7 +102,7 @@ def twist_sandwich_rev(m, x, out):
     out[5] = m0*t6 - m1*t7 + m2*t3 + m3*t5 - m4*t2 - m5*t4 + m6*t0 - m7*t1
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def wrench_sandwich(m, x, out):
     """Move a wrench by a motor: ``out = <M X ~M>_wrench`` (eq. 4, then projected).
 
@@ -130,7 +131,7 @@ def wrench_sandwich(m, x, out):
     out[5] = m0*t3 + m1*t11 - m2*t1 - m3*t2
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def wrench_sandwich_rev(m, x, out):
     """Move a wrench by the inverse motor: ``out = <~M X M>_wrench`` (projected).
 
@@ -156,7 +157,7 @@ def wrench_sandwich_rev(m, x, out):
     out[5] = m0*t3 - m1*t11 + m2*t1 + m3*t2
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def twist_cross(a, b, out):
     """Commutator of two twists, ``out = a × b`` (eqs. 10-11): the Lie bracket.
 
@@ -172,7 +173,7 @@ def twist_cross(a, b, out):
     out[5] = u0*v4 + u1*v3 - u3*v1 - u4*v0
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def twist_cross_wrench(a, b, out):
     """Commutator of a twist and a wrench, ``out = <a × b>_wrench`` (eqs. 10-11).
 
@@ -190,7 +191,7 @@ def twist_cross_wrench(a, b, out):
     out[5] = -v0*w4 - v1*w3
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def dot(v, w):
     """Inner product ``v · w`` of a twist and a wrench (a scalar).
 
@@ -203,7 +204,7 @@ def dot(v, w):
     return -v0*w0 - v1*w1 - v2*w2 - v3*w3 - v4*w4 - v5*w5
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def inertia_apply(inertia, v, out):
     """Apply an inertia tensor to a twist: ``out = I[v] = -Σ_k (I^{e_k} · v) e_k`` (eq. 15).
 
@@ -226,7 +227,7 @@ def inertia_apply(inertia, v, out):
     out[5] = i5_0*v0 + i5_1*v1 + i5_2*v2 + i5_3*v3 + i5_4*v4 + i5_5*v5
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def wrench_adjoint(m, out):
     """Matrix of the projected wrench sandwich: ``<M W ~M>_wrench = out @ W``.
 
@@ -303,7 +304,7 @@ def wrench_adjoint(m, out):
     out[5, 5] = c18
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def inertia_transform(m, inertia, out):
     """Move an inertia tensor by a motor: ``out = M * I`` (eq. 16).
 
@@ -422,7 +423,7 @@ def inertia_transform(m, inertia, out):
     out[5, 5] = a35*x53 + a45*x54 + a55*x55
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def translator_rotor(p1, p2, p3, r0, r1, r2, r3, out):
     """Motor ``out = T R``: the rotor ``r0 + r1 e12 + r2 e13 + r3 e23`` followed by the
     translator ``T = 1 - ½ p e∞`` (Dorst's convention for e0·e∞ = -1).
@@ -439,7 +440,7 @@ def translator_rotor(p1, p2, p3, r0, r1, r2, r3, out):
     out[7] = -0.5*p1*r3 + 0.5*p2*r2 - 0.5*p3*r1
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def motor_translation(m):
     """Translation ``p`` of a normalised motor ``M = T R``: ``p = -2 <M ~R>_(e∞)``.
 
@@ -449,7 +450,7 @@ def motor_translation(m):
     return -2*m0*m4 - 2*m1*m5 - 2*m2*m6 - 2*m3*m7, -2*m0*m5 + 2*m1*m4 + 2*m2*m7 - 2*m3*m6, -2*m0*m6 - 2*m1*m7 + 2*m2*m4 + 2*m3*m5
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def adjoint_apply(x, v, out):
     """Wrench sandwich from the adjoint: ``out = X w = <M w ~M>_wrench``.
 
@@ -465,7 +466,7 @@ def adjoint_apply(x, v, out):
     out[5] = v3*x53 + v4*x54 + v5*x55
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def adjoint_apply_transpose(x, v, out):
     """Inverse twist sandwich from the adjoint: ``out = Xᵀ v = ~M v M``.
 
@@ -484,7 +485,7 @@ def adjoint_apply_transpose(x, v, out):
     out[5] = v0*x05 + v1*x15 + v2*x25 + v3*x35 + v4*x45 + v5*x55
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def inertia_congruence(x, inertia, out):
     """``out = M * I`` (eq. 16) for a symmetric inertia, from the wrench adjoint X of M.
 

@@ -91,7 +91,7 @@ def motor_log(m, out):
     out[5] = -(p3 - 0.5 * cx3 + d * cc3)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def joint_motor(axis, prismatic, q, out):
     """Joint motor ``M_j(q_j) = exp(q_j B_j / 2)`` (eq. 6) of a unit screw axis ``B_j``.
 
