@@ -34,15 +34,20 @@ _F64 = np.dtype(np.float64)
 _STRIDE = (8,)
 
 
-def states(model, arrays: tuple, names: tuple[str, ...]) -> tuple[np.ndarray, ...]:
-    """Three state arrays of one shape; a single contiguous float64 sample costs four checks."""
-    x, y, z = arrays
+def is_sample(model, x, y, z) -> bool:
+    """True when x, y, z are contiguous float64 arrays of shape (n,): the compiled entry
+    points may take them as they are."""
     n1 = (model.nv,)
-    if (
+    return (
         type(x) is np.ndarray and x.dtype is _F64 and x.shape == n1 and x.strides == _STRIDE
         and type(y) is np.ndarray and y.dtype is _F64 and y.shape == n1 and y.strides == _STRIDE
         and type(z) is np.ndarray and z.dtype is _F64 and z.shape == n1 and z.strides == _STRIDE
-    ):
+    )
+
+
+def states(model, arrays: tuple, names: tuple[str, ...]) -> tuple[np.ndarray, ...]:
+    """State arrays of one shape (n,) or (B, n), as contiguous float64."""
+    if is_sample(model, *arrays):
         return arrays
     out = tuple(state(model, a, name) for a, name in zip(arrays, names, strict=True))
     same_batch(*out, names=names)
@@ -82,6 +87,14 @@ def gravity_vector(gravity) -> tuple[float, float, float]:
 _NO_EXT: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
 
+def no_ext(model) -> np.ndarray:
+    """The placeholder (n, 6) passed when there are no external wrenches."""
+    dummy = _NO_EXT.get(model.nv)
+    if dummy is None:
+        dummy = _NO_EXT[model.nv] = (np.zeros((model.nv, 6)), np.zeros((1, model.nv, 6)))
+    return dummy[0]
+
+
 def external(model, f_ext, batch: tuple[int, ...]) -> tuple[np.ndarray, bool]:
     """External wrenches as CGA wrench coefficients (..., n, 6), and whether any are given.
 
@@ -90,10 +103,8 @@ def external(model, f_ext, batch: tuple[int, ...]) -> tuple[np.ndarray, bool]:
     """
     n = model.nv
     if f_ext is None:
-        dummy = _NO_EXT.get(n)
-        if dummy is None:
-            dummy = _NO_EXT[n] = (np.zeros((n, 6)), np.zeros((1, n, 6)))
-        return (dummy[1] if batch else dummy[0]), False
+        no_ext(model)
+        return (_NO_EXT[n][1] if batch else _NO_EXT[n][0]), False
     f = np.asarray(f_ext, dtype=float)
     if f.shape not in ((n, 6), batch + (n, 6)):
         raise ValueError(

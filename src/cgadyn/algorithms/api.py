@@ -22,6 +22,7 @@ from .rnea import rnea_batch, rnea_single
 
 G = chk.DEFAULT_GRAVITY
 _RNEA, _ABA, _CRBA = Entry(rnea_single), Entry(aba_single), Entry(crba_single)
+_GRAVITY = chk.DEFAULT_GRAVITY_TWIST
 
 
 def _dyn(model):
@@ -33,6 +34,11 @@ def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
 
     ``f_ext``: optional external force per joint, Pinocchio's ``[f, τ]`` in the joint frame.
     """
+    if gravity is G and f_ext is None and chk.is_sample(model, q, v, a):
+        try:  # the common case, checked in a few hundred nanoseconds
+            return _RNEA.call(*model.dynamics_arrays, q, v, a, _GRAVITY, chk.no_ext(model), False)
+        except FloatingPointError:
+            raise chk.explain(model, q=q, v=v, a=a) from None
     q, v, a = chk.states(model, (q, v, a), ("q", "v", "a"))
     g = chk.gravity_twist(gravity)
     fe, has = chk.external(model, f_ext, q.shape[:-1])
@@ -47,6 +53,13 @@ def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
 
 def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
     """Joint accelerations ``q̈`` of forward dynamics (Algorithms 1 and 3)."""
+    if gravity is G and f_ext is None and chk.is_sample(model, q, v, tau):
+        try:  # the common case, checked in a few hundred nanoseconds
+            return _ABA.call(*model.dynamics_arrays, q, v, tau, _GRAVITY, chk.no_ext(model), False)
+        except FloatingPointError:
+            raise chk.explain(model, q=q, v=v, tau=tau) from None
+        except ZeroDivisionError:
+            raise _singular(model) from None
     q, v, tau = chk.states(model, (q, v, tau), ("q", "v", "tau"))
     g = chk.gravity_twist(gravity)
     fe, has = chk.external(model, f_ext, q.shape[:-1])
