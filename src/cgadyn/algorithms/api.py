@@ -35,49 +35,35 @@ def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
     ``f_ext``: optional external force per joint, Pinocchio's ``[f, τ]`` in the joint frame.
     """
     if gravity is G and f_ext is None and chk.is_sample(model, q, v, a):
-        try:  # the common case, checked in a few hundred nanoseconds
-            return _RNEA.call(*model.dynamics_arrays, q, v, a, _GRAVITY, chk.no_ext(model), False)
-        except FloatingPointError:
-            raise chk.explain(model, q=q, v=v, a=a) from None
-    q, v, a = chk.states(model, (q, v, a), ("q", "v", "a"))
-    g = chk.gravity_twist(gravity)
-    fe, has = chk.external(model, f_ext, q.shape[:-1])
-    if q.ndim == 1:
-        try:
-            return _RNEA.call(*model.dynamics_arrays, q, v, a, g, fe, has)
-        except FloatingPointError:
-            raise chk.explain(model, q=q, v=v, a=a) from None
-    _require_finite(model, q=q, v=v, a=a)
-    return rnea_batch(*_dyn(model), q, v, a, g, fe, has, _threads())
+        g, fe, has = _GRAVITY, chk.no_ext(model), False  # the common case, in a few checks
+    else:
+        q, v, a = chk.states(model, (q, v, a), ("q", "v", "a"))
+        g = chk.gravity_twist(gravity)
+        fe, has = chk.external(model, f_ext, q.shape[:-1])
+        if q.ndim == 2:
+            return _batch(model, _RNEA, rnea_batch, {"q": q, "v": v, "a": a}, g, fe, has)
+    try:
+        return _RNEA.call(*model.dynamics_arrays, q, v, a, g, fe, has)
+    except FloatingPointError:
+        raise chk.explain(model, q=q, v=v, a=a) from None
 
 
 def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
     """Joint accelerations ``q̈`` of forward dynamics (Algorithms 1 and 3)."""
     if gravity is G and f_ext is None and chk.is_sample(model, q, v, tau):
-        try:  # the common case, checked in a few hundred nanoseconds
-            return _ABA.call(*model.dynamics_arrays, q, v, tau, _GRAVITY, chk.no_ext(model), False)
-        except FloatingPointError:
-            raise chk.explain(model, q=q, v=v, tau=tau) from None
-        except ZeroDivisionError:
-            raise _singular(model) from None
-    q, v, tau = chk.states(model, (q, v, tau), ("q", "v", "tau"))
-    g = chk.gravity_twist(gravity)
-    fe, has = chk.external(model, f_ext, q.shape[:-1])
-    if q.ndim == 1:
-        try:
-            return _ABA.call(*model.dynamics_arrays, q, v, tau, g, fe, has)
-        except FloatingPointError:
-            raise chk.explain(model, q=q, v=v, tau=tau) from None
-        except ZeroDivisionError:
-            raise _singular(model) from None
-    _require_finite(model, q=q, v=v, tau=tau)
+        g, fe, has = _GRAVITY, chk.no_ext(model), False
+    else:
+        q, v, tau = chk.states(model, (q, v, tau), ("q", "v", "tau"))
+        g = chk.gravity_twist(gravity)
+        fe, has = chk.external(model, f_ext, q.shape[:-1])
+        if q.ndim == 2:
+            return _batch(model, _ABA, aba_batch, {"q": q, "v": v, "tau": tau}, g, fe, has)
     try:
-        out = aba_batch(*_dyn(model), q, v, tau, g, fe, has, _threads())
+        return _ABA.call(*model.dynamics_arrays, q, v, tau, g, fe, has)
+    except FloatingPointError:
+        raise chk.explain(model, q=q, v=v, tau=tau) from None
     except ZeroDivisionError:
         raise _singular(model) from None
-    if not np.all(np.isfinite(out)):
-        raise _singular(model)
-    return out
 
 
 def crba(model, q) -> np.ndarray:
@@ -89,7 +75,33 @@ def crba(model, q) -> np.ndarray:
         except FloatingPointError:
             raise chk.explain(model, q=q) from None
     _require_finite(model, q=q)
+    if len(q) <= SERIAL_BATCH:
+        return np.array([_CRBA.call(*model.dynamics_arrays, x) for x in q]).reshape(
+            len(q), model.nv, model.nv)
     return crba_batch(*_dyn(model), q, _threads())
+
+
+SERIAL_BATCH = 4
+"""Batches this small run sample by sample: starting the thread pool costs more."""
+
+
+def _batch(model, single: Entry, parallel, states: dict, g, fe, has) -> np.ndarray:
+    """A (B, n) batch: one parallel compiled call, or a short loop for tiny batches."""
+    _require_finite(model, **states)
+    x = tuple(states.values())
+    try:
+        if len(x[0]) <= SERIAL_BATCH:
+            out = np.empty(x[0].shape)
+            for b in range(len(out)):
+                out[b] = single.call(*model.dynamics_arrays, *(s[b] for s in x), g,
+                                     fe[b] if has else chk.no_ext(model), has)
+        else:
+            out = parallel(*model.dynamics_arrays, *x, g, fe, has, _threads())
+    except ZeroDivisionError:
+        raise _singular(model) from None
+    if not np.all(np.isfinite(out)):
+        raise _singular(model) if single is _ABA else chk.explain(model, **states)
+    return out
 
 
 def gravity_torques(model, q, gravity=G) -> np.ndarray:
