@@ -13,6 +13,7 @@ import numpy as np
 from ..cga.conventions import motion_from_twist
 from . import _inputs as chk
 from ._fastcall import Entry
+from ._workspace import all_finite
 from .aba import aba_batch, aba_single
 from .crba import crba_batch, crba_single
 from .energy import energy_batch
@@ -81,7 +82,7 @@ def crba(model, q) -> np.ndarray:
     return crba_batch(*_dyn(model), q, _threads())
 
 
-SERIAL_BATCH = 4
+SERIAL_BATCH = 2
 """Batches this small run sample by sample: starting the thread pool costs more."""
 
 
@@ -99,7 +100,7 @@ def _batch(model, single: Entry, parallel, states: dict, g, fe, has) -> np.ndarr
             out = parallel(*model.dynamics_arrays, *x, g, fe, has, _threads())
     except ZeroDivisionError:
         raise _singular(model) from None
-    if not np.all(np.isfinite(out)):
+    if not all_finite(out):
         raise _singular(model) if single is _ABA else chk.explain(model, **states)
     return out
 
@@ -196,7 +197,7 @@ def _threads() -> int:
 
 def _require_finite(model, **arrays) -> None:
     for a in arrays.values():
-        if not np.all(np.isfinite(a)):
+        if not all_finite(a):
             raise chk.explain(model, **arrays)
 
 
