@@ -277,6 +277,50 @@ class Multivector:
             total = total.gp(total)
         return total
 
+    def left_matrix(self) -> np.ndarray:
+        """The matrix L of left multiplication: (A X)_k = L[k, j] X_j (batch dims first)."""
+        c = _dense_cache(self.algebra, self.algebra.gp_table)
+        return np.einsum("...i,ijk->...kj", self.coeffs, c)
+
+    def general_inverse(self) -> Multivector:
+        """Inverse of any invertible element, by solving ``L_A X = 1`` (not only versors)."""
+        L = self.left_matrix()
+        one = np.zeros(L.shape[:-1])
+        one[..., 0] = 1.0
+        try:
+            return self._new(np.linalg.solve(L, one[..., None])[..., 0])
+        except np.linalg.LinAlgError:
+            raise ValueError("multivector is not invertible") from None
+
+    def sqrt(self, iterations: int = 60) -> Multivector:
+        """Principal square root by the Denman-Beavers iteration (any associative algebra)."""
+        y = self
+        z = Multivector.scalar(self.algebra, np.ones(self.batch_shape))
+        for _ in range(iterations):
+            y, z = (y + z.general_inverse()) * 0.5, (z + y.general_inverse()) * 0.5
+        return y
+
+    def log(self, terms: int = 40) -> Multivector:
+        """Principal logarithm, the inverse of ``exp``: inverse scaling and squaring.
+
+        Square roots bring the element near 1, then the series
+        ``log M = 2 Σ X^(2i+1) / (2i+1)`` with ``X = (M - 1)(M + 1)^-1`` is summed and scaled
+        back. For a motor ``exp(B)`` with rotation angle below π this gives B (plus rounding
+        in other grades; take ``.grade(2)``).
+        """
+        if self.coeffs.dtype == object:
+            raise TypeError("log needs float coefficients")
+        m, k = self, 0
+        one = Multivector.scalar(self.algebra, np.ones(self.batch_shape))
+        while k < 60 and np.max(np.abs((m - one).coeffs)) > 1e-3:
+            m, k = m.sqrt(), k + 1
+        x = (m - one).gp((m + one).general_inverse())
+        x2, term, total = x.gp(x), x, x
+        for i in range(1, terms):
+            term = term.gp(x2)
+            total = total + term * (1.0 / (2 * i + 1))
+        return total * (2.0 ** (k + 1))
+
     # --- display -------------------------------------------------------------------
 
     def __repr__(self) -> str:
