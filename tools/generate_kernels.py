@@ -199,16 +199,24 @@ def inertia_apply() -> Kernel:
     )
 
 
-def wrench_adjoint() -> Kernel:
-    """The 6x6 matrix X with <M W ~M>_wrench = X @ W, common products shared (sympy.cse)."""
+def _adjoint_pattern() -> list[list[sp.Expr]]:
+    """Symbolic entries of the wrench adjoint X(M) (to know its structural zeros)."""
     m = mv(m8, MOTOR_BLADES)
     mr = ~m
-    entries = []
+    x = [[None] * 6 for _ in range(6)]
     for j in range(6):
         unit = [0] * 6
         unit[j] = 1
         col = coeffs(m * mv(unit, WRENCH_BLADES) * mr, WRENCH_BLADES)
-        entries += [(i, j, e) for i, e in enumerate(col)]
+        for i in range(6):
+            x[i][j] = col[i]
+    return x
+
+
+def wrench_adjoint() -> Kernel:
+    """The 6x6 matrix X with <M W ~M>_wrench = X @ W, common products shared (sympy.cse)."""
+    x = _adjoint_pattern()
+    entries = [(i, j, x[i][j]) for j in range(6) for i in range(6)]
     nonzero = [e for _, _, e in entries if e != 0]
     shared, reduced = sp.cse(nonzero, symbols=sp.numbered_symbols("c"), optimizations="basic")
     body = [load("m", m8), "    # products shared by several entries"]
@@ -225,15 +233,7 @@ def wrench_adjoint() -> Kernel:
 
 def inertia_transform() -> Kernel:
     """Eq. (16): out^{e_j} = M (Σ_k <M I^{e_k} ~M>_{e_j} e_k) ~M, with X the wrench adjoint."""
-    m = mv(m8, MOTOR_BLADES)
-    mr = ~m
-    x = [[None] * 6 for _ in range(6)]
-    for j in range(6):
-        unit = [0] * 6
-        unit[j] = 1
-        col = coeffs(m * mv(unit, WRENCH_BLADES) * mr, WRENCH_BLADES)
-        for i in range(6):
-            x[i][j] = col[i]
+    x = _adjoint_pattern()
     body = [load("m", m8)]
     body.append("    # stage 1: X, the matrix of the wrench sandwich <M W ~M>_wrench")
     xs = [[sp.Symbol(f"x{i}{j}") if x[i][j] != 0 else 0 for j in range(6)] for i in range(6)]
@@ -265,20 +265,6 @@ def inertia_transform() -> Kernel:
         "    Satisfies eq. (17): ``M I[V] ~M = (M * I)[M V ~M]``.",
         body, exprs,
     )
-
-
-def _adjoint_pattern() -> list[list[sp.Expr]]:
-    """Symbolic entries of the wrench adjoint X(M) (to know its structural zeros)."""
-    m = mv(m8, MOTOR_BLADES)
-    mr = ~m
-    x = [[None] * 6 for _ in range(6)]
-    for j in range(6):
-        unit = [0] * 6
-        unit[j] = 1
-        col = coeffs(m * mv(unit, WRENCH_BLADES) * mr, WRENCH_BLADES)
-        for i in range(6):
-            x[i][j] = col[i]
-    return x
 
 
 def adjoint_apply(transpose: bool) -> Kernel:
