@@ -55,53 +55,53 @@ def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_
     n = parents.shape[0]
     for j in range(n):
         p = parents[j]
-        joint_motor(axes[j], types[j] == 1, q[j], joint)
-        motor_mul(placements[j], joint, M)
-        wrench_adjoint(M, Ad[j])
+        joint_motor(axes[j], types[j] == 1, q[j], joint)  # exp(q_j B_j / 2)
+        motor_mul(placements[j], joint, M)  # M_j = X_j exp(q_j B_j / 2)
+        wrench_adjoint(M, Ad[j])  # M_j (·) ~M_j as a matrix
         if p < 0:
             V[j, :] = 0.0
         else:
-            adjoint_apply_transpose(Ad[j], V[p], V[j])
+            adjoint_apply_transpose(Ad[j], V[p], V[j])  # ~M_j V_λ M_j
         for k in range(6):
-            V[j, k] += qd[j] * axes[j, k]
+            V[j, k] += qd[j] * axes[j, k]  # V_j = ~M_j V_λ M_j + q̇_j B_j
         twist_cross(V[j], axes[j], C[j])
         for k in range(6):
-            C[j, k] *= qd[j]
-        Ih[j] = inertias[j]
+            C[j, k] *= qd[j]  # c_j = q̇_j (V_j × B_j)
+        Ih[j] = inertias[j]  # Î_j = I_j
         inertia_apply(inertias[j], V[j], tmp)
-        twist_cross_wrench(V[j], tmp, Wh[j])
+        twist_cross_wrench(V[j], tmp, Wh[j])  # Ŵ_j = V_j × I_j[V_j]
         if has_ext:
             for k in range(6):
                 Wh[j, k] -= f_ext[j, k]
     for j in range(n - 1, -1, -1):
-        inertia_apply(Ih[j], axes[j], WB[j])
-        Omega[j] = -1.0 / dot(axes[j], WB[j])
-        u[j] = tau[j] + dot(axes[j], Wh[j])
+        inertia_apply(Ih[j], axes[j], WB[j])  # W_Bj = Î_j[B_j]
+        Omega[j] = -1.0 / dot(axes[j], WB[j])  # Ω_j = (-B_j · W_Bj)^-1
+        u[j] = tau[j] + dot(axes[j], Wh[j])  # τ̂_j = τ_j + B_j · Ŵ_j
         p = parents[j]
         if p >= 0:
             for k in range(6):
-                for l in range(6):
+                for l in range(6):  # Ĩ_j = {Î_j^{e_k} - Ω_j (W_Bj)_k W_Bj}
                     It[k, l] = Ih[j, k, l] - Omega[j] * WB[j, k] * WB[j, l]
             inertia_apply(It, C[j], tmp)
-            for k in range(6):
+            for k in range(6):  # W̄_j = Ŵ_j + Ĩ_j[c_j] + Ω_j τ̂_j W_Bj
                 tmp[k] += Wh[j, k] + Omega[j] * u[j] * WB[j, k]
-            adjoint_apply(Ad[j], tmp, tmp2)
-            inertia_congruence(Ad[j], It, It)
+            adjoint_apply(Ad[j], tmp, tmp2)  # M_j W̄_j ~M_j
+            inertia_congruence(Ad[j], It, It)  # M_j * Ĩ_j, eq. (16)
             for k in range(6):
                 Wh[p, k] += tmp2[k]
                 for l in range(6):
                     Ih[p, k, l] += It[k, l]
-    for j in range(n):
+    for j in range(n):  # V now holds the accelerations V̇_j, V̇_0 = -g
         p = parents[j]
         if p < 0:
             adjoint_apply_transpose(Ad[j], gravity, tmp)
         else:
             adjoint_apply_transpose(Ad[j], V[p], tmp)
         for k in range(6):
-            tmp[k] += C[j, k]
-        qdd[j] = Omega[j] * (u[j] + dot(tmp, WB[j]))
+            tmp[k] += C[j, k]  # V̄_j = ~M_j V̇_λ M_j + c_j
+        qdd[j] = Omega[j] * (u[j] + dot(tmp, WB[j]))  # q̈_j = Ω_j (τ̂_j + V̄_j · W_Bj)
         for k in range(6):
-            V[j, k] = tmp[k] + qdd[j] * axes[j, k]
+            V[j, k] = tmp[k] + qdd[j] * axes[j, k]  # V̇_j = V̄_j + q̈_j B_j
 
 
 @njit(cache=True, nogil=True)

@@ -49,33 +49,33 @@ def rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f
     n = parents.shape[0]
     for j in range(n):
         p = parents[j]
-        joint_motor(axes[j], types[j] == 1, q[j], joint)
-        motor_mul(placements[j], joint, M)
-        wrench_adjoint(M, Ad[j])
+        joint_motor(axes[j], types[j] == 1, q[j], joint)  # exp(q_j B_j / 2)
+        motor_mul(placements[j], joint, M)  # M_j = X_j exp(q_j B_j / 2)
+        wrench_adjoint(M, Ad[j])  # M_j (·) ~M_j as a matrix
         if p < 0:
             V[j, :] = 0.0
-            adjoint_apply_transpose(Ad[j], gravity, A[j])
+            adjoint_apply_transpose(Ad[j], gravity, A[j])  # V̇_0 = -g
         else:
-            adjoint_apply_transpose(Ad[j], V[p], V[j])
-            adjoint_apply_transpose(Ad[j], A[p], A[j])
+            adjoint_apply_transpose(Ad[j], V[p], V[j])  # ~M_j V_λ M_j
+            adjoint_apply_transpose(Ad[j], A[p], A[j])  # ~M_j V̇_λ M_j
         for k in range(6):
-            V[j, k] += qd[j] * axes[j, k]
+            V[j, k] += qd[j] * axes[j, k]  # V_j = ~M_j V_λ M_j + q̇_j B_j
         twist_cross(V[j], axes[j], tmp)
-        for k in range(6):
+        for k in range(6):  # V̇_j = ~M_j V̇_λ M_j + q̇_j (V_j × B_j) + q̈_j B_j
             A[j, k] += qd[j] * tmp[k] + qdd[j] * axes[j, k]
-        inertia_apply(inertias[j], A[j], W[j])
+        inertia_apply(inertias[j], A[j], W[j])  # I_j[V̇_j]
         inertia_apply(inertias[j], V[j], tmp)
-        twist_cross_wrench(V[j], tmp, tmp)
+        twist_cross_wrench(V[j], tmp, tmp)  # V_j × I_j[V_j]
         for k in range(6):
             W[j, k] += tmp[k]
         if has_ext:
             for k in range(6):
                 W[j, k] -= f_ext[j, k]
     for j in range(n - 1, -1, -1):
-        tau[j] = -dot(axes[j], W[j])
+        tau[j] = -dot(axes[j], W[j])  # τ_j = -B_j · W_j
         p = parents[j]
         if p >= 0:
-            adjoint_apply(Ad[j], W[j], tmp)
+            adjoint_apply(Ad[j], W[j], tmp)  # W_λ += M_j W_j ~M_j
             for k in range(6):
                 W[p, k] += tmp[k]
 
