@@ -1,10 +1,12 @@
 """Joint-space mass matrix by composite rigid bodies (CRBA), in CGA.
 
 Backward pass (j = n..1): the composite inertia of the subtree at j is carried to the
-parent with the motor transformation of eq. (16), ``I^c_λ += M_j * I^c_j``. Then for each
-joint j the wrench ``F = I^c_j[B_j]`` (eq. 15) is moved down the path to the root
-(``F ← M_i F ~M_i``), and each supporting joint i reads its entry by the power pairing
-``H_ij = H_ji = -B_i · F`` (eq. 9). The full symmetric matrix is returned.
+parent with the motor transformation of eq. (16), ``I^c_λ += M_j * I^c_j``; composite
+inertias are rigid, so eq. (16)'s closed form for rigid bodies applies
+(``rigid_inertia_transform``). Then for each joint j the wrench ``F = I^c_j[B_j]``
+(eq. 15) is moved down the path to the root (``F ← M_i F ~M_i``), and each supporting
+joint i reads its entry by the power pairing ``H_ij = H_ji = -B_i · F`` (eq. 9). The full
+symmetric matrix is returned.
 """
 
 from __future__ import annotations
@@ -16,11 +18,11 @@ from ..kernels import (
     adjoint_apply,
     dot,
     inertia_apply,
-    inertia_congruence,
     joint_motor,
     motor_mul,
     wrench_adjoint,
 )
+from ..kernels.rigid import rigid_inertia_transform
 from . import _workspace as ws
 
 
@@ -29,23 +31,23 @@ def crba_core(parents, types, placements, axes, inertias, q, H, Ad, Ic, F, tmp, 
     n = parents.shape[0]
     for j in range(n):
         joint_motor(axes[j], types[j] == 1, q[j], joint)
-        motor_mul(placements[j], joint, M)
-        wrench_adjoint(M, Ad[j])
+        motor_mul(placements[j], joint, M[j])  # M_j = X_j exp(q_j B_j / 2)
+        wrench_adjoint(M[j], Ad[j])  # M_j (·) ~M_j as a matrix
         Ic[j] = inertias[j]
     for j in range(n - 1, -1, -1):
         p = parents[j]
         if p >= 0:
-            inertia_congruence(Ad[j], Ic[j], It)
+            rigid_inertia_transform(M[j], Ic[j], It)  # M_j * I^c_j
             for k in range(6):
                 for l in range(6):
                     Ic[p, k, l] += It[k, l]
     H[:, :] = 0.0
     for j in range(n):
-        inertia_apply(Ic[j], axes[j], F)
+        inertia_apply(Ic[j], axes[j], F)  # F = I^c_j[B_j]
         H[j, j] = -dot(axes[j], F)
         i = j
         while parents[i] >= 0:
-            adjoint_apply(Ad[i], F, tmp)
+            adjoint_apply(Ad[i], F, tmp)  # F <- M_i F ~M_i
             F[:] = tmp
             i = parents[i]
             H[i, j] = -dot(axes[i], F)
@@ -54,14 +56,14 @@ def crba_core(parents, types, placements, axes, inertias, q, H, Ad, Ic, F, tmp, 
 
 @njit(cache=True, nogil=True)
 def _workspace(n):
-    """Ad, Ic (n,6,6), F, tmp (6), joint, M (8), It (6,6): one allocation."""
-    buf = np.empty(72 * n + 64)
+    """Ad, Ic (n,6,6), F, tmp (6), joint (8), M (n,8), It (6,6): one allocation."""
+    buf = np.empty(80 * n + 56)
     Ad, o = ws.carve(buf, 0, (n, 6, 6))
     Ic, o = ws.carve(buf, o, (n, 6, 6))
     F, o = ws.carve(buf, o, (6,))
     tmp, o = ws.carve(buf, o, (6,))
     joint, o = ws.carve(buf, o, (8,))
-    M, o = ws.carve(buf, o, (8,))
+    M, o = ws.carve(buf, o, (n, 8))
     It, o = ws.carve(buf, o, (6, 6))
     return Ad, Ic, F, tmp, joint, M, It
 
