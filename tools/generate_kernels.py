@@ -300,20 +300,47 @@ def inertia_congruence() -> Kernel:
         names = [f"i{k}{j}" for j in range(k, 6)]
         body.append("    " + ", ".join(names) + " = " + ", ".join(f"inertia[{k}, {j}]"
                                                             for j in range(k, 6)))
+    # X is block upper triangular, [[X11, X12], [0, X22]]; I = [[A, B], [Bᵀ, C]]:
+    #   X I Xᵀ = [[X11 A X11ᵀ + Y X12ᵀ + X12 Zᵀ, Y X22ᵀ], [., X22 C X22ᵀ]]
+    # with Z = X11 B and Y = Z + X12 C: 207 multiplications instead of 270.
+    assert all(xs[i][j] == 0 for i in range(3, 6) for j in range(3))
+    X11 = [[xs[i][j] for j in range(3)] for i in range(3)]
+    X12 = [[xs[i][j + 3] for j in range(3)] for i in range(3)]
+    X22 = [[xs[i + 3][j + 3] for j in range(3)] for i in range(3)]
+    A = [[isym[i][j] for j in range(3)] for i in range(3)]
+    B = [[isym[i][j + 3] for j in range(3)] for i in range(3)]
+    C = [[isym[i + 3][j + 3] for j in range(3)] for i in range(3)]
     exprs = []
-    body.append("    # A = I Xᵀ, then out = X A (upper triangle, mirrored)")
-    for k in range(6):
-        for j in range(6):
-            e = sum(isym[k][l] * xs[j][l] for l in range(6))
-            exprs.append(e)
-            body.append(f"    a{k}{j} = {sp.sstr(e)}")
-    for j in range(6):
-        for mm in range(j, 6):
-            e = sum(xs[j][k] * sp.Symbol(f"a{k}{mm}") for k in range(6))
-            exprs.append(e)
-            body.append(f"    out[{j}, {mm}] = {sp.sstr(e)}")
-            if mm != j:
-                body.append(f"    out[{mm}, {j}] = out[{j}, {mm}]")
+
+    def emit(name, e):
+        exprs.append(e)
+        body.append(f"    {name} = {sp.sstr(e)}")
+        return sp.Symbol(name.split("[")[0]) if "[" not in name else None
+
+    r3 = range(3)
+    body.append("    # Z = X11 B, Y = Z + X12 C, T = A X11ᵀ, U = C X22ᵀ")
+    Z = [[emit(f"z{i}{j}", sum(X11[i][k] * B[k][j] for k in r3)) for j in r3] for i in r3]
+    Y = [[emit(f"y{i}{j}", Z[i][j] + sum(X12[i][k] * C[k][j] for k in r3)) for j in r3]
+         for i in r3]
+    T = [[emit(f"t{i}{j}", sum(A[i][k] * X11[j][k] for k in r3)) for j in r3] for i in r3]
+    U = [[emit(f"u{i}{j}", sum(C[i][k] * X22[j][k] for k in r3)) for j in r3] for i in r3]
+    body.append("    # out = X I Xᵀ, upper triangle of the diagonal blocks, mirrored")
+    for i in r3:
+        for j in range(i, 3):
+            e = sum(X11[i][k] * T[k][j] + Y[i][k] * X12[j][k] + X12[i][k] * Z[j][k]
+                    for k in r3)
+            emit(f"out[{i}, {j}]", e)
+            if i != j:
+                body.append(f"    out[{j}, {i}] = out[{i}, {j}]")
+    for i in r3:
+        for j in r3:
+            emit(f"out[{i}, {j + 3}]", sum(Y[i][k] * X22[j][k] for k in r3))
+            body.append(f"    out[{j + 3}, {i}] = out[{i}, {j + 3}]")
+    for i in r3:
+        for j in range(i, 3):
+            emit(f"out[{i + 3}, {j + 3}]", sum(X22[i][k] * U[k][j] for k in r3))
+            if i != j:
+                body.append(f"    out[{j + 3}, {i + 3}] = out[{i + 3}, {j + 3}]")
     return Kernel(
         "inertia_congruence", ["x", "inertia", "out"],
         "``out = M * I`` (eq. 16) for a symmetric inertia, from the wrench adjoint X of M.\n\n"
