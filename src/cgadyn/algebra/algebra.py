@@ -57,6 +57,8 @@ class Algebra:
         self.bitmaps = np.array(order, dtype=np.int64)
         self.index_of = {int(b): i for i, b in enumerate(order)}
         self.grades = np.array([bin(b).count("1") for b in order], dtype=np.int64)
+        #: an optional BasisView in which multivectors print (set for CGA's null basis)
+        self.display = None
 
     @classmethod
     def signature(cls, p: int, q: int = 0, r: int = 0, first: int = 1) -> Algebra:

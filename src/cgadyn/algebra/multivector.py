@@ -324,8 +324,12 @@ class Multivector:
     # --- display -------------------------------------------------------------------
 
     def __repr__(self) -> str:
+        """Terms on the algebra's display basis (CGA: the null basis, ``- 2 e1∞``)."""
         if self.batch_shape:
             return f"Multivector({self.algebra}, batch {self.batch_shape})"
+        view = self.algebra.display
+        if view is not None and self.coeffs.dtype != object:
+            return view.repr(self)
         return format_terms(self.coeffs, self.algebra.blade_names)
 
     def allclose(self, other, **kw) -> bool:
@@ -343,7 +347,8 @@ def format_terms(coeffs, names, tol: float = 1e-12) -> str:
         label = "" if name == "1" else " " + name
         if isinstance(c, (int, float, np.floating)):
             sign = "-" if c < 0 else "+"
-            parts.append((sign, f"{abs(float(c)):g}{label}"))
+            magnitude = "" if label and abs(float(c)) == 1.0 else f"{abs(float(c)):g}"
+            parts.append((sign, f"{magnitude}{label}".strip()))
         else:
             parts.append(("+", f"({c}){label}"))
     if not parts:

@@ -35,6 +35,7 @@ def _basis() -> tuple[BasisView, dict[str, Multivector]]:
 
 
 NULL, VECTORS = _basis()
+CGA.display = NULL  # multivectors of this algebra print in the null basis: 1 + 0.5 e12 - 2 e1∞
 e0, e1, e2, e3, einf = (VECTORS[k] for k in ("e0", "e1", "e2", "e3", "e∞"))
 
 
