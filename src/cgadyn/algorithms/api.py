@@ -26,10 +26,6 @@ _RNEA, _ABA, _CRBA = Entry(rnea_single), Entry(aba_single), Entry(crba_single)
 _GRAVITY = chk.DEFAULT_GRAVITY_TWIST
 
 
-def _dyn(model):
-    return model.dynamics_arrays
-
-
 def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
     """Joint torques ``τ`` of inverse dynamics (Algorithm 2): ``M(q) a + C(q, v) v + g(q)``.
 
@@ -79,7 +75,7 @@ def crba(model, q) -> np.ndarray:
     if len(q) <= SERIAL_BATCH:
         return np.array([_CRBA.call(*model.dynamics_arrays, x) for x in q]).reshape(
             len(q), model.nv, model.nv)
-    return crba_batch(*_dyn(model), q, _threads())
+    return crba_batch(*model.dynamics_arrays, q, _threads())
 
 
 SERIAL_BATCH = 2
@@ -172,7 +168,7 @@ def energy(model, q, v, gravity=G) -> np.ndarray:
     chk.same_batch(q, v, names=("q", "v"))
     _require_finite(model, q=q, v=v)
     g = np.array(chk.gravity_vector(gravity))
-    out = energy_batch(*_dyn(model), model.body_mass, model.body_com, np.atleast_2d(q),
+    out = energy_batch(*model.dynamics_arrays, model.body_mass, model.body_com, np.atleast_2d(q),
                        np.atleast_2d(v), g, _threads())
     return out[0] if q.ndim == 1 else out
 
