@@ -80,8 +80,9 @@ def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_
         p = parents[j]
         if p >= 0:
             for k in range(6):
-                for l in range(6):  # Ĩ_j = {Î_j^{e_k} - Ω_j (W_Bj)_k W_Bj}
-                    It[k, l] = Ih[j, k, l] - Omega[j] * WB[j, k] * WB[j, l]
+                w = Omega[j] * WB[j, k]
+                for l in range(k, 6):  # Ĩ_j = {Î_j^{e_k} - Ω_j (W_Bj)_k W_Bj}, symmetric
+                    It[k, l] = It[l, k] = Ih[j, k, l] - w * WB[j, l]
             inertia_apply(It, C[j], tmp)
             for k in range(6):  # W̄_j = Ŵ_j + Ĩ_j[c_j] + Ω_j τ̂_j W_Bj
                 tmp[k] += Wh[j, k] + Omega[j] * u[j] * WB[j, k]
