@@ -87,12 +87,16 @@ def gravity_vector(gravity) -> tuple[float, float, float]:
 _NO_EXT: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
 
+def _no_ext_pair(model) -> tuple[np.ndarray, np.ndarray]:
+    pair = _NO_EXT.get(model.nv)
+    if pair is None:
+        pair = _NO_EXT[model.nv] = (np.zeros((model.nv, 6)), np.zeros((1, model.nv, 6)))
+    return pair
+
+
 def no_ext(model) -> np.ndarray:
     """The placeholder (n, 6) passed when there are no external wrenches."""
-    dummy = _NO_EXT.get(model.nv)
-    if dummy is None:
-        dummy = _NO_EXT[model.nv] = (np.zeros((model.nv, 6)), np.zeros((1, model.nv, 6)))
-    return dummy[0]
+    return _no_ext_pair(model)[0]
 
 
 def external(model, f_ext, batch: tuple[int, ...]) -> tuple[np.ndarray, bool]:
@@ -103,8 +107,7 @@ def external(model, f_ext, batch: tuple[int, ...]) -> tuple[np.ndarray, bool]:
     """
     n = model.nv
     if f_ext is None:
-        no_ext(model)
-        return (_NO_EXT[n][1] if batch else _NO_EXT[n][0]), False
+        return _no_ext_pair(model)[1 if batch else 0], False
     f = np.asarray(f_ext, dtype=float)
     if f.shape not in ((n, 6), batch + (n, 6)):
         raise ValueError(

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ..cga.conventions import motion_from_twist
+from ..cga.conventions import matrix_from_motor, motion_from_twist
 from . import _inputs as chk
 from ._fastcall import Entry
 from ._workspace import all_finite
@@ -125,12 +125,8 @@ def forward_kinematics(model, q) -> tuple[np.ndarray, np.ndarray]:
 
 def link_placements(model, q) -> np.ndarray:
     """World 4x4 homogeneous matrices of every link frame, (..., nl, 4, 4)."""
-    from ..cga.conventions import matrix_from_motor
-
     _, links = forward_kinematics(model, q)
-    flat = links.reshape(-1, 8)
-    mats = np.array([matrix_from_motor(m) for m in flat])
-    return mats.reshape(links.shape[:-1] + (4, 4))
+    return matrix_from_motor(links)
 
 
 _FRAMES = {"world": WORLD, "local": LOCAL, "local_world_aligned": LOCAL_WORLD_ALIGNED}

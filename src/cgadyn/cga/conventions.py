@@ -118,15 +118,18 @@ def motor_from_matrix(T) -> np.ndarray:
 
 
 def matrix_from_motor(M) -> np.ndarray:
-    """4x4 homogeneous matrix of a motor (normalised first)."""
+    """4x4 homogeneous matrix of a motor (normalised first); (..., 8) gives (..., 4, 4)."""
+    from ..kernels.batch import motor_normalize_batch, motor_translation_batch
+
     m = _vec(M, 8, "motor")
-    n = np.empty(8)
-    K.motor_normalize(m, n)
-    w, x, y, z = n[0], -n[3], n[2], -n[1]
-    out = np.eye(4)
-    out[:3, :3] = _rotation(w, x, y, z)
-    out[:3, 3] = K.motor_translation(n)
-    return out
+    flat = np.ascontiguousarray(m.reshape(-1, 8))
+    n = motor_normalize_batch(flat, np.empty_like(flat))
+    w, x, y, z = n[:, 0], -n[:, 3], n[:, 2], -n[:, 1]
+    out = np.zeros((len(n), 4, 4))
+    out[:, :3, :3] = np.moveaxis(_rotation(w, x, y, z), (0, 1), (-2, -1))
+    out[:, :3, 3] = motor_translation_batch(n, np.empty((len(n), 3)))
+    out[:, 3, 3] = 1.0
+    return out.reshape(m.shape[:-1] + (4, 4))
 
 
 def motor_from_quaternion(quat, trans=(0.0, 0.0, 0.0)) -> np.ndarray:
