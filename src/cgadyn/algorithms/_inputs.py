@@ -95,8 +95,9 @@ def _no_ext_pair(model) -> tuple[np.ndarray, np.ndarray]:
 
 
 def no_ext(model) -> np.ndarray:
-    """The placeholder (n, 6) passed when there are no external wrenches."""
-    return _no_ext_pair(model)[0]
+    """The placeholder (n, 6) passed when there are no external wrenches (hot path)."""
+    pair = _NO_EXT.get(model.nv)
+    return (pair if pair is not None else _no_ext_pair(model))[0]
 
 
 def external(model, f_ext, batch: tuple[int, ...]) -> tuple[np.ndarray, bool]:
