@@ -300,7 +300,7 @@ class Motor(_Array):
 
     def matrix(self) -> np.ndarray:
         """4x4 homogeneous matrix (..., 4, 4) of the (normalised) motor."""
-        return _each(C.matrix_from_motor, self.values, 1, (4, 4))
+        return C.matrix_from_motor(self.values)
 
     def quaternion(self) -> np.ndarray:
         """Unit quaternion ``(w, x, y, z)`` of the rotation (..., 4)."""
