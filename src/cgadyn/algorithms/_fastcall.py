@@ -1,33 +1,58 @@
-"""Call a compiled function without numba's per-call type dispatch.
+"""Call a compiled single-sample algorithm on the fastest path numba offers from Python.
 
-A numba dispatcher spends about half a microsecond resolving argument types on every
-call; for single-sample dynamics that is a large share of the whole call. A wrapper that
-has checked its arguments have exactly the canonical types (C-contiguous float64 arrays of
-the right shapes, the model's own arrays) may call the compiled entry point of that
-signature directly: ``Entry(dispatcher).call(*args)``. The first call goes through the
-dispatcher (compiling or loading the cache) and then swaps in the entry point. Under
-``NUMBA_DISABLE_JIT=1`` the plain Python function is called every time.
+A numba dispatcher checks its arguments' types in C (dtype, dimensions, layout,
+writability) in a few tens of nanoseconds per argument; checking the same in Python costs
+ten times more. So the Python-facing functions hand their arguments straight to the
+dispatcher (``Compiled.fast``) with compilation *disabled*: arguments of exactly the
+canonical types (C-contiguous writable float64 arrays, ``None`` for absent options) run at
+once, anything else raises ``TypeError`` instead of compiling a new specialisation (as
+does everything before the first compile), and the caller then normalises its inputs and
+takes ``Compiled.call``, which compiles (or loads from the disk cache) the canonical
+signature the first time it is needed. Compilation is
+only ever switched on under a lock, for one signature. Under ``NUMBA_DISABLE_JIT=1`` both
+paths call the plain Python function.
 """
 
 from __future__ import annotations
 
+import threading
+
 import numba
 
+_COMPILING = threading.Lock()
 
-class Entry:
-    """A compiled function's fastest calling path for one fixed signature."""
 
-    __slots__ = ("call", "dispatcher")
+class Compiled:
+    """A numba-compiled function called only with its canonical argument types.
+
+    ``fast(*args)``: canonical types only, anything else raises ``TypeError``;
+    ``call(*args)``: normalised arguments, compiled on first use.
+    """
+
+    __slots__ = ("call", "dispatcher", "fast")
 
     def __init__(self, dispatcher):
         self.dispatcher = dispatcher
-        self.call = self._first_call
+        if hasattr(dispatcher, "disable_compile"):
+            self.fast = _not_compiled_yet
+            self.call = self._compile_and_call
+        else:  # NUMBA_DISABLE_JIT=1: a plain Python function
+            self.fast = self.call = dispatcher
 
-    def _first_call(self, *args):
-        result = self.dispatcher(*args)
-        overloads = getattr(self.dispatcher, "overloads", None)
-        if overloads is not None:
-            cres = overloads.get(tuple(numba.typeof(a) for a in args))
-            if cres is not None:
-                self.call = cres.entry_point
-        return result
+    def _compile_and_call(self, *args):
+        """Call with normalised arguments, compiling their signature first if needed."""
+        d = self.dispatcher
+        signature = tuple(numba.typeof(a) for a in args)
+        if signature not in d.overloads:
+            with _COMPILING:
+                d.disable_compile(False)
+                try:
+                    d.compile(signature)
+                finally:
+                    d.disable_compile()
+                self.fast = d
+        return d(*args)
+
+
+def _not_compiled_yet(*args):
+    raise TypeError("not compiled yet: take the checked path")

@@ -17,9 +17,12 @@ DEFAULT_GRAVITY = (0.0, 0.0, -9.81)
 
 
 def state(model, x, name: str) -> np.ndarray:
-    """``x`` as a contiguous float64 array of shape (n,) or (B, n)."""
+    """``x`` as a contiguous writable float64 array of shape (n,) or (B, n) (the types
+    the compiled code is specialised for)."""
     try:
         a = np.ascontiguousarray(x, dtype=np.float64)
+        if not a.flags.writeable:
+            a = a.copy()
     except (TypeError, ValueError) as exc:
         raise ValueError(f"{name} must be an array of floats: {exc}") from None
     if a.shape[-1:] != (model.nv,) or a.ndim > 2:
@@ -30,25 +33,8 @@ def state(model, x, name: str) -> np.ndarray:
     return a
 
 
-_F64 = np.dtype(np.float64)
-_STRIDE = (8,)
-
-
-def is_sample(model, x, y, z) -> bool:
-    """True when x, y, z are contiguous float64 arrays of shape (n,): the compiled entry
-    points may take them as they are."""
-    n1 = (model.nv,)
-    return (
-        type(x) is np.ndarray and x.dtype is _F64 and x.shape == n1 and x.strides == _STRIDE
-        and type(y) is np.ndarray and y.dtype is _F64 and y.shape == n1 and y.strides == _STRIDE
-        and type(z) is np.ndarray and z.dtype is _F64 and z.shape == n1 and z.strides == _STRIDE
-    )
-
-
 def states(model, arrays: tuple, names: tuple[str, ...]) -> tuple[np.ndarray, ...]:
-    """State arrays of one shape (n,) or (B, n), as contiguous float64."""
-    if is_sample(model, *arrays):
-        return arrays
+    """State arrays of one shape (n,) or (B, n), as contiguous writable float64."""
     out = tuple(state(model, a, name) for a, name in zip(arrays, names, strict=True))
     same_batch(*out, names=names)
     return out
@@ -84,31 +70,15 @@ def gravity_vector(gravity) -> tuple[float, float, float]:
     return (float(g[0]), float(g[1]), float(g[2]))
 
 
-_NO_EXT: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-
-
-def _no_ext_pair(model) -> tuple[np.ndarray, np.ndarray]:
-    pair = _NO_EXT.get(model.nv)
-    if pair is None:
-        pair = _NO_EXT[model.nv] = (np.zeros((model.nv, 6)), np.zeros((1, model.nv, 6)))
-    return pair
-
-
-def no_ext(model) -> np.ndarray:
-    """The placeholder (n, 6) passed when there are no external wrenches (hot path)."""
-    pair = _NO_EXT.get(model.nv)
-    return (pair if pair is not None else _no_ext_pair(model))[0]
-
-
-def external(model, f_ext, batch: tuple[int, ...]) -> tuple[np.ndarray, bool]:
-    """External wrenches as CGA wrench coefficients (..., n, 6), and whether any are given.
+def external(model, f_ext, batch: tuple[int, ...]) -> np.ndarray | None:
+    """External wrenches as CGA wrench coefficients (..., n, 6), or None when absent.
 
     ``f_ext`` follows Pinocchio: one force per joint, ``[f, τ]`` (linear, angular), applied
     to the joint's body and expressed in that joint's frame.
     """
     n = model.nv
     if f_ext is None:
-        return _no_ext_pair(model)[1 if batch else 0], False
+        return None
     f = np.asarray(f_ext, dtype=float)
     if f.shape not in ((n, 6), batch + (n, 6)):
         raise ValueError(
@@ -120,7 +90,7 @@ def external(model, f_ext, batch: tuple[int, ...]) -> tuple[np.ndarray, bool]:
     w = np.ascontiguousarray(wrench_from_force(f))
     if batch and w.ndim == 2:
         w = np.ascontiguousarray(np.broadcast_to(w, batch + (n, 6)))
-    return w, True
+    return w
 
 
 def explain(model, **arrays) -> ValueError:

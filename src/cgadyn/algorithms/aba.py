@@ -45,13 +45,15 @@ from ..kernels import (
     twist_cross_wrench,
     wrench_adjoint,
 )
+from ..multibody.packed import unpack
 from . import _workspace as ws
 
 
 @njit(cache=True, nogil=True)
-def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, has_ext,
+def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext,
              qdd, Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M):
-    """One sample of Algorithm 3 into ``qdd``; the other arrays are workspace."""
+    """One sample of Algorithm 3 into ``qdd``; ``f_ext`` (n, 6) or None; the other arrays
+    are workspace."""
     n = parents.shape[0]
     for j in range(n):
         p = parents[j]
@@ -70,7 +72,7 @@ def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_
         Ih[j] = inertias[j]  # Î_j = I_j
         inertia_apply(inertias[j], V[j], tmp)
         twist_cross_wrench(V[j], tmp, Wh[j])  # Ŵ_j = V_j × I_j[V_j]
-        if has_ext:
+        if f_ext is not None:
             for k in range(6):
                 Wh[j, k] -= f_ext[j, k]
     for j in range(n - 1, -1, -1):
@@ -106,9 +108,13 @@ def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_
 
 
 @njit(cache=True, nogil=True)
-def _workspace(n):
+def _workspace_size(n):
+    return 98 * n + 64
+
+
+@njit(cache=True, nogil=True)
+def _workspace(buf, n):
     """Ad, Ih (n,6,6), V, C, Wh, WB (n,6), Ω, u (n), tmp, tmp2 (6), joint, M (8), It (6,6)."""
-    buf = np.empty(98 * n + 64)
     Ad, o = ws.carve(buf, 0, (n, 6, 6))
     V, o = ws.carve(buf, o, (n, 6))
     C, o = ws.carve(buf, o, (n, 6))
@@ -126,27 +132,30 @@ def _workspace(n):
 
 
 @njit(cache=True, nogil=True)
-def aba_single(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, has_ext):
+def aba_single(tree, bodies, q, qd, tau, gravity, f_ext, qdd):
+    """One sample into ``qdd`` (n,); checks the lengths and finiteness of the inputs."""
+    parents, types, placements, axes, inertias = unpack(tree, bodies)
     n = parents.shape[0]
-    ws.require_finite(q, qd, tau)
-    qdd = np.empty(n)
-    Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M = _workspace(n)
-    aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, has_ext,
-             qdd, Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M)
-    return qdd
+    ws.require_sample(n, q, qd, tau, qdd)
+    work = ws.stack_buffer(_workspace_size(n))
+    Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M = _workspace(work, n)
+    aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, qdd,
+             Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M)
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def aba_batch(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, has_ext,
-                threads):
+def aba_batch(tree, bodies, q, qd, tau, gravity, f_ext, threads):
+    """(B, n) samples in parallel; ``f_ext`` (B, n, 6) or None."""
+    parents, types, placements, axes, inertias = unpack(tree, bodies)
     n = parents.shape[0]
     batch = q.shape[0]
     qdd = np.empty((batch, n))
     starts, stops = ws.chunks(batch, threads)
     for c in prange(starts.shape[0]):
-        Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M = _workspace(n)
+        work = np.empty(_workspace_size(n))
+        Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M = _workspace(work, n)
         for b in range(starts[c], stops[c]):
             aba_core(parents, types, placements, axes, inertias, q[b], qd[b], tau[b], gravity,
-                     f_ext[b if has_ext else 0], has_ext, qdd[b], Ad, V, C, Wh, WB, Ih, Omega, u,
-                     tmp, tmp2, joint, It, M)
+                     ws.row(f_ext, b), qdd[b], Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint,
+                     It, M)
     return qdd

@@ -12,7 +12,7 @@ import numpy as np
 
 from ..cga.conventions import matrix_from_motor, motion_from_twist
 from . import _inputs as chk
-from ._fastcall import Entry
+from ._fastcall import Compiled
 from ._workspace import all_finite
 from .aba import aba_batch, aba_single
 from .crba import crba_batch, crba_single
@@ -22,8 +22,11 @@ from .kinematics import link_motors_batch, link_motors_single
 from .rnea import rnea_batch, rnea_single
 
 G = chk.DEFAULT_GRAVITY
-_RNEA, _ABA, _CRBA = Entry(rnea_single), Entry(aba_single), Entry(crba_single)
+_RNEA, _ABA, _CRBA = Compiled(rnea_single), Compiled(aba_single), Compiled(crba_single)
 _GRAVITY = chk.DEFAULT_GRAVITY_TWIST
+_FAST_PATH_MISSES = (TypeError, ValueError, FloatingPointError, ZeroDivisionError)
+"""A fast call that raises one of these is redone on the checked path, which normalises
+the inputs or explains what is wrong with them."""
 
 
 def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
@@ -31,50 +34,52 @@ def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
 
     ``f_ext``: optional external force per joint, Pinocchio's ``[f, τ]`` in the joint frame.
     """
-    if gravity is G and f_ext is None and chk.is_sample(model, q, v, a):
-        g, fe, has = _GRAVITY, chk.no_ext(model), False  # the common case, in a few checks
-    else:
-        q, v, a = chk.states(model, (q, v, a), ("q", "v", "a"))
-        g = chk.gravity_twist(gravity)
-        fe, has = chk.external(model, f_ext, q.shape[:-1])
-        if q.ndim == 2:
-            return _batch(model, _RNEA, rnea_batch, {"q": q, "v": v, "a": a}, g, fe, has)
-    try:
-        return _RNEA.call(*model.dynamics_arrays, q, v, a, g, fe, has)
-    except FloatingPointError:
-        raise chk.explain(model, q=q, v=v, a=a) from None
+    if f_ext is None and gravity is G and type(q) is np.ndarray and q.ndim == 1:
+        tau = np.empty(len(q))  # the common case: one float64 sample, straight to the
+        try:  # compiled code, which checks the types, lengths and finiteness
+            _RNEA.fast(*model.dynamics_arrays, q, v, a, _GRAVITY, None, tau)
+            return tau
+        except _FAST_PATH_MISSES:
+            pass
+    return _checked(model, _RNEA, rnea_batch, {"q": q, "v": v, "a": a}, gravity, f_ext)
 
 
 def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
     """Joint accelerations ``q̈`` of forward dynamics (Algorithms 1 and 3)."""
-    if gravity is G and f_ext is None and chk.is_sample(model, q, v, tau):
-        g, fe, has = _GRAVITY, chk.no_ext(model), False
-    else:
-        q, v, tau = chk.states(model, (q, v, tau), ("q", "v", "tau"))
-        g = chk.gravity_twist(gravity)
-        fe, has = chk.external(model, f_ext, q.shape[:-1])
-        if q.ndim == 2:
-            return _batch(model, _ABA, aba_batch, {"q": q, "v": v, "tau": tau}, g, fe, has)
-    try:
-        return _ABA.call(*model.dynamics_arrays, q, v, tau, g, fe, has)
-    except FloatingPointError:
-        raise chk.explain(model, q=q, v=v, tau=tau) from None
-    except ZeroDivisionError:
-        raise _singular(model) from None
+    if f_ext is None and gravity is G and type(q) is np.ndarray and q.ndim == 1:
+        qdd = np.empty(len(q))
+        try:
+            _ABA.fast(*model.dynamics_arrays, q, v, tau, _GRAVITY, None, qdd)
+            return qdd
+        except _FAST_PATH_MISSES:
+            pass
+    return _checked(model, _ABA, aba_batch, {"q": q, "v": v, "tau": tau}, gravity, f_ext)
 
 
 def crba(model, q) -> np.ndarray:
     """Joint-space mass matrix ``M(q)``, full and symmetric, (n, n) or (B, n, n)."""
-    q = chk.state(model, q, "q")
-    if q.ndim == 1:
+    if type(q) is np.ndarray and q.ndim == 1:
+        H = np.empty((len(q), len(q)))
         try:
-            return _CRBA.call(*model.dynamics_arrays, q)
-        except FloatingPointError:
-            raise chk.explain(model, q=q) from None
+            _CRBA.fast(*model.dynamics_arrays, q, H)
+            return H
+        except _FAST_PATH_MISSES:
+            pass
+    q = chk.state(model, q, "q")
+    n = model.nv
+    try:
+        if q.ndim == 1:
+            H = np.empty((n, n))
+            _CRBA.call(*model.dynamics_arrays, q, H)
+            return H
+        if len(q) <= SERIAL_BATCH:
+            H = np.empty((len(q), n, n))
+            for b in range(len(q)):
+                _CRBA.call(*model.dynamics_arrays, q[b], H[b])
+            return H
+    except FloatingPointError:
+        raise chk.explain(model, q=q) from None
     _require_finite(model, q=q)
-    if len(q) <= SERIAL_BATCH:
-        return np.array([_CRBA.call(*model.dynamics_arrays, x) for x in q]).reshape(
-            len(q), model.nv, model.nv)
     return crba_batch(*model.dynamics_arrays, q, _threads())
 
 
@@ -82,18 +87,27 @@ SERIAL_BATCH = 2
 """Batches this small run sample by sample: starting the thread pool costs more."""
 
 
-def _batch(model, single: Entry, parallel, states: dict, g, fe, has) -> np.ndarray:
-    """A (B, n) batch: one parallel compiled call, or a short loop for tiny batches."""
-    _require_finite(model, **states)
-    x = tuple(states.values())
+def _checked(model, single: Compiled, parallel, states: dict, gravity, f_ext) -> np.ndarray:
+    """Any accepted input: normalise and check it, then one sample, a short loop of them,
+    or one parallel compiled call over a (B, n) batch."""
+    x = chk.states(model, tuple(states.values()), tuple(states))
+    states = dict(zip(states, x, strict=True))
+    g = chk.gravity_twist(gravity)
+    fe = chk.external(model, f_ext, x[0].shape[:-1])
+    out = np.empty(x[0].shape)
     try:
-        if len(x[0]) <= SERIAL_BATCH:
-            out = np.empty(x[0].shape)
+        if x[0].ndim == 1:
+            single.call(*model.dynamics_arrays, *x, g, fe, out)
+            return out
+        if len(out) <= SERIAL_BATCH:
             for b in range(len(out)):
-                out[b] = single.call(*model.dynamics_arrays, *(s[b] for s in x), g,
-                                     fe[b] if has else chk.no_ext(model), has)
+                single.call(*model.dynamics_arrays, *(s[b] for s in x), g,
+                            None if fe is None else fe[b], out[b])
         else:
-            out = parallel(*model.dynamics_arrays, *x, g, fe, has, _threads())
+            _require_finite(model, **states)
+            out = parallel(*model.dynamics_arrays, *x, g, fe, _threads())
+    except FloatingPointError:
+        raise chk.explain(model, **states) from None
     except ZeroDivisionError:
         raise _singular(model) from None
     if not all_finite(out):

@@ -23,6 +23,7 @@ from ..kernels import (
     wrench_adjoint,
 )
 from ..kernels.rigid import rigid_inertia_transform
+from ..multibody.packed import unpack
 from . import _workspace as ws
 
 
@@ -55,9 +56,13 @@ def crba_core(parents, types, placements, axes, inertias, q, H, Ad, Ic, F, tmp, 
 
 
 @njit(cache=True, nogil=True)
-def _workspace(n):
-    """Ad, Ic (n,6,6), F, tmp (6), joint (8), M (n,8), It (6,6): one allocation."""
-    buf = np.empty(80 * n + 56)
+def _workspace_size(n):
+    return 80 * n + 56
+
+
+@njit(cache=True, nogil=True)
+def _workspace(buf, n):
+    """Ad, Ic (n,6,6), F, tmp (6), joint (8), M (n,8), It (6,6), carved from ``buf``."""
     Ad, o = ws.carve(buf, 0, (n, 6, 6))
     Ic, o = ws.carve(buf, o, (n, 6, 6))
     F, o = ws.carve(buf, o, (6,))
@@ -69,22 +74,25 @@ def _workspace(n):
 
 
 @njit(cache=True, nogil=True)
-def crba_single(parents, types, placements, axes, inertias, q):
+def crba_single(tree, bodies, q, H):
+    """One sample into ``H`` (n, n); checks the length and finiteness of ``q``."""
+    parents, types, placements, axes, inertias = unpack(tree, bodies)
     n = parents.shape[0]
-    ws.require_finite(q, q, q)
-    H = np.empty((n, n))
-    crba_core(parents, types, placements, axes, inertias, q, H, *_workspace(n))
-    return H
+    ws.require_sample(n, q, q, q, H)
+    work = ws.stack_buffer(_workspace_size(n))
+    crba_core(parents, types, placements, axes, inertias, q, H, *_workspace(work, n))
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def crba_batch(parents, types, placements, axes, inertias, q, threads):
+def crba_batch(tree, bodies, q, threads):
+    """(B, n) samples in parallel."""
+    parents, types, placements, axes, inertias = unpack(tree, bodies)
     n = parents.shape[0]
     batch = q.shape[0]
     H = np.empty((batch, n, n))
     starts, stops = ws.chunks(batch, threads)
     for c in prange(starts.shape[0]):
-        Ad, Ic, F, tmp, joint, M, It = _workspace(n)
+        Ad, Ic, F, tmp, joint, M, It = _workspace(np.empty(_workspace_size(n)), n)
         for b in range(starts[c], stops[c]):
             crba_core(parents, types, placements, axes, inertias, q[b], H[b], Ad, Ic, F, tmp,
                       joint, M, It)

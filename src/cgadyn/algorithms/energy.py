@@ -20,6 +20,7 @@ from ..kernels import (
     translator_rotor,
     twist_sandwich_rev,
 )
+from ..multibody.packed import unpack
 from . import _workspace as ws
 
 
@@ -52,7 +53,8 @@ def energy_core(parents, types, placements, axes, inertias, masses, coms, q, qd,
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def energy_batch(parents, types, placements, axes, inertias, masses, coms, q, qd, gravity, threads):
+def energy_batch(tree, bodies, masses, coms, q, qd, gravity, threads):
+    parents, types, placements, axes, inertias = unpack(tree, bodies)
     n = parents.shape[0]
     batch = q.shape[0]
     out = np.empty((batch, 2))

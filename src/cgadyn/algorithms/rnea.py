@@ -39,13 +39,15 @@ from ..kernels import (
     twist_cross_wrench,
     wrench_adjoint,
 )
+from ..multibody.packed import unpack
 from . import _workspace as ws
 
 
 @njit(cache=True, nogil=True)
-def rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, has_ext,
+def rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext,
               tau, Ad, V, A, W, tmp, joint, M):
-    """One sample of Algorithm 2 into ``tau``; Ad, V, A, W, tmp, joint, M are workspace."""
+    """One sample of Algorithm 2 into ``tau``; ``f_ext`` (n, 6) or None; Ad, V, A, W, tmp,
+    joint, M are workspace."""
     n = parents.shape[0]
     for j in range(n):
         p = parents[j]
@@ -68,7 +70,7 @@ def rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f
         twist_cross_wrench(V[j], tmp, tmp)  # V_j × I_j[V_j]
         for k in range(6):
             W[j, k] += tmp[k]
-        if has_ext:
+        if f_ext is not None:
             for k in range(6):
                 W[j, k] -= f_ext[j, k]
     for j in range(n - 1, -1, -1):
@@ -81,9 +83,13 @@ def rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f
 
 
 @njit(cache=True, nogil=True)
-def _workspace(n):
-    """Ad (n,6,6), V, A, W (n,6), tmp (6), joint, M (8): one allocation."""
-    buf = np.empty(54 * n + 22)
+def _workspace_size(n):
+    return 54 * n + 22
+
+
+@njit(cache=True, nogil=True)
+def _workspace(buf, n):
+    """Ad (n,6,6), V, A, W (n,6), tmp (6), joint, M (8), carved from ``buf``."""
     Ad, o = ws.carve(buf, 0, (n, 6, 6))
     V, o = ws.carve(buf, o, (n, 6))
     A, o = ws.carve(buf, o, (n, 6))
@@ -95,26 +101,27 @@ def _workspace(n):
 
 
 @njit(cache=True, nogil=True)
-def rnea_single(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, has_ext):
+def rnea_single(tree, bodies, q, qd, qdd, gravity, f_ext, tau):
+    """One sample into ``tau`` (n,); checks the lengths and finiteness of the inputs."""
+    parents, types, placements, axes, inertias = unpack(tree, bodies)
     n = parents.shape[0]
-    ws.require_finite(q, qd, qdd)
-    tau = np.empty(n)
-    Ad, V, A, W, tmp, joint, M = _workspace(n)
-    rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, has_ext,
-              tau, Ad, V, A, W, tmp, joint, M)
-    return tau
+    ws.require_sample(n, q, qd, qdd, tau)
+    Ad, V, A, W, tmp, joint, M = _workspace(ws.stack_buffer(_workspace_size(n)), n)
+    rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, tau,
+              Ad, V, A, W, tmp, joint, M)
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def rnea_batch(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, has_ext,
-               threads):
+def rnea_batch(tree, bodies, q, qd, qdd, gravity, f_ext, threads):
+    """(B, n) samples in parallel; ``f_ext`` (B, n, 6) or None."""
+    parents, types, placements, axes, inertias = unpack(tree, bodies)
     n = parents.shape[0]
     batch = q.shape[0]
     tau = np.empty((batch, n))
     starts, stops = ws.chunks(batch, threads)
     for c in prange(starts.shape[0]):
-        Ad, V, A, W, tmp, joint, M = _workspace(n)
+        Ad, V, A, W, tmp, joint, M = _workspace(np.empty(_workspace_size(n)), n)
         for b in range(starts[c], stops[c]):
             rnea_core(parents, types, placements, axes, inertias, q[b], qd[b], qdd[b], gravity,
-                      f_ext[b if has_ext else 0], has_ext, tau[b], Ad, V, A, W, tmp, joint, M)
+                      ws.row(f_ext, b), tau[b], Ad, V, A, W, tmp, joint, M)
     return tau

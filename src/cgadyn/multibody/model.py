@@ -17,6 +17,8 @@ from functools import cached_property
 
 import numpy as np
 
+from .packed import pack
+
 REVOLUTE = 0
 PRISMATIC = 1
 
@@ -182,16 +184,10 @@ class Model:
             raise ValueError("joint names must be unique")
 
     @cached_property
-    def dynamics_arrays(self) -> tuple:
-        """(parents, joint_types, placements, axes, inertias) for the compiled algorithms.
-
-        Private writable copies: numba dispatches faster on writable arrays, and the
-        compiled code never writes to them. Not for users: read the public fields.
-        """
-        return tuple(
-            np.array(getattr(self, f))
-            for f in ("parents", "joint_types", "placements", "axes", "inertias")
-        )
+    def dynamics_arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(tree, bodies)``: the dynamics arrays packed for the compiled algorithms
+        (``cgadyn.multibody.packed``). Not for users: read the public fields."""
+        return pack(self)
 
     # --- sizes -----------------------------------------------------------------------
 
