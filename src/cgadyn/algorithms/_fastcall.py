@@ -41,16 +41,19 @@ class Compiled:
 
     def _compile_and_call(self, *args):
         """Call with normalised arguments, compiling their signature first if needed."""
+        try:
+            return self.fast(*args)
+        except TypeError:
+            pass
         d = self.dispatcher
-        signature = tuple(numba.typeof(a) for a in args)
-        if signature not in d.overloads:
-            with _COMPILING:
-                d.disable_compile(False)
-                try:
-                    d.compile(signature)
-                finally:
+        with _COMPILING:
+            d.disable_compile(False)
+            try:
+                d.compile(tuple(numba.typeof(a) for a in args))
+            finally:
+                if d.signatures:  # numba refuses to disable compiling with none
                     d.disable_compile()
-                self.fast = d
+            self.fast = d
         return d(*args)
 
 

@@ -7,13 +7,10 @@ finiteness of the inputs is checked inside the compiled code, which raises a bar
 
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
 
-from ..cga.conventions import twist_from_motion, wrench_from_force
-
-DEFAULT_GRAVITY = (0.0, 0.0, -9.81)
+from ..cga.conventions import wrench_from_force
+from ..multibody.packed import DEFAULT_GRAVITY, with_gravity
 
 
 def state(model, x, name: str) -> np.ndarray:
@@ -47,20 +44,12 @@ def same_batch(*arrays: np.ndarray, names: tuple[str, ...]) -> None:
         raise ValueError(f"inputs must share one shape: {detail}")
 
 
-@lru_cache(maxsize=64)
-def _gravity_twist(g: tuple[float, float, float]) -> np.ndarray:
-    # kept writable (numba's fastest argument type); never handed to users
-    return twist_from_motion(np.array([-g[0], -g[1], -g[2], 0.0, 0.0, 0.0]))
-
-
-DEFAULT_GRAVITY_TWIST = _gravity_twist(DEFAULT_GRAVITY)
-
-
-def gravity_twist(gravity) -> np.ndarray:
-    """The base acceleration ``V̇_0 = -g`` as a twist (Featherstone's trick)."""
+def packed(model, gravity) -> np.ndarray:
+    """The model's packed buffer with the base acceleration ``V̇_0 = -g`` of ``gravity``
+    (Featherstone's trick): the model's own for the default gravity, else a copy."""
     if gravity is DEFAULT_GRAVITY:
-        return DEFAULT_GRAVITY_TWIST
-    return _gravity_twist(gravity_vector(gravity))
+        return model.packed
+    return with_gravity(model.packed, gravity_vector(gravity))
 
 
 def gravity_vector(gravity) -> tuple[float, float, float]:

@@ -11,77 +11,13 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 from numba import njit, types
-from numba.extending import intrinsic, overload
+from numba.extending import overload
 
+from .._views import carve, stack_buffer
 
-@intrinsic
-def _alloca_floats(typingctx, size):
-    sig = types.CPointer(types.float64)(types.intp)
-
-    def codegen(context, builder, signature, args):
-        return builder.alloca(context.get_value_type(types.float64), size=args[0])
-
-    return sig, codegen
-
-
-@intrinsic
-def _advance(typingctx, pointer, offset):
-    sig = pointer(pointer, types.intp)
-
-    def codegen(context, builder, signature, args):
-        return builder.gep(args[0], [args[1]])
-
-    return sig, codegen
-
-
-if numba.config.DISABLE_JIT:
-
-    def stack_buffer(size: int) -> np.ndarray:
-        """Pure Python: a heap array stands in for the stack buffer."""
-        return np.empty(size)
-
-else:
-    stack_buffer = _alloca_floats
-    """``size`` uninitialised floats on the stack of the compiled function that calls it,
-    as a pointer for ``carve``. Valid until that function returns, so call it only in
-    the body of an entry point (never in a loop, never in a helper that returns it)."""
-
-
-def carve(buf, offset, shape):
-    """A C-contiguous view of ``shape`` into ``buf`` at ``offset``, and the next offset.
-
-    ``buf`` is a float64 array (the view keeps it alive) or a ``stack_buffer`` pointer
-    (the view is valid while that stack frame lives). One buffer per call holds every
-    array of an algorithm's workspace.
-    """
-    size = 1
-    for s in shape:
-        size *= s
-    return buf[offset:offset + size].reshape(shape), offset + size
-
-
-@overload(carve)
-def _carve(buf, offset, shape):
-    if isinstance(buf, types.CPointer):
-
-        def on_stack(buf, offset, shape):
-            size = 1
-            for s in shape:
-                size *= s
-            return numba.carray(_advance(buf, offset), shape), offset + size
-
-        return on_stack
-
-    def on_heap(buf, offset, shape):
-        size = 1
-        for s in shape:
-            size *= s
-        return buf[offset:offset + size].reshape(shape), offset + size
-
-    return on_heap
+__all__ = ["all_finite", "carve", "chunks", "require_sample", "row", "stack_buffer"]
 
 
 @njit(cache=True, nogil=True)

@@ -49,7 +49,7 @@ from ..multibody.packed import unpack
 from . import _workspace as ws
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath={"contract"})
 def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext,
              qdd, Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M):
     """One sample of Algorithm 3 into ``qdd``; ``f_ext`` (n, 6) or None; the other arrays
@@ -131,10 +131,10 @@ def _workspace(buf, n):
     return Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M
 
 
-@njit(cache=True, nogil=True)
-def aba_single(tree, bodies, q, qd, tau, gravity, f_ext, qdd):
+@njit(cache=True)
+def aba_single(packed, q, qd, tau, f_ext, qdd):
     """One sample into ``qdd`` (n,); checks the lengths and finiteness of the inputs."""
-    parents, types, placements, axes, inertias = unpack(tree, bodies)
+    parents, types, placements, axes, inertias, gravity = unpack(packed)
     n = parents.shape[0]
     ws.require_sample(n, q, qd, tau, qdd)
     work = ws.stack_buffer(_workspace_size(n))
@@ -144,9 +144,9 @@ def aba_single(tree, bodies, q, qd, tau, gravity, f_ext, qdd):
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def aba_batch(tree, bodies, q, qd, tau, gravity, f_ext, threads):
+def aba_batch(packed, q, qd, tau, f_ext, threads):
     """(B, n) samples in parallel; ``f_ext`` (B, n, 6) or None."""
-    parents, types, placements, axes, inertias = unpack(tree, bodies)
+    parents, types, placements, axes, inertias, gravity = unpack(packed)
     n = parents.shape[0]
     batch = q.shape[0]
     qdd = np.empty((batch, n))

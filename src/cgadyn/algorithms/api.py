@@ -23,7 +23,6 @@ from .rnea import rnea_batch, rnea_single
 
 G = chk.DEFAULT_GRAVITY
 _RNEA, _ABA, _CRBA = Compiled(rnea_single), Compiled(aba_single), Compiled(crba_single)
-_GRAVITY = chk.DEFAULT_GRAVITY_TWIST
 _FAST_PATH_MISSES = (TypeError, ValueError, FloatingPointError, ZeroDivisionError)
 """A fast call that raises one of these is redone on the checked path, which normalises
 the inputs or explains what is wrong with them."""
@@ -37,7 +36,7 @@ def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
     if f_ext is None and gravity is G and type(q) is np.ndarray and q.ndim == 1:
         tau = np.empty(len(q))  # the common case: one float64 sample, straight to the
         try:  # compiled code, which checks the types, lengths and finiteness
-            _RNEA.fast(*model.dynamics_arrays, q, v, a, _GRAVITY, None, tau)
+            _RNEA.fast(model.packed, q, v, a, None, tau)
             return tau
         except _FAST_PATH_MISSES:
             pass
@@ -49,7 +48,7 @@ def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
     if f_ext is None and gravity is G and type(q) is np.ndarray and q.ndim == 1:
         qdd = np.empty(len(q))
         try:
-            _ABA.fast(*model.dynamics_arrays, q, v, tau, _GRAVITY, None, qdd)
+            _ABA.fast(model.packed, q, v, tau, None, qdd)
             return qdd
         except _FAST_PATH_MISSES:
             pass
@@ -61,7 +60,7 @@ def crba(model, q) -> np.ndarray:
     if type(q) is np.ndarray and q.ndim == 1:
         H = np.empty((len(q), len(q)))
         try:
-            _CRBA.fast(*model.dynamics_arrays, q, H)
+            _CRBA.fast(model.packed, q, H)
             return H
         except _FAST_PATH_MISSES:
             pass
@@ -70,17 +69,17 @@ def crba(model, q) -> np.ndarray:
     try:
         if q.ndim == 1:
             H = np.empty((n, n))
-            _CRBA.call(*model.dynamics_arrays, q, H)
+            _CRBA.call(model.packed, q, H)
             return H
         if len(q) <= SERIAL_BATCH:
             H = np.empty((len(q), n, n))
             for b in range(len(q)):
-                _CRBA.call(*model.dynamics_arrays, q[b], H[b])
+                _CRBA.call(model.packed, q[b], H[b])
             return H
     except FloatingPointError:
         raise chk.explain(model, q=q) from None
     _require_finite(model, q=q)
-    return crba_batch(*model.dynamics_arrays, q, _threads())
+    return crba_batch(model.packed, q, _threads())
 
 
 SERIAL_BATCH = 2
@@ -92,20 +91,19 @@ def _checked(model, single: Compiled, parallel, states: dict, gravity, f_ext) ->
     or one parallel compiled call over a (B, n) batch."""
     x = chk.states(model, tuple(states.values()), tuple(states))
     states = dict(zip(states, x, strict=True))
-    g = chk.gravity_twist(gravity)
+    packed = chk.packed(model, gravity)
     fe = chk.external(model, f_ext, x[0].shape[:-1])
     out = np.empty(x[0].shape)
     try:
         if x[0].ndim == 1:
-            single.call(*model.dynamics_arrays, *x, g, fe, out)
+            single.call(packed, *x, fe, out)
             return out
         if len(out) <= SERIAL_BATCH:
             for b in range(len(out)):
-                single.call(*model.dynamics_arrays, *(s[b] for s in x), g,
-                            None if fe is None else fe[b], out[b])
+                single.call(packed, *(s[b] for s in x), None if fe is None else fe[b], out[b])
         else:
             _require_finite(model, **states)
-            out = parallel(*model.dynamics_arrays, *x, g, fe, _threads())
+            out = parallel(packed, *x, fe, _threads())
     except FloatingPointError:
         raise chk.explain(model, **states) from None
     except ZeroDivisionError:
@@ -178,7 +176,7 @@ def energy(model, q, v, gravity=G) -> np.ndarray:
     chk.same_batch(q, v, names=("q", "v"))
     _require_finite(model, q=q, v=v)
     g = np.array(chk.gravity_vector(gravity))
-    out = energy_batch(*model.dynamics_arrays, model.body_mass, model.body_com, np.atleast_2d(q),
+    out = energy_batch(model.packed, model.body_mass, model.body_com, np.atleast_2d(q),
                        np.atleast_2d(v), g, _threads())
     return out[0] if q.ndim == 1 else out
 

@@ -27,7 +27,7 @@ from ..multibody.packed import unpack
 from . import _workspace as ws
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath={"contract"})
 def crba_core(parents, types, placements, axes, inertias, q, H, Ad, Ic, F, tmp, joint, M, It):
     n = parents.shape[0]
     for j in range(n):
@@ -73,10 +73,10 @@ def _workspace(buf, n):
     return Ad, Ic, F, tmp, joint, M, It
 
 
-@njit(cache=True, nogil=True)
-def crba_single(tree, bodies, q, H):
+@njit(cache=True)
+def crba_single(packed, q, H):
     """One sample into ``H`` (n, n); checks the length and finiteness of ``q``."""
-    parents, types, placements, axes, inertias = unpack(tree, bodies)
+    parents, types, placements, axes, inertias, _ = unpack(packed)
     n = parents.shape[0]
     ws.require_sample(n, q, q, q, H)
     work = ws.stack_buffer(_workspace_size(n))
@@ -84,9 +84,9 @@ def crba_single(tree, bodies, q, H):
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def crba_batch(tree, bodies, q, threads):
+def crba_batch(packed, q, threads):
     """(B, n) samples in parallel."""
-    parents, types, placements, axes, inertias = unpack(tree, bodies)
+    parents, types, placements, axes, inertias, _ = unpack(packed)
     n = parents.shape[0]
     batch = q.shape[0]
     H = np.empty((batch, n, n))

@@ -53,8 +53,8 @@ def energy_core(parents, types, placements, axes, inertias, masses, coms, q, qd,
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def energy_batch(tree, bodies, masses, coms, q, qd, gravity, threads):
-    parents, types, placements, axes, inertias = unpack(tree, bodies)
+def energy_batch(packed, masses, coms, q, qd, gravity, threads):
+    parents, types, placements, axes, inertias, _ = unpack(packed)
     n = parents.shape[0]
     batch = q.shape[0]
     out = np.empty((batch, 2))

@@ -43,7 +43,7 @@ from ..multibody.packed import unpack
 from . import _workspace as ws
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath={"contract"})
 def rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext,
               tau, Ad, V, A, W, tmp, joint, M):
     """One sample of Algorithm 2 into ``tau``; ``f_ext`` (n, 6) or None; Ad, V, A, W, tmp,
@@ -100,10 +100,10 @@ def _workspace(buf, n):
     return Ad, V, A, W, tmp, joint, M
 
 
-@njit(cache=True, nogil=True)
-def rnea_single(tree, bodies, q, qd, qdd, gravity, f_ext, tau):
+@njit(cache=True)
+def rnea_single(packed, q, qd, qdd, f_ext, tau):
     """One sample into ``tau`` (n,); checks the lengths and finiteness of the inputs."""
-    parents, types, placements, axes, inertias = unpack(tree, bodies)
+    parents, types, placements, axes, inertias, gravity = unpack(packed)
     n = parents.shape[0]
     ws.require_sample(n, q, qd, qdd, tau)
     Ad, V, A, W, tmp, joint, M = _workspace(ws.stack_buffer(_workspace_size(n)), n)
@@ -112,9 +112,9 @@ def rnea_single(tree, bodies, q, qd, qdd, gravity, f_ext, tau):
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def rnea_batch(tree, bodies, q, qd, qdd, gravity, f_ext, threads):
+def rnea_batch(packed, q, qd, qdd, f_ext, threads):
     """(B, n) samples in parallel; ``f_ext`` (B, n, 6) or None."""
-    parents, types, placements, axes, inertias = unpack(tree, bodies)
+    parents, types, placements, axes, inertias, gravity = unpack(packed)
     n = parents.shape[0]
     batch = q.shape[0]
     tau = np.empty((batch, n))

@@ -184,8 +184,8 @@ class Model:
             raise ValueError("joint names must be unique")
 
     @cached_property
-    def dynamics_arrays(self) -> tuple[np.ndarray, np.ndarray]:
-        """``(tree, bodies)``: the dynamics arrays packed for the compiled algorithms
+    def packed(self) -> np.ndarray:
+        """The dynamics arrays and default gravity in one buffer for the compiled algorithms
         (``cgadyn.multibody.packed``). Not for users: read the public fields."""
         return pack(self)
 

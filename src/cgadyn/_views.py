@@ -1,0 +1,119 @@
+"""Array views on raw memory for compiled code: stack buffers and reference-free views.
+
+Inside a one-sample call that computes in under a microsecond, a heap allocation, an array
+reshape and the reference counting of views each cost a measurable share. These helpers
+give compiled code bare C-contiguous views instead (``numba.carray`` on a pointer): of a
+buffer on the caller's stack, or of an argument array. Such a view owns nothing; it is
+valid while the memory it points into is. Under ``NUMBA_DISABLE_JIT=1`` every helper falls
+back to ordinary numpy arrays.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+from numba import types
+from numba.extending import intrinsic, overload
+
+
+@intrinsic
+def _alloca_floats(typingctx, size):
+    sig = types.CPointer(types.float64)(types.intp)
+
+    def codegen(context, builder, signature, args):
+        return builder.alloca(context.get_value_type(types.float64), size=args[0])
+
+    return sig, codegen
+
+
+@intrinsic
+def _advance(typingctx, pointer, offset):
+    sig = pointer(pointer, types.intp)
+
+    def codegen(context, builder, signature, args):
+        return builder.gep(args[0], [args[1]])
+
+    return sig, codegen
+
+
+@intrinsic
+def _data_pointer(typingctx, array):
+    sig = types.CPointer(array.dtype)(array)
+
+    def codegen(context, builder, signature, args):
+        return context.make_array(signature.args[0])(context, builder, args[0]).data
+
+    return sig, codegen
+
+
+@intrinsic
+def _as_int64(typingctx, pointer):
+    sig = types.CPointer(types.int64)(pointer)
+
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], context.get_value_type(signature.return_type))
+
+    return sig, codegen
+
+
+if numba.config.DISABLE_JIT:
+
+    def stack_buffer(size: int) -> np.ndarray:
+        """Pure Python: a heap array stands in for the stack buffer."""
+        return np.empty(size)
+
+    def data_pointer(array: np.ndarray) -> np.ndarray:
+        """Pure Python: the array itself."""
+        return array
+
+    def as_int64(array: np.ndarray) -> np.ndarray:
+        """Pure Python: the same bytes viewed as int64."""
+        return array.view(np.int64)
+
+else:
+    data_pointer = _data_pointer
+    """The data of a C-contiguous array as a pointer for ``carve``; views made from it
+    are valid only while the array is alive (use it on arguments of the function)."""
+
+    as_int64 = _as_int64
+    """The same pointer read as 8-byte integers: for int64 data stored in a float64 buffer."""
+
+    stack_buffer = _alloca_floats
+    """``size`` uninitialised floats on the stack of the compiled function that calls it,
+    as a pointer for ``carve``. Valid until that function returns, so call it only in
+    the body of an entry point (never in a loop, never in a helper that returns it)."""
+
+
+def carve(buf, offset, shape):
+    """A C-contiguous view of ``shape`` into ``buf`` at ``offset``, and the next offset.
+
+    ``buf`` is an array (the view keeps it alive, at the cost of a reshape and
+    reference counting) or a pointer from ``stack_buffer`` or ``data_pointer`` (a bare view,
+    valid while that stack frame or array lives). One buffer per call holds every
+    array of an algorithm's workspace.
+    """
+    size = 1
+    for s in shape:
+        size *= s
+    return buf[offset:offset + size].reshape(shape), offset + size
+
+
+@overload(carve)
+def _carve(buf, offset, shape):
+    if isinstance(buf, types.CPointer):
+
+        def bare(buf, offset, shape):
+            size = 1
+            for s in shape:
+                size *= s
+            return numba.carray(_advance(buf, offset), shape), offset + size
+
+        return bare
+
+    def on_heap(buf, offset, shape):
+        size = 1
+        for s in shape:
+            size *= s
+        return buf[offset:offset + size].reshape(shape), offset + size
+
+    return on_heap
