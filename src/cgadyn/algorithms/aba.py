@@ -132,8 +132,15 @@ def _workspace(buf, n):
 
 
 @njit(cache=True)
-def aba_single(packed, q, qd, tau, f_ext, qdd):
-    """One sample into ``qdd`` (n,); checks the lengths and finiteness of the inputs."""
+def aba_single(packed, q, qd, tau, qdd):
+    """One sample into ``qdd`` (n,), without external forces."""
+    aba_single_ext(packed, q, qd, tau, None, qdd)
+
+
+@njit(cache=True)
+def aba_single_ext(packed, q, qd, tau, f_ext, qdd):
+    """One sample into ``qdd`` (n,); ``f_ext`` (n, 6) or None. Checks the lengths and
+    finiteness of the inputs."""
     parents, types, placements, axes, inertias, gravity = unpack(packed)
     n = parents.shape[0]
     ws.require_sample(n, q, qd, tau, qdd)

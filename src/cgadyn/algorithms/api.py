@@ -14,15 +14,18 @@ from ..cga.conventions import matrix_from_motor, motion_from_twist
 from . import _inputs as chk
 from ._fastcall import Compiled
 from ._workspace import all_finite
-from .aba import aba_batch, aba_single
+from .aba import aba_batch, aba_single, aba_single_ext
 from .crba import crba_batch, crba_single
 from .energy import energy_batch
 from .jacobian import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, jacobian_batch, jacobian_single
 from .kinematics import link_motors_batch, link_motors_single
-from .rnea import rnea_batch, rnea_single
+from .rnea import rnea_batch, rnea_single, rnea_single_ext
 
 G = chk.DEFAULT_GRAVITY
 _RNEA, _ABA, _CRBA = Compiled(rnea_single), Compiled(aba_single), Compiled(crba_single)
+_RNEA_ALL = (_RNEA, Compiled(rnea_single_ext), rnea_batch)
+_ABA_ALL = (_ABA, Compiled(aba_single_ext), aba_batch)
+_ndarray, _empty = np.ndarray, np.empty  # module globals: one lookup less per call
 _FAST_PATH_MISSES = (TypeError, ValueError, FloatingPointError, ZeroDivisionError)
 """A fast call that raises one of these is redone on the checked path, which normalises
 the inputs or explains what is wrong with them."""
@@ -33,32 +36,32 @@ def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
 
     ``f_ext``: optional external force per joint, Pinocchio's ``[f, τ]`` in the joint frame.
     """
-    if f_ext is None and gravity is G and type(q) is np.ndarray and q.ndim == 1:
-        tau = np.empty(len(q))  # the common case: one float64 sample, straight to the
+    if f_ext is None and gravity is G and type(q) is _ndarray and q.ndim == 1:
+        tau = _empty(len(q))  # the common case: one float64 sample, straight to the
         try:  # compiled code, which checks the types, lengths and finiteness
-            _RNEA.fast(model.packed, q, v, a, None, tau)
+            _RNEA.fast(model.packed, q, v, a, tau)
             return tau
         except _FAST_PATH_MISSES:
             pass
-    return _checked(model, _RNEA, rnea_batch, {"q": q, "v": v, "a": a}, gravity, f_ext)
+    return _checked(model, _RNEA_ALL, {"q": q, "v": v, "a": a}, gravity, f_ext)
 
 
 def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
     """Joint accelerations ``q̈`` of forward dynamics (Algorithms 1 and 3)."""
-    if f_ext is None and gravity is G and type(q) is np.ndarray and q.ndim == 1:
-        qdd = np.empty(len(q))
+    if f_ext is None and gravity is G and type(q) is _ndarray and q.ndim == 1:
+        qdd = _empty(len(q))
         try:
-            _ABA.fast(model.packed, q, v, tau, None, qdd)
+            _ABA.fast(model.packed, q, v, tau, qdd)
             return qdd
         except _FAST_PATH_MISSES:
             pass
-    return _checked(model, _ABA, aba_batch, {"q": q, "v": v, "tau": tau}, gravity, f_ext)
+    return _checked(model, _ABA_ALL, {"q": q, "v": v, "tau": tau}, gravity, f_ext)
 
 
 def crba(model, q) -> np.ndarray:
     """Joint-space mass matrix ``M(q)``, full and symmetric, (n, n) or (B, n, n)."""
-    if type(q) is np.ndarray and q.ndim == 1:
-        H = np.empty((len(q), len(q)))
+    if type(q) is _ndarray and q.ndim == 1:
+        H = _empty((len(q), len(q)))
         try:
             _CRBA.fast(model.packed, q, H)
             return H
@@ -86,9 +89,11 @@ SERIAL_BATCH = 2
 """Batches this small run sample by sample: starting the thread pool costs more."""
 
 
-def _checked(model, single: Compiled, parallel, states: dict, gravity, f_ext) -> np.ndarray:
+def _checked(model, algorithm: tuple, states: dict, gravity, f_ext) -> np.ndarray:
     """Any accepted input: normalise and check it, then one sample, a short loop of them,
-    or one parallel compiled call over a (B, n) batch."""
+    or one parallel compiled call over a (B, n) batch. ``algorithm``: the single-sample
+    entry points without and with external forces, and the parallel batch."""
+    single, single_ext, parallel = algorithm
     x = chk.states(model, tuple(states.values()), tuple(states))
     states = dict(zip(states, x, strict=True))
     packed = chk.packed(model, gravity)
@@ -96,11 +101,17 @@ def _checked(model, single: Compiled, parallel, states: dict, gravity, f_ext) ->
     out = np.empty(x[0].shape)
     try:
         if x[0].ndim == 1:
-            single.call(packed, *x, fe, out)
+            if fe is None:
+                single.call(packed, *x, out)
+            else:
+                single_ext.call(packed, *x, fe, out)
             return out
         if len(out) <= SERIAL_BATCH:
             for b in range(len(out)):
-                single.call(packed, *(s[b] for s in x), None if fe is None else fe[b], out[b])
+                if fe is None:
+                    single.call(packed, *(s[b] for s in x), out[b])
+                else:
+                    single_ext.call(packed, *(s[b] for s in x), fe[b], out[b])
         else:
             _require_finite(model, **states)
             out = parallel(packed, *x, fe, _threads())

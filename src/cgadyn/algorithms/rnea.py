@@ -101,8 +101,15 @@ def _workspace(buf, n):
 
 
 @njit(cache=True)
-def rnea_single(packed, q, qd, qdd, f_ext, tau):
-    """One sample into ``tau`` (n,); checks the lengths and finiteness of the inputs."""
+def rnea_single(packed, q, qd, qdd, tau):
+    """One sample into ``tau`` (n,), without external forces."""
+    rnea_single_ext(packed, q, qd, qdd, None, tau)
+
+
+@njit(cache=True)
+def rnea_single_ext(packed, q, qd, qdd, f_ext, tau):
+    """One sample into ``tau`` (n,); ``f_ext`` (n, 6) or None. Checks the lengths and
+    finiteness of the inputs."""
     parents, types, placements, axes, inertias, gravity = unpack(packed)
     n = parents.shape[0]
     ws.require_sample(n, q, qd, qdd, tau)
