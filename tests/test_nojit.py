@@ -18,6 +18,10 @@ rng = np.random.default_rng(3)
 q, v, a = (rng.uniform(-1, 1, (2, m.nv)) for _ in range(3))
 print(json.dumps({{
     "rnea": cgadyn.rnea(m, q[0], v[0], a[0]).tolist(),
+    "rnea_ext": cgadyn.rnea(m, q[1], v[1], a[1], gravity=(0.5, 1.0, -3.0),
+                            f_ext=rng.uniform(-1, 1, (m.nv, 6))).tolist(),
+    "aba_ext": cgadyn.aba(m, q[0], v[0], a[0], f_ext=rng.uniform(-1, 1, (m.nv, 6))).tolist(),
+    "crba_batch": cgadyn.crba(m, np.concatenate([q, q])).tolist(),
     "aba": cgadyn.aba(m, q, v, a).tolist(),
     "crba": cgadyn.crba(m, q[1]).tolist(),
     "jac": cgadyn.jacobian(m, q[0], m.link_names[-1]).tolist(),
