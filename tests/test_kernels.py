@@ -221,6 +221,8 @@ def test_adjoint_kernels_equal_the_sandwiches_single_and_batched():
          KB.twist_sandwich_rev_batch(m, v, np.empty((B, 6)))),
         (KB.inertia_congruence_batch(X, I, np.empty((B, 6, 6))),
          KB.inertia_transform_batch(m, I, np.empty((B, 6, 6)))),
+        (KB.inertia_congruence_add_batch(X, I, I[::-1].copy()),
+         I[::-1] + KB.inertia_transform_batch(m, I, np.empty((B, 6, 6)))),
     ]
     for got, want in pairs:
         assert np.allclose(got, want, atol=1e-10)

@@ -289,8 +289,9 @@ def adjoint_apply(transpose: bool) -> Kernel:
     return Kernel(name, ["x", "v", "out"], doc, body, exprs)
 
 
-def inertia_congruence() -> Kernel:
-    """out = X I Xᵀ for a symmetric I, upper triangle computed and mirrored."""
+def inertia_congruence(accumulate: bool = False) -> Kernel:
+    """out = X I Xᵀ (or out += X I Xᵀ) for a symmetric I, upper triangle computed and
+    mirrored."""
     x = _adjoint_pattern()
     xs = [[sp.Symbol(f"x{i}{j}") if x[i][j] != 0 else 0 for j in range(6)] for i in range(6)]
     isym = [[sp.Symbol(f"i{min(k, j)}{max(k, j)}") for j in range(6)] for k in range(6)]
@@ -324,23 +325,39 @@ def inertia_congruence() -> Kernel:
          for i in r3]
     T = [[emit(f"t{i}{j}", sum(A[i][k] * X11[j][k] for k in r3)) for j in r3] for i in r3]
     U = [[emit(f"u{i}{j}", sum(C[i][k] * X22[j][k] for k in r3)) for j in r3] for i in r3]
-    body.append("    # out = X I Xᵀ, upper triangle of the diagonal blocks, mirrored")
-    for i in r3:
-        for j in range(i, 3):
-            e = sum(X11[i][k] * T[k][j] + Y[i][k] * X12[j][k] + X12[i][k] * Z[j][k]
-                    for k in r3)
-            emit(f"out[{i}, {j}]", e)
+    op = "+=" if accumulate else "="
+    body.append(f"    # out {op} X I Xᵀ, upper triangle of the diagonal blocks, mirrored")
+
+    def store(i, j, e):
+        exprs.append(e)
+        if accumulate:  # one local, added to both mirrored entries
+            body.append(f"    o{i}{j} = {sp.sstr(e)}")
+            body.append(f"    out[{i}, {j}] += o{i}{j}")
+            if i != j:
+                body.append(f"    out[{j}, {i}] += o{i}{j}")
+        else:
+            body.append(f"    out[{i}, {j}] = {sp.sstr(e)}")
             if i != j:
                 body.append(f"    out[{j}, {i}] = out[{i}, {j}]")
-    for i in r3:
-        for j in r3:
-            emit(f"out[{i}, {j + 3}]", sum(Y[i][k] * X22[j][k] for k in r3))
-            body.append(f"    out[{j + 3}, {i}] = out[{i}, {j + 3}]")
+
     for i in r3:
         for j in range(i, 3):
-            emit(f"out[{i + 3}, {j + 3}]", sum(X22[i][k] * U[k][j] for k in r3))
-            if i != j:
-                body.append(f"    out[{j + 3}, {i + 3}] = out[{i + 3}, {j + 3}]")
+            store(i, j, sum(X11[i][k] * T[k][j] + Y[i][k] * X12[j][k] + X12[i][k] * Z[j][k]
+                            for k in r3))
+    for i in r3:
+        for j in r3:
+            store(i, j + 3, sum(Y[i][k] * X22[j][k] for k in r3))
+    for i in r3:
+        for j in range(i, 3):
+            store(i + 3, j + 3, sum(X22[i][k] * U[k][j] for k in r3))
+    if accumulate:
+        return Kernel(
+            "inertia_congruence_add", ["x", "inertia", "out"],
+            "``out += M * I`` (eq. 16) for a symmetric inertia, from the wrench adjoint X of\n"
+            "    M: ``inertia_congruence`` that adds into ``out`` (a parent's articulated\n"
+            "    inertia) instead of overwriting it; the count leaves out those 36 additions.",
+            body, exprs,
+        )
     return Kernel(
         "inertia_congruence", ["x", "inertia", "out"],
         "``out = M * I`` (eq. 16) for a symmetric inertia, from the wrench adjoint X of M.\n\n"
@@ -418,6 +435,7 @@ KERNELS = [
     lambda: adjoint_apply(transpose=False),
     lambda: adjoint_apply(transpose=True),
     inertia_congruence,
+    lambda: inertia_congruence(accumulate=True),
 ]
 
 HEADER = '''"""Explicit-formula kernels of CGA G(4,1) for motors, twists, wrenches and inertias.

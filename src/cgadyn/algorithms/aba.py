@@ -38,7 +38,7 @@ from ..kernels import (
     adjoint_apply_transpose,
     dot,
     inertia_apply,
-    inertia_congruence,
+    inertia_congruence_add,
     joint_motor,
     motor_mul,
     twist_cross,
@@ -89,11 +89,9 @@ def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_
             for k in range(6):  # W̄_j = Ŵ_j + Ĩ_j[c_j] + Ω_j τ̂_j W_Bj
                 tmp[k] += Wh[j, k] + Omega[j] * u[j] * WB[j, k]
             adjoint_apply(Ad[j], tmp, tmp2)  # M_j W̄_j ~M_j
-            inertia_congruence(Ad[j], It, It)  # M_j * Ĩ_j, eq. (16)
+            inertia_congruence_add(Ad[j], It, Ih[p])  # Î_λ += M_j * Ĩ_j, eq. (16)
             for k in range(6):
                 Wh[p, k] += tmp2[k]
-                for l in range(6):
-                    Ih[p, k, l] += It[k, l]
     for j in range(n):  # V now holds the accelerations V̇_j, V̇_0 = -g
         p = parents[j]
         if p < 0:
