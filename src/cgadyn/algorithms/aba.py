@@ -61,7 +61,8 @@ def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_
         motor_mul(placements[j], joint, M)  # M_j = X_j exp(q_j B_j / 2)
         wrench_adjoint(M, Ad[j])  # M_j (·) ~M_j as a matrix
         if p < 0:
-            V[j, :] = 0.0
+            for k in range(6):
+                V[j, k] = 0.0
         else:
             adjoint_apply_transpose(Ad[j], V[p], V[j])  # ~M_j V_λ M_j
         for k in range(6):
@@ -69,7 +70,9 @@ def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_
         twist_cross(V[j], axes[j], C[j])
         for k in range(6):
             C[j, k] *= qd[j]  # c_j = q̇_j (V_j × B_j)
-        Ih[j] = inertias[j]  # Î_j = I_j
+        for k in range(6):  # Î_j = I_j
+            for l in range(6):
+                Ih[j, k, l] = inertias[j, k, l]
         inertia_apply(inertias[j], V[j], tmp)
         twist_cross_wrench(V[j], tmp, Wh[j])  # Ŵ_j = V_j × I_j[V_j]
         if f_ext is not None:

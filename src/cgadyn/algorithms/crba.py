@@ -34,7 +34,9 @@ def crba_core(parents, types, placements, axes, inertias, q, H, Ad, Ic, F, tmp, 
         joint_motor(axes[j], types[j] == 1, q[j], joint)
         motor_mul(placements[j], joint, M[j])  # M_j = X_j exp(q_j B_j / 2)
         wrench_adjoint(M[j], Ad[j])  # M_j (·) ~M_j as a matrix
-        Ic[j] = inertias[j]
+        for k in range(6):
+            for l in range(6):
+                Ic[j, k, l] = inertias[j, k, l]
     for j in range(n - 1, -1, -1):
         p = parents[j]
         if p >= 0:
@@ -42,14 +44,17 @@ def crba_core(parents, types, placements, axes, inertias, q, H, Ad, Ic, F, tmp, 
             for k in range(6):
                 for l in range(6):
                     Ic[p, k, l] += It[k, l]
-    H[:, :] = 0.0
+    for i in range(n):  # entries of joints on different branches stay zero
+        for j in range(n):
+            H[i, j] = 0.0
     for j in range(n):
         inertia_apply(Ic[j], axes[j], F)  # F = I^c_j[B_j]
         H[j, j] = -dot(axes[j], F)
         i = j
         while parents[i] >= 0:
             adjoint_apply(Ad[i], F, tmp)  # F <- M_i F ~M_i
-            F[:] = tmp
+            for k in range(6):
+                F[k] = tmp[k]
             i = parents[i]
             H[i, j] = -dot(axes[i], F)
             H[j, i] = H[i, j]

@@ -55,7 +55,8 @@ def rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f
         motor_mul(placements[j], joint, M)  # M_j = X_j exp(q_j B_j / 2)
         wrench_adjoint(M, Ad[j])  # M_j (·) ~M_j as a matrix
         if p < 0:
-            V[j, :] = 0.0
+            for k in range(6):
+                V[j, k] = 0.0
             adjoint_apply_transpose(Ad[j], gravity, A[j])  # V̇_0 = -g
         else:
             adjoint_apply_transpose(Ad[j], V[p], V[j])  # ~M_j V_λ M_j
