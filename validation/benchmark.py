@@ -33,17 +33,18 @@ def notes(res: dict) -> list[str]:
             f"- {op}: a single call costs {single:.2f} µs of which about {comp:.2f} µs is "
             f"compute (batch of {res['compute_batch']} on one thread{pc}); the other "
             f"{single - comp:.2f} µs ({100 * (single - comp) / single:.0f} %) are the cost of the "
-            f"call from Python (the API's input checks, numba's dispatch of ~11 array "
-            f"arguments, workspace allocation, boxing the result). "
+            f"call from Python (the wrapper's routing of the input and allocation of the result, "
+            f"numba's type check and unboxing of its array arguments, caches cold after the "
+            f"interpreter). "
             f"Pinocchio's whole single call is {pin_single:.2f} µs.")
     b1 = res["batch_us_per_sample"].get("1", {}).get("aba", {})
     if b1:
         lines.append(
-            f"- B = 1 through the batch paths costs {b1['cgadyn']:.0f} µs (cgadyn) and "
+            f"- A (1, n) batch costs {b1['cgadyn']:.0f} µs (cgadyn) and "
             f"{b1.get('pinocchio_parallel', float('nan')):.0f} µs (Pinocchio InParallel) for "
-            f"aba: starting a {res['threads']}-thread parallel region costs far more than one "
-            "sample; on this shared 2-core VM, where other jobs hold a core, a thread waits for "
-            "a time slice. Use the single-sample call for one sample.")
+            "aba: cgadyn's batch path normalises and checks its inputs in Python before a "
+            "short serial loop (batches up to 2; larger ones start the thread pool). Use the "
+            "single-sample call for one sample.")
     r = res["ratios"]["batch"][big]["aba"]
     lines.append(
         f"- At B = {big}, cgadyn aba runs at {r['pinocchio_loop']:.2f}x the time of a Python "

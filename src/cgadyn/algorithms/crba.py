@@ -28,7 +28,7 @@ from . import _workspace as ws
 
 
 @njit(cache=True, nogil=True, fastmath={"contract"})
-def crba_core(parents, types, placements, axes, inertias, q, H, Ad, Ic, F, tmp, joint, M, It):
+def crba_core(parents, types, placements, axes, inertias, q, H, Ad, Ic, F, joint, M, It):
     n = parents.shape[0]
     for j in range(n):
         joint_motor(axes[j], types[j] == 1, q[j], joint)
@@ -52,9 +52,7 @@ def crba_core(parents, types, placements, axes, inertias, q, H, Ad, Ic, F, tmp, 
         H[j, j] = -dot(axes[j], F)
         i = j
         while parents[i] >= 0:
-            adjoint_apply(Ad[i], F, tmp)  # F <- M_i F ~M_i
-            for k in range(6):
-                F[k] = tmp[k]
+            adjoint_apply(Ad[i], F, F)  # F <- M_i F ~M_i (kernels may write over their input)
             i = parents[i]
             H[i, j] = -dot(axes[i], F)
             H[j, i] = H[i, j]
@@ -62,20 +60,19 @@ def crba_core(parents, types, placements, axes, inertias, q, H, Ad, Ic, F, tmp, 
 
 @njit(cache=True, nogil=True)
 def _workspace_size(n):
-    return 80 * n + 56
+    return 80 * n + 50
 
 
 @njit(cache=True, nogil=True)
 def _workspace(buf, n):
-    """Ad, Ic (n,6,6), F, tmp (6), joint (8), M (n,8), It (6,6), carved from ``buf``."""
+    """Ad, Ic (n,6,6), F (6), joint (8), M (n,8), It (6,6), carved from ``buf``."""
     Ad, o = ws.carve(buf, 0, (n, 6, 6))
     Ic, o = ws.carve(buf, o, (n, 6, 6))
     F, o = ws.carve(buf, o, (6,))
-    tmp, o = ws.carve(buf, o, (6,))
     joint, o = ws.carve(buf, o, (8,))
     M, o = ws.carve(buf, o, (n, 8))
     It, o = ws.carve(buf, o, (6, 6))
-    return Ad, Ic, F, tmp, joint, M, It
+    return Ad, Ic, F, joint, M, It
 
 
 @njit(cache=True)
@@ -97,8 +94,8 @@ def crba_batch(packed, q, threads):
     H = np.empty((batch, n, n))
     starts, stops = ws.chunks(batch, threads)
     for c in prange(starts.shape[0]):
-        Ad, Ic, F, tmp, joint, M, It = _workspace(np.empty(_workspace_size(n)), n)
+        Ad, Ic, F, joint, M, It = _workspace(np.empty(_workspace_size(n)), n)
         for b in range(starts[c], stops[c]):
-            crba_core(parents, types, placements, axes, inertias, q[b], H[b], Ad, Ic, F, tmp,
+            crba_core(parents, types, placements, axes, inertias, q[b], H[b], Ad, Ic, F,
                       joint, M, It)
     return H
