@@ -84,6 +84,20 @@ else:
     the body of an entry point (never in a loop, never in a helper that returns it)."""
 
 
+def pointer(buf):
+    """A workspace buffer as ``carve`` takes it fastest: an array argument becomes a
+    pointer to its data (bare views, valid while the caller's array lives), a pointer
+    stays as it is."""
+    return buf
+
+
+@overload(pointer)
+def _pointer(buf):
+    if isinstance(buf, types.CPointer):
+        return lambda buf: buf
+    return lambda buf: _data_pointer(buf)
+
+
 def carve(buf, offset, shape):
     """A C-contiguous view of ``shape`` into ``buf`` at ``offset``, and the next offset.
 

@@ -15,9 +15,9 @@ import numpy as np
 from numba import njit, types
 from numba.extending import overload
 
-from .._views import carve, stack_buffer
+from .._views import carve, pointer, stack_buffer
 
-__all__ = ["all_finite", "carve", "chunks", "require_sample", "row", "stack_buffer"]
+__all__ = ["all_finite", "carve", "chunks", "pointer", "require_sample", "row", "stack_buffer"]
 
 
 @njit(cache=True, nogil=True)

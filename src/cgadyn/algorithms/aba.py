@@ -45,16 +45,17 @@ from ..kernels import (
     twist_cross_wrench,
     wrench_adjoint,
 )
-from ..multibody.packed import unpack
+from ..multibody.packed import njoints, unpack
 from . import _workspace as ws
 
 
 @njit(cache=True, nogil=True, fastmath={"contract"})
-def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext,
-             qdd, Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M):
-    """One sample of Algorithm 3 into ``qdd``; ``f_ext`` (n, 6) or None; the other arrays
-    are workspace."""
+def aba_core(packed, q, qd, tau, f_ext, qdd, work):
+    """One sample of Algorithm 3 into ``qdd``; ``f_ext`` (n, 6) or None; ``work`` a buffer
+    of ``workspace_size(n)`` floats (a pointer or an array)."""
+    parents, types, placements, axes, inertias, gravity = unpack(packed)
     n = parents.shape[0]
+    Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M = _workspace(ws.pointer(work), n)
     for j in range(n):
         p = parents[j]
         joint_motor(axes[j], types[j] == 1, q[j], joint)  # exp(q_j B_j / 2)
@@ -109,11 +110,11 @@ def aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_
 
 
 @njit(cache=True, nogil=True)
-def _workspace_size(n):
+def workspace_size(n):
     return 98 * n + 64
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _workspace(buf, n):
     """Ad, Ih (n,6,6), V, C, Wh, WB (n,6), Ω, u (n), tmp, tmp2 (6), joint, M (8), It (6,6)."""
     Ad, o = ws.carve(buf, 0, (n, 6, 6))
@@ -141,29 +142,22 @@ def aba_single(packed, q, qd, tau, qdd):
 @njit(cache=True)
 def aba_single_ext(packed, q, qd, tau, f_ext, qdd):
     """One sample into ``qdd`` (n,); ``f_ext`` (n, 6) or None. Checks the lengths and
-    finiteness of the inputs."""
-    parents, types, placements, axes, inertias, gravity = unpack(packed)
-    n = parents.shape[0]
+    finiteness of the inputs; the workspace lives on this call's stack."""
+    n = njoints(packed)
     ws.require_sample(n, q, qd, tau, qdd)
-    work = ws.stack_buffer(_workspace_size(n))
-    Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M = _workspace(work, n)
-    aba_core(parents, types, placements, axes, inertias, q, qd, tau, gravity, f_ext, qdd,
-             Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M)
+    aba_core(packed, q, qd, tau, f_ext, qdd, ws.stack_buffer(workspace_size(n)))
 
 
 @njit(cache=True, nogil=True, parallel=True)
 def aba_batch(packed, q, qd, tau, f_ext, threads):
-    """(B, n) samples in parallel; ``f_ext`` (B, n, 6) or None."""
-    parents, types, placements, axes, inertias, gravity = unpack(packed)
-    n = parents.shape[0]
+    """(B, n) samples in parallel, one heap workspace per thread; ``f_ext`` (B, n, 6) or
+    None."""
+    n = njoints(packed)
     batch = q.shape[0]
     qdd = np.empty((batch, n))
     starts, stops = ws.chunks(batch, threads)
     for c in prange(starts.shape[0]):
-        work = np.empty(_workspace_size(n))
-        Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M = _workspace(work, n)
+        work = np.empty(workspace_size(n))
         for b in range(starts[c], stops[c]):
-            aba_core(parents, types, placements, axes, inertias, q[b], qd[b], tau[b], gravity,
-                     ws.row(f_ext, b), qdd[b], Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint,
-                     It, M)
+            aba_core(packed, q[b], qd[b], tau[b], ws.row(f_ext, b), qdd[b], work)
     return qdd

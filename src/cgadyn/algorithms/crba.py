@@ -23,13 +23,17 @@ from ..kernels import (
     wrench_adjoint,
 )
 from ..kernels.rigid import rigid_inertia_transform
-from ..multibody.packed import unpack
+from ..multibody.packed import njoints, unpack
 from . import _workspace as ws
 
 
 @njit(cache=True, nogil=True, fastmath={"contract"})
-def crba_core(parents, types, placements, axes, inertias, q, H, Ad, Ic, F, joint, M, It):
+def crba_core(packed, q, H, work):
+    """One sample into ``H``; ``work`` a buffer of ``workspace_size(n)`` floats (a pointer
+    or an array)."""
+    parents, types, placements, axes, inertias, _ = unpack(packed)
     n = parents.shape[0]
+    Ad, Ic, F, joint, M, It = _workspace(ws.pointer(work), n)
     for j in range(n):
         joint_motor(axes[j], types[j] == 1, q[j], joint)
         motor_mul(placements[j], joint, M[j])  # M_j = X_j exp(q_j B_j / 2)
@@ -59,11 +63,11 @@ def crba_core(parents, types, placements, axes, inertias, q, H, Ad, Ic, F, joint
 
 
 @njit(cache=True, nogil=True)
-def _workspace_size(n):
+def workspace_size(n):
     return 80 * n + 50
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _workspace(buf, n):
     """Ad, Ic (n,6,6), F (6), joint (8), M (n,8), It (6,6), carved from ``buf``."""
     Ad, o = ws.carve(buf, 0, (n, 6, 6))
@@ -77,25 +81,22 @@ def _workspace(buf, n):
 
 @njit(cache=True)
 def crba_single(packed, q, H):
-    """One sample into ``H`` (n, n); checks the length and finiteness of ``q``."""
-    parents, types, placements, axes, inertias, _ = unpack(packed)
-    n = parents.shape[0]
+    """One sample into ``H`` (n, n); checks the length and finiteness of ``q``; the
+    workspace lives on this call's stack."""
+    n = njoints(packed)
     ws.require_sample(n, q, q, q, H)
-    work = ws.stack_buffer(_workspace_size(n))
-    crba_core(parents, types, placements, axes, inertias, q, H, *_workspace(work, n))
+    crba_core(packed, q, H, ws.stack_buffer(workspace_size(n)))
 
 
 @njit(cache=True, nogil=True, parallel=True)
 def crba_batch(packed, q, threads):
-    """(B, n) samples in parallel."""
-    parents, types, placements, axes, inertias, _ = unpack(packed)
-    n = parents.shape[0]
+    """(B, n) samples in parallel, one heap workspace per thread."""
+    n = njoints(packed)
     batch = q.shape[0]
     H = np.empty((batch, n, n))
     starts, stops = ws.chunks(batch, threads)
     for c in prange(starts.shape[0]):
-        Ad, Ic, F, joint, M, It = _workspace(np.empty(_workspace_size(n)), n)
+        work = np.empty(workspace_size(n))
         for b in range(starts[c], stops[c]):
-            crba_core(parents, types, placements, axes, inertias, q[b], H[b], Ad, Ic, F,
-                      joint, M, It)
+            crba_core(packed, q[b], H[b], work)
     return H

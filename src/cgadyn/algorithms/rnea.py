@@ -39,16 +39,17 @@ from ..kernels import (
     twist_cross_wrench,
     wrench_adjoint,
 )
-from ..multibody.packed import unpack
+from ..multibody.packed import njoints, unpack
 from . import _workspace as ws
 
 
 @njit(cache=True, nogil=True, fastmath={"contract"})
-def rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext,
-              tau, Ad, V, A, W, tmp, joint, M):
-    """One sample of Algorithm 2 into ``tau``; ``f_ext`` (n, 6) or None; Ad, V, A, W, tmp,
-    joint, M are workspace."""
+def rnea_core(packed, q, qd, qdd, f_ext, tau, work):
+    """One sample of Algorithm 2 into ``tau``; ``f_ext`` (n, 6) or None; ``work`` a buffer
+    of ``workspace_size(n)`` floats (a pointer or an array)."""
+    parents, types, placements, axes, inertias, gravity = unpack(packed)
     n = parents.shape[0]
+    Ad, V, A, W, tmp, joint, M = _workspace(ws.pointer(work), n)
     for j in range(n):
         p = parents[j]
         joint_motor(axes[j], types[j] == 1, q[j], joint)  # exp(q_j B_j / 2)
@@ -84,11 +85,11 @@ def rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f
 
 
 @njit(cache=True, nogil=True)
-def _workspace_size(n):
+def workspace_size(n):
     return 54 * n + 22
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _workspace(buf, n):
     """Ad (n,6,6), V, A, W (n,6), tmp (6), joint, M (8), carved from ``buf``."""
     Ad, o = ws.carve(buf, 0, (n, 6, 6))
@@ -110,26 +111,22 @@ def rnea_single(packed, q, qd, qdd, tau):
 @njit(cache=True)
 def rnea_single_ext(packed, q, qd, qdd, f_ext, tau):
     """One sample into ``tau`` (n,); ``f_ext`` (n, 6) or None. Checks the lengths and
-    finiteness of the inputs."""
-    parents, types, placements, axes, inertias, gravity = unpack(packed)
-    n = parents.shape[0]
+    finiteness of the inputs; the workspace lives on this call's stack."""
+    n = njoints(packed)
     ws.require_sample(n, q, qd, qdd, tau)
-    Ad, V, A, W, tmp, joint, M = _workspace(ws.stack_buffer(_workspace_size(n)), n)
-    rnea_core(parents, types, placements, axes, inertias, q, qd, qdd, gravity, f_ext, tau,
-              Ad, V, A, W, tmp, joint, M)
+    rnea_core(packed, q, qd, qdd, f_ext, tau, ws.stack_buffer(workspace_size(n)))
 
 
 @njit(cache=True, nogil=True, parallel=True)
 def rnea_batch(packed, q, qd, qdd, f_ext, threads):
-    """(B, n) samples in parallel; ``f_ext`` (B, n, 6) or None."""
-    parents, types, placements, axes, inertias, gravity = unpack(packed)
-    n = parents.shape[0]
+    """(B, n) samples in parallel, one heap workspace per thread; ``f_ext`` (B, n, 6) or
+    None."""
+    n = njoints(packed)
     batch = q.shape[0]
     tau = np.empty((batch, n))
     starts, stops = ws.chunks(batch, threads)
     for c in prange(starts.shape[0]):
-        Ad, V, A, W, tmp, joint, M = _workspace(np.empty(_workspace_size(n)), n)
+        work = np.empty(workspace_size(n))
         for b in range(starts[c], stops[c]):
-            rnea_core(parents, types, placements, axes, inertias, q[b], qd[b], qdd[b], gravity,
-                      ws.row(f_ext, b), tau[b], Ad, V, A, W, tmp, joint, M)
+            rnea_core(packed, q[b], qd[b], qdd[b], ws.row(f_ext, b), tau[b], work)
     return tau

@@ -55,10 +55,16 @@ def with_gravity(packed: np.ndarray, gravity) -> np.ndarray:
 
 
 @njit(cache=True, nogil=True, inline="always")
+def njoints(packed):
+    """n, from the length of a packed buffer."""
+    return (packed.shape[0] - 6) // FLOATS_PER_JOINT
+
+
+@njit(cache=True, nogil=True, inline="always")
 def unpack(packed):
     """``(parents, joint_types, placements, axes, inertias, base_acceleration)``: views
     into the buffer, valid while it lives (pass it as an argument of the caller)."""
-    n = (packed.shape[0] - 6) // FLOATS_PER_JOINT
+    n = njoints(packed)
     at = data_pointer(packed)
     ints, o = carve(as_int64(at), 0, (2 * n,))
     placements, o = carve(at, o, (n, 8))
