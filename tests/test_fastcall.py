@@ -100,12 +100,13 @@ def _chain(n: int) -> cgadyn.Model:
     )
 
 
-def test_long_chain_stack_workspace_agrees_with_the_batch_path():
-    """A 300-joint chain: the one-sample entries (stack workspace) equal the batch
-    entries (heap workspace) and RNEA inverts ABA."""
-    m = _chain(300)
+@pytest.mark.parametrize("n", [60, 300])
+def test_long_chains_agree_with_the_batch_path(n):
+    """60 joints (one-sample workspaces on the stack) and 300 (on the heap): the one-sample
+    entries equal the batch entries (per-thread heap workspace) and RNEA inverts ABA."""
+    m = _chain(n)
     rng = np.random.default_rng(5)
-    q, v, tau = (rng.uniform(-1, 1, (4, 300)) for _ in range(3))
+    q, v, tau = (rng.uniform(-1, 1, (4, n)) for _ in range(3))
     single = np.array([cgadyn.aba(m, q[b], v[b], tau[b]) for b in range(4)])
     np.testing.assert_array_equal(single, cgadyn.aba(m, q, v, tau))
     np.testing.assert_allclose(cgadyn.rnea(m, q[0], v[0], single[0]), tau[0], rtol=1e-8,

@@ -17,7 +17,12 @@ from numba.extending import overload
 
 from .._views import carve, pointer, stack_buffer
 
-__all__ = ["all_finite", "carve", "chunks", "pointer", "require_sample", "row", "stack_buffer"]
+STACK_FLOATS = 8192
+"""The largest workspace (64 KiB) a one-sample call takes from its stack; larger ones (ABA
+beyond about 80 joints) go on the heap, so that small thread stacks never overflow."""
+
+__all__ = ["STACK_FLOATS", "all_finite", "carve", "chunks", "pointer", "require_sample", "row",
+           "stack_buffer"]
 
 
 @njit(cache=True, nogil=True)

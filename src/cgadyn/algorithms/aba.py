@@ -142,10 +142,15 @@ def aba_single(packed, q, qd, tau, qdd):
 @njit(cache=True)
 def aba_single_ext(packed, q, qd, tau, f_ext, qdd):
     """One sample into ``qdd`` (n,); ``f_ext`` (n, 6) or None. Checks the lengths and
-    finiteness of the inputs; the workspace lives on this call's stack."""
+    finiteness of the inputs; the workspace lives on this call's stack
+    (on the heap for very large models)."""
     n = njoints(packed)
     ws.require_sample(n, q, qd, tau, qdd)
-    aba_core(packed, q, qd, tau, f_ext, qdd, ws.stack_buffer(workspace_size(n)))
+    size = workspace_size(n)
+    if size <= ws.STACK_FLOATS:
+        aba_core(packed, q, qd, tau, f_ext, qdd, ws.stack_buffer(size))
+    else:  # a long chain: on the heap, away from small thread stacks
+        aba_core(packed, q, qd, tau, f_ext, qdd, np.empty(size))
 
 
 @njit(cache=True, nogil=True, parallel=True)

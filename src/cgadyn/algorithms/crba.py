@@ -82,10 +82,14 @@ def _workspace(buf, n):
 @njit(cache=True)
 def crba_single(packed, q, H):
     """One sample into ``H`` (n, n); checks the length and finiteness of ``q``; the
-    workspace lives on this call's stack."""
+    workspace lives on this call's stack (on the heap for very large models)."""
     n = njoints(packed)
     ws.require_sample(n, q, q, q, H)
-    crba_core(packed, q, H, ws.stack_buffer(workspace_size(n)))
+    size = workspace_size(n)
+    if size <= ws.STACK_FLOATS:
+        crba_core(packed, q, H, ws.stack_buffer(size))
+    else:  # a long chain: on the heap, away from small thread stacks
+        crba_core(packed, q, H, np.empty(size))
 
 
 @njit(cache=True, nogil=True, parallel=True)

@@ -111,10 +111,15 @@ def rnea_single(packed, q, qd, qdd, tau):
 @njit(cache=True)
 def rnea_single_ext(packed, q, qd, qdd, f_ext, tau):
     """One sample into ``tau`` (n,); ``f_ext`` (n, 6) or None. Checks the lengths and
-    finiteness of the inputs; the workspace lives on this call's stack."""
+    finiteness of the inputs; the workspace lives on this call's stack
+    (on the heap for very large models)."""
     n = njoints(packed)
     ws.require_sample(n, q, qd, qdd, tau)
-    rnea_core(packed, q, qd, qdd, f_ext, tau, ws.stack_buffer(workspace_size(n)))
+    size = workspace_size(n)
+    if size <= ws.STACK_FLOATS:
+        rnea_core(packed, q, qd, qdd, f_ext, tau, ws.stack_buffer(size))
+    else:  # a long chain: on the heap, away from small thread stacks
+        rnea_core(packed, q, qd, qdd, f_ext, tau, np.empty(size))
 
 
 @njit(cache=True, nogil=True, parallel=True)
