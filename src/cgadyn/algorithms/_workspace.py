@@ -1,10 +1,12 @@
 """Per-call workspaces of the recursive algorithms, and the parallel batch loop pattern.
 
-Each algorithm's single-sample core writes into a workspace it is given and allocates
-nothing. A one-sample entry point takes its workspace from its own stack frame
-(``stack_buffer``: no allocator, no reference counts, gone when the call returns); a
-batch allocates one workspace per thread chunk on the heap. ``carve`` cuts either into
-the C-contiguous arrays the core needs, so concurrent calls never share memory.
+Each algorithm's single-sample core takes ``(packed model, sample, output, work)`` and
+allocates nothing: it unpacks the model and carves its arrays out of ``work`` itself, so a
+call passes a handful of arrays (each array argument is a 7-9 word struct in compiled
+code). A one-sample entry point takes ``work`` from its own stack frame (``stack_buffer``:
+no allocator, no reference counts, gone when the call returns) up to ``STACK_FLOATS``; a
+batch allocates one heap workspace per thread chunk, read through a bare pointer
+(``pointer``). Concurrent calls never share memory.
 """
 
 from __future__ import annotations
