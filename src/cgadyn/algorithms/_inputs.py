@@ -32,14 +32,14 @@ def state(model, x, name: str) -> np.ndarray:
 
 def states(model, arrays: tuple, names: tuple[str, ...]) -> tuple[np.ndarray, ...]:
     """State arrays of one shape (n,) or (B, n), as contiguous writable float64."""
-    out = tuple(state(model, a, name) for a, name in zip(arrays, names, strict=True))
+    out = [state(model, a, name) for a, name in zip(arrays, names, strict=True)]
     same_batch(*out, names=names)
-    return out
+    return tuple(out)
 
 
 def same_batch(*arrays: np.ndarray, names: tuple[str, ...]) -> None:
     first = arrays[0].shape
-    if any(a.shape != first for a in arrays[1:]):
+    if not all(a.shape == first for a in arrays):
         detail = ", ".join(f"{n} {a.shape}" for n, a in zip(names, arrays, strict=True))
         raise ValueError(f"inputs must share one shape: {detail}")
 
