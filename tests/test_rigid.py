@@ -1,4 +1,4 @@
-"""The closed-form rigid inertia transform equals eq. (16) on rigid inertias."""
+"""The closed-form rigid inertia kernels equal eqs. (4), (15) and (16) on rigid inertias."""
 
 from __future__ import annotations
 
@@ -12,7 +12,15 @@ from cgadyn.cga.conventions import (
     inertia_transform,
     motor_from_matrix,
 )
-from cgadyn.kernels.rigid import rigid_inertia_transform
+from cgadyn.kernels import inertia_apply, twist_sandwich
+from cgadyn.kernels.rigid import (
+    rigid_apply,
+    rigid_axis_transform,
+    rigid_inertia_transform,
+    rigid_matrix,
+    rigid_parameters,
+    rigid_transform,
+)
 
 
 @pytest.mark.parametrize("seed", range(5))
@@ -35,3 +43,28 @@ def test_massless_inertia_stays_zero():
     out = np.ones((6, 6))
     rigid_inertia_transform(M, np.zeros((6, 6)), out)
     assert not out.any()
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_ten_parameter_kernels_equal_the_general_ones(seed):
+    """``rigid_axis_transform`` equals the twist sandwich (eq. 4) and eq. (16);
+    ``rigid_transform`` moves the ten parameters alike and ``rigid_apply`` equals eq. (15)."""
+    np.random.seed(seed)
+    I = inertia_from_pinocchio(pin.Inertia.Random().matrix())
+    M = motor_from_matrix(pin.SE3.Random().homogeneous)
+    B, V = np.random.randn(6), np.random.randn(6)
+    S, par = np.empty(6), np.empty(10)
+    rigid_axis_transform(M, B, I, S, par)
+    S_ref = np.empty(6)
+    twist_sandwich(M, B, S_ref)
+    np.testing.assert_allclose(S, S_ref, atol=1e-14)
+    Iw = np.empty((6, 6))
+    rigid_matrix(par, Iw)
+    np.testing.assert_allclose(Iw, inertia_transform(M, I), atol=1e-13)
+    moved = np.array(rigid_parameters(I))
+    rigid_transform(M, moved, moved)  # in place
+    np.testing.assert_allclose(moved, par, atol=1e-14)
+    F, F_ref = np.empty(6), np.empty(6)
+    rigid_apply(par, V, F)
+    inertia_apply(Iw, V, F_ref)
+    np.testing.assert_allclose(F, F_ref, atol=1e-13)

@@ -1,14 +1,16 @@
 """Joint-space mass matrix by composite rigid bodies (CRBA), in CGA, in world coordinates.
 
-Forward pass: the world motor of each body ``M^w_j = M^w_λ M_j``, its joint axis in world
-coordinates ``S_j = M^w_j B_j ~M^w_j`` (eq. 4) and its inertia moved to the world once with
-eq. (16)'s closed form for rigid bodies (``rigid_inertia_transform``). Backward pass
-(j = n..1): in one frame the composite inertias are plain sums, ``I^c_λ += I^c_j``. Then for
-each joint j the wrench ``F = I^c_j[S_j]`` (eq. 15) is already in the frame of every
-supporting joint i, which reads its entry by the power pairing ``H_ij = H_ji = -S_i · F``
-(eq. 9): 6 multiplications per pair, where moving F down the path took 27 more. The
-pairing is invariant under motors, so the entries equal those of local frames. The full
-symmetric matrix is returned.
+Forward pass: the world motor of each body ``M^w_j = M^w_λ M_j``; from its rotation and
+translation, built once (``rigid_axis_transform``), the joint axis in world coordinates
+``S_j = M^w_j B_j ~M^w_j`` (eq. 4) and the body's inertia moved to the world with eq. (16)'s
+closed form for rigid bodies, kept as its ten parameters (mass, first moment, rotational
+inertia). Backward pass (j = n..1): in one frame the composite inertias are plain sums,
+``I^c_λ += I^c_j``, ten numbers each. Once ``I^c_j`` is complete (all its descendants are
+added), the wrench ``F = I^c_j[S_j]`` (eq. 15) is already in the frame of every supporting
+joint i, which reads its entry by the power pairing ``H_ij = H_ji = -S_i · F`` (eq. 9): 6
+multiplications per pair, where moving F down the path took 27 more. The pairing is
+invariant under motors, so the entries equal those of local frames. The full symmetric
+matrix is returned.
 """
 
 from __future__ import annotations
@@ -16,8 +18,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from ..kernels import dot, inertia_apply, joint_motor, motor_mul, twist_sandwich
-from ..kernels.rigid import rigid_inertia_transform
+from ..kernels import dot, joint_motor, motor_mul
+from ..kernels.rigid import rigid_apply, rigid_axis_transform
 from ..multibody.packed import njoints, unpack
 from . import _workspace as ws
 
@@ -37,36 +39,34 @@ def crba_core(packed, q, H, work):
             motor_mul(Mw[p], M, Mw[j])  # M^w_j = M^w_λ M_j
         else:
             motor_mul(placements[j], joint, Mw[j])  # M^w_j = M_j at the root
-        twist_sandwich(Mw[j], axes[j], S[j])  # S_j = M^w_j B_j ~M^w_j
-        rigid_inertia_transform(Mw[j], inertias[j], Ic[j])  # M^w_j * I_j
-    for j in range(n - 1, -1, -1):
-        p = parents[j]
-        if p >= 0:
-            for k in range(6):
-                for l in range(6):
-                    Ic[p, k, l] += Ic[j, k, l]  # I^c_λ += I^c_j, both in world coordinates
+        rigid_axis_transform(Mw[j], axes[j], inertias[j], S[j], Ic[j])  # S_j, M^w_j * I_j
     for i in range(n):  # entries of joints on different branches stay zero
         for j in range(n):
             H[i, j] = 0.0
-    for j in range(n):
-        inertia_apply(Ic[j], S[j], F)  # F = I^c_j[S_j]
+    for j in range(n - 1, -1, -1):  # children come after their parents
+        rigid_apply(Ic[j], S[j], F)  # F = I^c_j[S_j], I^c_j complete
         H[j, j] = -dot(S[j], F)
         i = parents[j]
         while i >= 0:
             H[i, j] = -dot(S[i], F)  # power of F along the supporting axis S_i
             H[j, i] = H[i, j]
             i = parents[i]
+        p = parents[j]
+        if p >= 0:
+            for k in range(10):
+                Ic[p, k] += Ic[j, k]  # I^c_λ += I^c_j, ten parameters in world coordinates
 
 
 @njit(cache=True, nogil=True)
 def workspace_size(n):
-    return 50 * n + 22
+    return 24 * n + 22
 
 
 @njit(cache=True, nogil=True, inline="always")
 def _workspace(buf, n):
-    """Ic (n,6,6), S (n,6), Mw (n,8), F (6), joint (8), M (8), carved from ``buf``."""
-    Ic, o = ws.carve(buf, 0, (n, 6, 6))
+    """Ic (n,10) (ten parameters of rigid inertias), S (n,6), Mw (n,8), F (6), joint (8),
+    M (8), carved from ``buf``."""
+    Ic, o = ws.carve(buf, 0, (n, 10))
     S, o = ws.carve(buf, o, (n, 6))
     Mw, o = ws.carve(buf, o, (n, 8))
     F, o = ws.carve(buf, o, (6,))

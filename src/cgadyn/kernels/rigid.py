@@ -12,6 +12,11 @@ congruence of eq. (16) takes 270; the composite inertias of the mass matrix (CRB
 rigid, articulated ones (ABA) are not. Coefficients are read from and written to the
 element matrix of ``cgadyn.cga.conventions``: ``I = D P D`` with P the physical 6x6
 inertia in (ω, v) order and ``D = diag(-1, 1, -1, -1, -1, -1)``.
+
+The ten parameters are also a compact storage of a rigid inertia (``rigid_parameters``):
+``(m, h1, h2, h3, Ī11, Ī22, Ī33, Ī12, Ī13, Ī23)``. Sums of rigid inertias are rigid, so the
+composite inertias of CRBA are summed and applied (``rigid_apply``, eq. 15: 24
+multiplications where the 6x6 element matrix takes 36) in this form.
 """
 
 from __future__ import annotations
@@ -22,27 +27,57 @@ from ._generated import motor_translation
 
 
 @njit(cache=True, nogil=True, inline="always")
-def rigid_inertia_transform(m, inertia, out):
-    """``out = M * I`` for a rigid inertia ``I`` (any inertia built from mass, com and a
-    3x3 rotational inertia, or a sum of them). ``out`` may alias ``inertia``."""
-    # rotation matrix of the rotor, quaternion (w, x, y, z) = (m0, -m3, m2, -m1)
-    w, x, y, z = m[0], -m[3], m[2], -m[1]
-    r00 = 1.0 - 2.0 * (y * y + z * z)
-    r01 = 2.0 * (x * y - z * w)
-    r02 = 2.0 * (x * z + y * w)
-    r10 = 2.0 * (x * y + z * w)
-    r11 = 1.0 - 2.0 * (x * x + z * z)
-    r12 = 2.0 * (y * z - x * w)
-    r20 = 2.0 * (x * z - y * w)
-    r21 = 2.0 * (y * z + x * w)
-    r22 = 1.0 - 2.0 * (x * x + y * y)
-    p0, p1, p2 = motor_translation(m)
-    # physical parameters: P = D I D, Ī = P[:3, :3], [h]x = P[:3, 3:], m = P[3, 3]
-    a00, a11, a22 = inertia[0, 0], inertia[1, 1], inertia[2, 2]
-    a01, a02, a12 = -inertia[0, 1], inertia[0, 2], -inertia[1, 2]
-    h0, h1, h2 = inertia[2, 4], inertia[0, 5], -inertia[1, 3]
-    mass = inertia[3, 3]
-    # h_r = R h, h' = h_r + m p
+def _rotation(m):
+    """Rotation matrix (row by row) of the rotor of a normalised motor."""
+    w, x, y, z = m[0], -m[3], m[2], -m[1]  # quaternion (w, x, y, z) of the rotor
+    return (1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - z * w), 2.0 * (x * z + y * w),
+            2.0 * (x * y + z * w), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - x * w),
+            2.0 * (x * z - y * w), 2.0 * (y * z + x * w), 1.0 - 2.0 * (x * x + y * y))
+
+
+@njit(cache=True, nogil=True, inline="always")
+def rigid_parameters(inertia):
+    """The ten parameters ``(m, h, Ī11, Ī22, Ī33, Ī12, Ī13, Ī23)`` of a rigid inertia given
+    as an element matrix: ``P = D I D``, ``Ī = P[:3, :3]``, ``[h]× = P[:3, 3:]``, m = P[3, 3]."""
+    return (inertia[3, 3],  # m
+            inertia[2, 4], inertia[0, 5], -inertia[1, 3],  # h, read from [h]×
+            inertia[0, 0], inertia[1, 1], inertia[2, 2],  # diagonal of Ī
+            -inertia[0, 1], inertia[0, 2], -inertia[1, 2])  # Ī12, Ī13, Ī23
+
+
+@njit(cache=True, nogil=True, inline="always")
+def rigid_matrix(par, out):
+    """The element matrix ``I = D P D`` of a rigid inertia given by its ten parameters."""
+    mass, k0, k1, k2 = par[0], par[1], par[2], par[3]
+    out[0, 0], out[1, 1], out[2, 2] = par[4], par[5], par[6]  # Ī11, Ī22, Ī33
+    out[0, 1] = out[1, 0] = -par[7]  # D1 D2 Ī12
+    out[0, 2] = out[2, 0] = par[8]  # D1 D3 Ī13
+    out[1, 2] = out[2, 1] = -par[9]  # D2 D3 Ī23
+    # [k]x = [[0, -k2, k1], [k2, 0, -k0], [-k1, k0, 0]], row i signed by D_i D_3 = -D_i
+    out[0, 3], out[0, 4], out[0, 5] = 0.0, -k2, k1
+    out[1, 3], out[1, 4], out[1, 5] = -k2, 0.0, k0
+    out[2, 3], out[2, 4], out[2, 5] = -k1, k0, 0.0
+    for i in range(3):
+        for j in range(3):
+            out[3 + j, i] = out[i, 3 + j]  # the transposed block [h]×ᵀ
+            out[3 + i, 3 + j] = mass if i == j else 0.0  # m 1
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _store(par, out):
+    """Write ten parameters (a tuple) into ``out``."""
+    out[0], out[1], out[2], out[3], out[4] = par[0], par[1], par[2], par[3], par[4]
+    out[5], out[6], out[7], out[8], out[9] = par[5], par[6], par[7], par[8], par[9]
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _transform(r, p0, p1, p2, par):
+    """Ten parameters of ``M * I`` from those of I (an array or a tuple), M's rotation
+    matrix r (row by row) and its translation p."""
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = r
+    mass, h0, h1, h2 = par[0], par[1], par[2], par[3]
+    a00, a11, a22, a01, a02, a12 = par[4], par[5], par[6], par[7], par[8], par[9]
+    # g = R h, k = h' = g + m p
     g0 = r00 * h0 + r01 * h1 + r02 * h2
     g1 = r10 * h0 + r11 * h1 + r12 * h2
     g2 = r20 * h0 + r21 * h1 + r22 * h2
@@ -65,22 +100,67 @@ def rigid_inertia_transform(m, inertia, out):
     b22 = t20 * r20 + t21 * r21 + t22 * r22
     # - [g]x [p]x - [p]x [k]x  =  (g·p + p·k) 1 - (p gᵀ + k pᵀ)   (for [a]x[b]x = b aᵀ - (a·b) 1)
     s = g0 * p0 + g1 * p1 + g2 * p2 + p0 * k0 + p1 * k1 + p2 * k2
-    b00 += s - (p0 * g0 + k0 * p0)
-    b11 += s - (p1 * g1 + k1 * p1)
-    b22 += s - (p2 * g2 + k2 * p2)
-    b01 -= p0 * g1 + k0 * p1
-    b02 -= p0 * g2 + k0 * p2
-    b12 -= p1 * g2 + k1 * p2
-    # back to the element matrix I' = D P' D
-    out[0, 0], out[1, 1], out[2, 2] = b00, b11, b22
-    out[0, 1] = out[1, 0] = -b01
-    out[0, 2] = out[2, 0] = b02
-    out[1, 2] = out[2, 1] = -b12
-    # [k]x = [[0, -k2, k1], [k2, 0, -k0], [-k1, k0, 0]], row i signed by D_i D_3 = -D_i
-    out[0, 3], out[0, 4], out[0, 5] = 0.0, -k2, k1
-    out[1, 3], out[1, 4], out[1, 5] = -k2, 0.0, k0
-    out[2, 3], out[2, 4], out[2, 5] = -k1, k0, 0.0
-    for i in range(3):
-        for j in range(3):
-            out[3 + j, i] = out[i, 3 + j]
-            out[3 + i, 3 + j] = mass if i == j else 0.0
+    return (mass,  # m' = m
+            k0, k1, k2,  # h' = R h + m p
+            b00 + s - (p0 * g0 + k0 * p0),  # Ī'11
+            b11 + s - (p1 * g1 + k1 * p1),  # Ī'22
+            b22 + s - (p2 * g2 + k2 * p2),  # Ī'33
+            b01 - (p0 * g1 + k0 * p1),  # Ī'12
+            b02 - (p0 * g2 + k0 * p2),  # Ī'13
+            b12 - (p1 * g2 + k1 * p2))  # Ī'23
+
+
+@njit(cache=True, nogil=True, inline="always")
+def rigid_inertia_transform(m, inertia, out):
+    """``out = M * I`` for a rigid inertia ``I`` (any inertia built from mass, com and a
+    3x3 rotational inertia, or a sum of them), as element matrices. ``out`` may alias
+    ``inertia``."""
+    p0, p1, p2 = motor_translation(m)  # translation p of M
+    rigid_matrix(_transform(_rotation(m), p0, p1, p2, rigid_parameters(inertia)), out)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def rigid_transform(m, par, out):
+    """``out = M * I`` (eq. 16) on the ten parameters of a rigid inertia; ``out`` may
+    alias ``par``."""
+    p0, p1, p2 = motor_translation(m)  # translation p of M
+    _store(_transform(_rotation(m), p0, p1, p2, par), out)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def rigid_axis_transform(m, axis, inertia, s, out):
+    """One motor, two moves: the twist ``s = M B ~M`` (eq. 4) of a joint axis B and the ten
+    parameters ``out`` of ``M * I`` (eq. 16) of a rigid inertia given as an element matrix.
+
+    R and p are built once. On physical components the twist sandwich is the motion
+    transform ``ω' = R ω``, ``v' = R v + p × ω'``: 24 multiplications where the general
+    sandwich takes 72.
+    """
+    r = _rotation(m)  # rotation matrix R of M
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = r
+    p0, p1, p2 = motor_translation(m)  # translation p of M
+    w0, w1, w2 = -axis[0], axis[1], -axis[2]  # ω of B from its coefficients (-ω1, ω2, -ω3)
+    v0, v1, v2 = -axis[3], -axis[4], -axis[5]  # v of B from (-v1, -v2, -v3)
+    u0 = r00 * w0 + r01 * w1 + r02 * w2  # ω' = R ω
+    u1 = r10 * w0 + r11 * w1 + r12 * w2
+    u2 = r20 * w0 + r21 * w1 + r22 * w2
+    s[0], s[1], s[2] = -u0, u1, -u2  # angular coefficients (-ω'1, ω'2, -ω'3) of S
+    s[3] = -(r00 * v0 + r01 * v1 + r02 * v2 + p1 * u2 - p2 * u1)  # -v'1, v' = R v + p × ω'
+    s[4] = -(r10 * v0 + r11 * v1 + r12 * v2 + p2 * u0 - p0 * u2)  # -v'2
+    s[5] = -(r20 * v0 + r21 * v1 + r22 * v2 + p0 * u1 - p1 * u0)  # -v'3
+    _store(_transform(r, p0, p1, p2, rigid_parameters(inertia)), out)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def rigid_apply(par, v, out):
+    """``out = I[V]`` (eq. 15) for a rigid inertia given by its ten parameters: the
+    physical ``n = Ī ω + h × v``, ``f = m v + ω × h``, on twist and wrench coefficients."""
+    mass, h0, h1, h2 = par[0], par[1], par[2], par[3]
+    w0, w1, w2 = -v[0], v[1], -v[2]  # ω from the coefficients (-ω1, ω2, -ω3)
+    u0, u1, u2 = -v[3], -v[4], -v[5]  # v from (-v1, -v2, -v3)
+    out[0] = -(par[4] * w0 + par[7] * w1 + par[8] * w2 + h1 * u2 - h2 * u1)  # -n1
+    out[1] = par[7] * w0 + par[5] * w1 + par[9] * w2 + h2 * u0 - h0 * u2  # n2
+    out[2] = -(par[8] * w0 + par[9] * w1 + par[6] * w2 + h0 * u1 - h1 * u0)  # -n3
+    out[3] = -(mass * u0 + w1 * h2 - w2 * h1)  # -f1
+    out[4] = -(mass * u1 + w2 * h0 - w0 * h2)  # -f2
+    out[5] = -(mass * u2 + w0 * h1 - w1 * h0)  # -f3
