@@ -61,7 +61,8 @@ def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
 def crba(model, q) -> np.ndarray:
     """Joint-space mass matrix ``M(q)``, full and symmetric, (n, n) or (B, n, n)."""
     if type(q) is _ndarray and q.ndim == 1:
-        H = _empty((len(q), len(q)))
+        n = len(q)
+        H = _empty((n, n))
         try:
             _CRBA.fast(model.packed, q, H)
             return H
