@@ -38,11 +38,6 @@ def bivectors(n):
 
 
 @njit(cache=True, nogil=True)
-def inertias(n):
-    return np.empty((n, 6, 6))
-
-
-@njit(cache=True, nogil=True)
 def require_sample(n, a, b, c, out):
     """Check one sample's inputs: ``a, b, c`` of length ``n`` and finite, ``out`` of length
     ``n`` (rows). Raises a bare ``ValueError`` (shape) or ``FloatingPointError`` (NaN, inf)

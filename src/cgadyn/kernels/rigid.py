@@ -120,14 +120,6 @@ def rigid_inertia_transform(m, inertia, out):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def rigid_transform(m, par, out):
-    """``out = M * I`` (eq. 16) on the ten parameters of a rigid inertia; ``out`` may
-    alias ``par``."""
-    p0, p1, p2 = motor_translation(m)  # translation p of M
-    _store(_transform(_rotation(m), p0, p1, p2, par), out)
-
-
-@njit(cache=True, nogil=True, inline="always")
 def rigid_axis_transform(m, axis, inertia, s, out):
     """One motor, two moves: the twist ``s = M B ~M`` (eq. 4) of a joint axis B and the ten
     parameters ``out`` of ``M * I`` (eq. 16) of a rigid inertia given as an element matrix.
