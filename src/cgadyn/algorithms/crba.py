@@ -30,7 +30,7 @@ def crba_core(packed, q, H, work):
     or an array)."""
     parents, types, placements, axes, inertias, _ = unpack(packed)
     n = parents.shape[0]
-    Ic, S, Mw, F, joint, M = _workspace(ws.pointer(work), n)
+    Ic, S, Mw, joint, M = _workspace(ws.pointer(work), n)
     for j in range(n):
         p = parents[j]
         joint_motor(axes[j], types[j] == 1, q[j], joint)
@@ -44,12 +44,10 @@ def crba_core(packed, q, H, work):
         for j in range(n):
             H[i, j] = 0.0
     for j in range(n - 1, -1, -1):  # children come after their parents
-        rigid_apply(Ic[j], S[j], F)  # F = I^c_j[S_j], I^c_j complete
-        H[j, j] = -dot(S[j], F)
-        i = parents[j]
-        while i >= 0:
-            H[i, j] = -dot(S[i], F)  # power of F along the supporting axis S_i
-            H[j, i] = H[i, j]
+        F = rigid_apply(Ic[j], S[j])  # F = I^c_j[S_j], I^c_j complete
+        i = j
+        while i >= 0:  # j itself, then every joint supporting it
+            H[i, j] = H[j, i] = -dot(S[i], F)  # power of F along the axis S_i
             i = parents[i]
         p = parents[j]
         if p >= 0:
@@ -59,20 +57,19 @@ def crba_core(packed, q, H, work):
 
 @njit(cache=True, nogil=True)
 def workspace_size(n):
-    return 24 * n + 22
+    return 24 * n + 16
 
 
 @njit(cache=True, nogil=True, inline="always")
 def _workspace(buf, n):
-    """Ic (n,10) (ten parameters of rigid inertias), S (n,6), Mw (n,8), F (6), joint (8),
-    M (8), carved from ``buf``."""
+    """Ic (n,10) (ten parameters of rigid inertias), S (n,6), Mw (n,8), joint (8), M (8),
+    carved from ``buf``."""
     Ic, o = ws.carve(buf, 0, (n, 10))
     S, o = ws.carve(buf, o, (n, 6))
     Mw, o = ws.carve(buf, o, (n, 8))
-    F, o = ws.carve(buf, o, (6,))
     joint, o = ws.carve(buf, o, (8,))
     M, o = ws.carve(buf, o, (8,))
-    return Ic, S, Mw, F, joint, M
+    return Ic, S, Mw, joint, M
 
 
 @njit(cache=True)

@@ -144,15 +144,16 @@ def rigid_axis_transform(m, axis, inertia, s, out):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def rigid_apply(par, v, out):
-    """``out = I[V]`` (eq. 15) for a rigid inertia given by its ten parameters: the
-    physical ``n = Ī ω + h × v``, ``f = m v + ω × h``, on twist and wrench coefficients."""
+def rigid_apply(par, v):
+    """``I[V]`` (eq. 15) for a rigid inertia given by its ten parameters: the physical
+    ``n = Ī ω + h × v``, ``f = m v + ω × h``, on twist and wrench coefficients. Returns the
+    wrench's six coefficients as a tuple (kept in registers by the caller)."""
     mass, h0, h1, h2 = par[0], par[1], par[2], par[3]
     w0, w1, w2 = -v[0], v[1], -v[2]  # ω from the coefficients (-ω1, ω2, -ω3)
     u0, u1, u2 = -v[3], -v[4], -v[5]  # v from (-v1, -v2, -v3)
-    out[0] = -(par[4] * w0 + par[7] * w1 + par[8] * w2 + h1 * u2 - h2 * u1)  # -n1
-    out[1] = par[7] * w0 + par[5] * w1 + par[9] * w2 + h2 * u0 - h0 * u2  # n2
-    out[2] = -(par[8] * w0 + par[9] * w1 + par[6] * w2 + h0 * u1 - h1 * u0)  # -n3
-    out[3] = -(mass * u0 + w1 * h2 - w2 * h1)  # -f1
-    out[4] = -(mass * u1 + w2 * h0 - w0 * h2)  # -f2
-    out[5] = -(mass * u2 + w0 * h1 - w1 * h0)  # -f3
+    return (-(par[4] * w0 + par[7] * w1 + par[8] * w2 + h1 * u2 - h2 * u1),  # -n1
+            par[7] * w0 + par[5] * w1 + par[9] * w2 + h2 * u0 - h0 * u2,  # n2
+            -(par[8] * w0 + par[9] * w1 + par[6] * w2 + h0 * u1 - h1 * u0),  # -n3
+            -(mass * u0 + w1 * h2 - w2 * h1),  # -f1
+            -(mass * u1 + w2 * h0 - w0 * h2),  # -f2
+            -(mass * u2 + w0 * h1 - w1 * h0))  # -f3
