@@ -39,8 +39,9 @@ from ..kernels import (
     dot,
     inertia_apply,
     inertia_congruence_add,
-    joint_motor,
+    joint_scalars,
     motor_mul,
+    screw_motor,
     twist_cross,
     twist_cross_wrench,
     wrench_adjoint,
@@ -55,10 +56,12 @@ def aba_core(packed, q, qd, tau, f_ext, qdd, work):
     of ``workspace_size(n)`` floats (a pointer or an array)."""
     parents, types, placements, axes, inertias, gravity = unpack(packed)
     n = parents.shape[0]
-    Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M = _workspace(ws.pointer(work), n)
+    Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M, c, s = _workspace(
+        ws.pointer(work), n)
+    joint_scalars(types, q, c, s)  # the scalars of every joint motor (eq. 6)
     for j in range(n):
         p = parents[j]
-        joint_motor(axes[j], types[j] == 1, q[j], joint)  # exp(q_j B_j / 2)
+        screw_motor(axes[j], c[j], s[j], joint)  # exp(q_j B_j / 2) = c_j + s_j B_j
         motor_mul(placements[j], joint, M)  # M_j = X_j exp(q_j B_j / 2)
         wrench_adjoint(M, Ad[j])  # M_j (·) ~M_j as a matrix
         if p < 0:
@@ -111,12 +114,13 @@ def aba_core(packed, q, qd, tau, f_ext, qdd, work):
 
 @njit(cache=True, nogil=True)
 def workspace_size(n):
-    return 98 * n + 64
+    return 100 * n + 64
 
 
 @njit(cache=True, nogil=True, inline="always")
 def _workspace(buf, n):
-    """Ad, Ih (n,6,6), V, C, Wh, WB (n,6), Ω, u (n), tmp, tmp2 (6), joint, M (8), It (6,6)."""
+    """Ad, Ih (n,6,6), V, C, Wh, WB (n,6), Ω, u (n), tmp, tmp2 (6), joint, M (8), It (6,6),
+    the joint motors' scalars c, s (n)."""
     Ad, o = ws.carve(buf, 0, (n, 6, 6))
     V, o = ws.carve(buf, o, (n, 6))
     C, o = ws.carve(buf, o, (n, 6))
@@ -130,7 +134,9 @@ def _workspace(buf, n):
     joint, o = ws.carve(buf, o, (8,))
     It, o = ws.carve(buf, o, (6, 6))
     M, o = ws.carve(buf, o, (8,))
-    return Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M
+    c, o = ws.carve(buf, o, (n,))
+    s, o = ws.carve(buf, o, (n,))
+    return Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M, c, s
 
 
 @njit(cache=True)

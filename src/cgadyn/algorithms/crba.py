@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from ..kernels import dot, joint_motor, motor_mul
+from ..kernels import dot, joint_scalars, motor_mul, screw_motor
 from ..kernels.rigid import rigid_apply, rigid_axis_transform
 from ..multibody.packed import njoints, unpack
 from . import _workspace as ws
@@ -30,10 +30,11 @@ def crba_core(packed, q, H, work):
     or an array)."""
     parents, types, placements, axes, inertias, _ = unpack(packed)
     n = parents.shape[0]
-    Ic, S, Mw, joint, M = _workspace(ws.pointer(work), n)
+    Ic, S, Mw, joint, M, c, s = _workspace(ws.pointer(work), n)
+    joint_scalars(types, q, c, s)  # exp(q_j B_j / 2) = c_j + s_j B_j for all joints
     for j in range(n):
         p = parents[j]
-        joint_motor(axes[j], types[j] == 1, q[j], joint)
+        screw_motor(axes[j], c[j], s[j], joint)
         if p >= 0:
             motor_mul(placements[j], joint, M)  # M_j = X_j exp(q_j B_j / 2)
             motor_mul(Mw[p], M, Mw[j])  # M^w_j = M^w_λ M_j
@@ -57,19 +58,21 @@ def crba_core(packed, q, H, work):
 
 @njit(cache=True, nogil=True)
 def workspace_size(n):
-    return 24 * n + 16
+    return 26 * n + 16
 
 
 @njit(cache=True, nogil=True, inline="always")
 def _workspace(buf, n):
     """Ic (n,10) (ten parameters of rigid inertias), S (n,6), Mw (n,8), joint (8), M (8),
-    carved from ``buf``."""
+    the joint motors' scalars c (n) and s (n), carved from ``buf``."""
     Ic, o = ws.carve(buf, 0, (n, 10))
     S, o = ws.carve(buf, o, (n, 6))
     Mw, o = ws.carve(buf, o, (n, 8))
     joint, o = ws.carve(buf, o, (8,))
     M, o = ws.carve(buf, o, (8,))
-    return Ic, S, Mw, joint, M
+    c, o = ws.carve(buf, o, (n,))
+    s, o = ws.carve(buf, o, (n,))
+    return Ic, S, Mw, joint, M, c, s
 
 
 @njit(cache=True)

@@ -33,8 +33,9 @@ from ..kernels import (
     adjoint_apply_transpose,
     dot,
     inertia_apply,
-    joint_motor,
+    joint_scalars,
     motor_mul,
+    screw_motor,
     twist_cross,
     twist_cross_wrench,
     wrench_adjoint,
@@ -49,10 +50,11 @@ def rnea_core(packed, q, qd, qdd, f_ext, tau, work):
     of ``workspace_size(n)`` floats (a pointer or an array)."""
     parents, types, placements, axes, inertias, gravity = unpack(packed)
     n = parents.shape[0]
-    Ad, V, A, W, tmp, joint, M = _workspace(ws.pointer(work), n)
+    Ad, V, A, W, tmp, joint, M, c, s = _workspace(ws.pointer(work), n)
+    joint_scalars(types, q, c, s)  # the scalars of every joint motor (eq. 6)
     for j in range(n):
         p = parents[j]
-        joint_motor(axes[j], types[j] == 1, q[j], joint)  # exp(q_j B_j / 2)
+        screw_motor(axes[j], c[j], s[j], joint)  # exp(q_j B_j / 2) = c_j + s_j B_j
         motor_mul(placements[j], joint, M)  # M_j = X_j exp(q_j B_j / 2)
         wrench_adjoint(M, Ad[j])  # M_j (·) ~M_j as a matrix
         if p < 0:
@@ -86,12 +88,13 @@ def rnea_core(packed, q, qd, qdd, f_ext, tau, work):
 
 @njit(cache=True, nogil=True)
 def workspace_size(n):
-    return 54 * n + 22
+    return 56 * n + 22
 
 
 @njit(cache=True, nogil=True, inline="always")
 def _workspace(buf, n):
-    """Ad (n,6,6), V, A, W (n,6), tmp (6), joint, M (8), carved from ``buf``."""
+    """Ad (n,6,6), V, A, W (n,6), tmp (6), joint, M (8), the joint motors' scalars c, s (n),
+    carved from ``buf``."""
     Ad, o = ws.carve(buf, 0, (n, 6, 6))
     V, o = ws.carve(buf, o, (n, 6))
     A, o = ws.carve(buf, o, (n, 6))
@@ -99,7 +102,9 @@ def _workspace(buf, n):
     tmp, o = ws.carve(buf, o, (6,))
     joint, o = ws.carve(buf, o, (8,))
     M, o = ws.carve(buf, o, (8,))
-    return Ad, V, A, W, tmp, joint, M
+    c, o = ws.carve(buf, o, (n,))
+    s, o = ws.carve(buf, o, (n,))
+    return Ad, V, A, W, tmp, joint, M, c, s
 
 
 @njit(cache=True)

@@ -2,6 +2,7 @@
 
 ``_generated`` holds the explicit formulas produced by ``tools/generate_kernels.py``;
 ``motors`` the closed forms (exp, log, joint motors, normalisation) built on them;
+``halfangle`` the scalars of all joint motors in one vectorised pass;
 ``batch`` the ``(B, k)`` forms that run in parallel over samples.
 """
 
@@ -25,7 +26,8 @@ from ._generated import (
     wrench_sandwich,
     wrench_sandwich_rev,
 )
-from .motors import joint_motor, motor_log, motor_normalize, twist_exp
+from .halfangle import joint_scalars
+from .motors import joint_motor, motor_log, motor_normalize, screw_motor, twist_exp
 
 __all__ = [
     "adjoint_apply",
@@ -36,10 +38,12 @@ __all__ = [
     "inertia_congruence_add",
     "inertia_transform",
     "joint_motor",
+    "joint_scalars",
     "motor_log",
     "motor_mul",
     "motor_normalize",
     "motor_reverse",
+    "screw_motor",
     "motor_translation",
     "translator_rotor",
     "twist_cross",

@@ -99,11 +99,15 @@ def joint_motor(axis, prismatic, q, out):
     direction (B² = 0): ``1 + (q/2) B``.
     """
     if prismatic:
-        c = 1.0
-        s = 0.5 * q
+        screw_motor(axis, 1.0, 0.5 * q, out)
     else:
-        c = math.cos(0.5 * q)
-        s = math.sin(0.5 * q)
+        screw_motor(axis, math.cos(0.5 * q), math.sin(0.5 * q), out)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def screw_motor(axis, c, s, out):
+    """The motor ``c + s B`` of a unit screw axis ``B``: eq. (6)'s ``exp(q B / 2)`` from
+    its two scalars (``halfangle.joint_scalars`` computes them for every joint at once)."""
     out[0] = c
     out[1] = s * axis[2]
     out[2] = s * axis[1]
@@ -127,4 +131,5 @@ def motor_normalize(m, out):
     translator_rotor(p1 * s, p2 * s, p3 * s, m[0] / n, m[1] / n, m[2] / n, m[3] / n, out)
 
 
-__all__ = ["joint_motor", "motor_log", "motor_mul", "motor_normalize", "twist_exp"]
+__all__ = ["joint_motor", "motor_log", "motor_mul", "motor_normalize", "screw_motor",
+           "twist_exp"]
