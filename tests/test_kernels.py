@@ -65,6 +65,10 @@ def cases(rng):
     I = spd_inertia(rng)
     return {
         "motor_mul": ((m8, n8), motor_of(motor_mv(m8) * motor_mv(n8))),
+        "motor_mul_rotor": (  # b's e∞ coefficients are garbage: never read
+            (m8, n8), motor_of(motor_mv(m8) * motor_mv(np.r_[n8[:4], 0, 0, 0, 0]))),
+        "motor_mul_translator": (  # only b4..b6 are read
+            (m8, n8), motor_of(motor_mv(m8) * motor_mv(np.r_[1, 0, 0, 0, n8[4:7], 0]))),
         "motor_reverse": ((m8,), motor_of(~motor_mv(m8))),
         "twist_sandwich": ((m8, v), twist_of(motor_mv(m8) * twist_mv(v) * ~motor_mv(m8))),
         "twist_sandwich_rev": ((m8, v), twist_of(~motor_mv(m8) * twist_mv(v) * motor_mv(m8))),

@@ -176,6 +176,18 @@ def test_model_is_immutable():
     assert isinstance(m.joint_names, tuple) and isinstance(m.link_names, tuple)
 
 
+@pytest.mark.parametrize("kind, stray", [("revolute", 4), ("prismatic", 1)])
+def test_axes_must_pass_through_the_joint_frame_origin(kind, stray):
+    """The recursions multiply by a rotor (revolute) or a translator (prismatic), so a
+    model whose axis has a moment part, or a direction with a rotation part, is refused."""
+    m = load("prismatic_tree")
+    j = int(np.flatnonzero(m.joint_types == (REVOLUTE if kind == "revolute" else PRISMATIC))[0])
+    axes = m.axes.copy()
+    axes[j, stray] = 0.1
+    with pytest.raises(ValueError, match=rf"axes\[{j}\] .*{kind}.*through the joint frame"):
+        dataclasses.replace(m, axes=axes)
+
+
 def test_dtypes_and_shapes():
     m = load("prismatic_tree")
     n, nl = m.nq, len(m.link_names)

@@ -130,6 +130,32 @@ def motor_mul() -> Kernel:
     )
 
 
+def motor_mul_rotor() -> Kernel:
+    """a b for a rotor b: its e∞ coefficients are zero and not read."""
+    b = b8[:4] + [0, 0, 0, 0]
+    out = coeffs(mv(a8, MOTOR_BLADES) * mv(b, MOTOR_BLADES), MOTOR_BLADES)
+    body = [load("a", a8), load("b", b8[:4])] + assign_lines("out", out)
+    return Kernel(
+        "motor_mul_rotor", ["a", "b", "out"],
+        "``out = a b`` for a rotor ``b = b0 + b1 e12 + b2 e13 + b3 e23`` (its e∞ coefficients\n"
+        "    are not read): a revolute joint's motor about an axis through the frame origin.",
+        body, out,
+    )
+
+
+def motor_mul_translator() -> Kernel:
+    """a b for a translator b = 1 + b4 e1∞ + b5 e2∞ + b6 e3∞."""
+    b = [1, 0, 0, 0] + b8[4:7] + [0]
+    out = coeffs(mv(a8, MOTOR_BLADES) * mv(b, MOTOR_BLADES), MOTOR_BLADES)
+    body = [load("a", a8), f"    {', '.join(map(str, b8[4:7]))} = b[4], b[5], b[6]"]
+    return Kernel(
+        "motor_mul_translator", ["a", "b", "out"],
+        "``out = a b`` for a translator ``b = 1 + b4 e1∞ + b5 e2∞ + b6 e3∞`` (only b4..b6\n"
+        "    are read): a prismatic joint's motor.",
+        body + assign_lines("out", out), out,
+    )
+
+
 def motor_reverse() -> Kernel:
     out = coeffs(~mv(a8, MOTOR_BLADES), MOTOR_BLADES)
     body = [load("a", a8)] + assign_lines("out", out)
@@ -395,6 +421,8 @@ def motor_translation() -> Kernel:
 
 KERNELS = [
     motor_mul,
+    motor_mul_rotor,
+    motor_mul_translator,
     motor_reverse,
     lambda: sandwich(
         "twist_sandwich", "Move a twist by a motor: ``out = M X ~M`` (eq. 4; twists are closed).",

@@ -13,15 +13,23 @@ from __future__ import annotations
 import numba
 import numpy as np
 from numba import types
+from numba.core import cgutils
 from numba.extending import intrinsic, overload
 
 
 @intrinsic
-def _alloca_floats(typingctx, size):
-    sig = types.CPointer(types.float64)(types.intp)
+def _stack_array(typingctx, size):
+    array = types.Array(types.float64, 1, "C")
+    sig = array(types.intp)
 
     def codegen(context, builder, signature, args):
-        return builder.alloca(context.get_value_type(types.float64), size=args[0])
+        data = builder.alloca(context.get_value_type(types.float64), size=args[0])
+        itemsize = context.get_constant(types.intp, 8)
+        out = context.make_array(array)(context, builder)
+        context.populate_array(out, data=data, shape=cgutils.pack_array(builder, [args[0]]),
+                               strides=cgutils.pack_array(builder, [itemsize]),
+                               itemsize=itemsize, meminfo=None)
+        return out._getvalue()
 
     return sig, codegen
 
@@ -78,10 +86,12 @@ else:
     as_int64 = _as_int64
     """The same pointer read as 8-byte integers: for int64 data stored in a float64 buffer."""
 
-    stack_buffer = _alloca_floats
+    stack_buffer = _stack_array
     """``size`` uninitialised floats on the stack of the compiled function that calls it,
-    as a pointer for ``carve``. Valid until that function returns, so call it only in
-    the body of an entry point (never in a loop, never in a helper that returns it)."""
+    as a bare array (no owner, no reference counts) of the same type as ``np.empty(size)``,
+    so that a core called with either is compiled once. Valid until that function
+    returns, so call it only in the body of an entry point (never in a loop, never in a
+    helper that returns it)."""
 
 
 def pointer(buf):
@@ -102,7 +112,7 @@ def carve(buf, offset, shape):
     """A C-contiguous view of ``shape`` into ``buf`` at ``offset``, and the next offset.
 
     ``buf`` is an array (the view keeps it alive, at the cost of a reshape and
-    reference counting) or a pointer from ``stack_buffer`` or ``data_pointer`` (a bare view,
+    reference counting) or a pointer from ``pointer`` or ``data_pointer`` (a bare view,
     valid while that stack frame or array lives). One buffer per call holds every
     array of an algorithm's workspace.
     """

@@ -5,8 +5,10 @@ allocates nothing: it unpacks the model and carves its arrays out of ``work`` it
 call passes a handful of arrays (each array argument is a 7-9 word struct in compiled
 code). A one-sample entry point takes ``work`` from its own stack frame (``stack_buffer``:
 no allocator, no reference counts, gone when the call returns) up to ``STACK_FLOATS``; a
-batch allocates one heap workspace per thread chunk, read through a bare pointer
-(``pointer``). Concurrent calls never share memory.
+batch allocates one heap workspace per thread chunk. Both are arrays of one type, so each
+core is compiled once for both (the tests find single and batch results equal bit for bit;
+with two compilations, fused multiply-adds placed differently broke that); the core reads
+``work`` through a bare pointer (``pointer``). Concurrent calls never share memory.
 """
 
 from __future__ import annotations

@@ -60,9 +60,8 @@ def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
 
 def crba(model, q) -> np.ndarray:
     """Joint-space mass matrix ``M(q)``, full and symmetric, (n, n) or (B, n, n)."""
-    if type(q) is _ndarray and q.ndim == 1:
-        n = len(q)
-        H = _empty((n, n))
+    if type(q) is _ndarray:  # a (B, n) batch is refused by the compiled signature
+        H = _empty(model.mass_matrix_shape)
         try:
             _CRBA.fast(model.packed, q, H)
             return H

@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from ..kernels import dot, joint_scalars, motor_mul, screw_motor
+from ..kernels import dot, joint_frame_motor, joint_scalars, motor_mul, screw_motor
 from ..kernels.rigid import rigid_apply, rigid_axis_transform
 from ..multibody.packed import njoints, unpack
 from . import _workspace as ws
@@ -36,10 +36,10 @@ def crba_core(packed, q, H, work):
         p = parents[j]
         screw_motor(axes[j], c[j], s[j], joint)
         if p >= 0:
-            motor_mul(placements[j], joint, M)  # M_j = X_j exp(q_j B_j / 2)
+            joint_frame_motor(placements[j], joint, types[j] == 1, M)  # M_j = X_j exp(q_j B_j/2)
             motor_mul(Mw[p], M, Mw[j])  # M^w_j = M^w_λ M_j
         else:
-            motor_mul(placements[j], joint, Mw[j])  # M^w_j = M_j at the root
+            joint_frame_motor(placements[j], joint, types[j] == 1, Mw[j])  # M^w_j = M_j, root
         rigid_axis_transform(Mw[j], axes[j], inertias[j], S[j], Ic[j])  # S_j, M^w_j * I_j
     for i in range(n):  # entries of joints on different branches stay zero
         for j in range(n):

@@ -33,8 +33,8 @@ from ..kernels import (
     adjoint_apply_transpose,
     dot,
     inertia_apply,
+    joint_frame_motor,
     joint_scalars,
-    motor_mul,
     screw_motor,
     twist_cross,
     twist_cross_wrench,
@@ -55,7 +55,7 @@ def rnea_core(packed, q, qd, qdd, f_ext, tau, work):
     for j in range(n):
         p = parents[j]
         screw_motor(axes[j], c[j], s[j], joint)  # exp(q_j B_j / 2) = c_j + s_j B_j
-        motor_mul(placements[j], joint, M)  # M_j = X_j exp(q_j B_j / 2)
+        joint_frame_motor(placements[j], joint, types[j] == 1, M)  # M_j = X_j exp(q_j B_j / 2)
         wrench_adjoint(M, Ad[j])  # M_j (·) ~M_j as a matrix
         if p < 0:
             for k in range(6):

@@ -15,6 +15,8 @@ from ._generated import (
     inertia_congruence_add,
     inertia_transform,
     motor_mul,
+    motor_mul_rotor,
+    motor_mul_translator,
     motor_reverse,
     motor_translation,
     translator_rotor,
@@ -27,7 +29,14 @@ from ._generated import (
     wrench_sandwich_rev,
 )
 from .halfangle import joint_scalars
-from .motors import joint_motor, motor_log, motor_normalize, screw_motor, twist_exp
+from .motors import (
+    joint_frame_motor,
+    joint_motor,
+    motor_log,
+    motor_normalize,
+    screw_motor,
+    twist_exp,
+)
 
 __all__ = [
     "adjoint_apply",
@@ -37,10 +46,13 @@ __all__ = [
     "inertia_congruence",
     "inertia_congruence_add",
     "inertia_transform",
+    "joint_frame_motor",
     "joint_motor",
     "joint_scalars",
     "motor_log",
     "motor_mul",
+    "motor_mul_rotor",
+    "motor_mul_translator",
     "motor_normalize",
     "motor_reverse",
     "screw_motor",

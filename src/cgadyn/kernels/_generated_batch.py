@@ -36,6 +36,52 @@ def motor_mul_batch(a, b, out):
 
 
 @njit(cache=True, parallel=True)
+def motor_mul_rotor_batch(a, b, out):
+    """Batch form of ``motor_mul_rotor``, one row per sample.
+
+    ``out = a b`` for a rotor ``b = b0 + b1 e12 + b2 e13 + b3 e23`` (its e∞ coefficients
+    are not read): a revolute joint's motor about an axis through the frame origin.
+
+    32 multiplications, 24 additions per sample.
+    """
+    for n in prange(a.shape[0]):
+        a0, a1, a2, a3, a4, a5, a6, a7 = a[n, 0], a[n, 1], a[n, 2], a[n, 3], a[n, 4], a[n, 5], a[n, 6], a[n, 7]
+        b0, b1, b2, b3 = b[n, 0], b[n, 1], b[n, 2], b[n, 3]
+        out[n, 0] = a0*b0 - a1*b1 - a2*b2 - a3*b3
+        out[n, 1] = a0*b1 + a1*b0 - a2*b3 + a3*b2
+        out[n, 2] = a0*b2 + a1*b3 + a2*b0 - a3*b1
+        out[n, 3] = a0*b3 - a1*b2 + a2*b1 + a3*b0
+        out[n, 4] = a4*b0 - a5*b1 - a6*b2 - a7*b3
+        out[n, 5] = a4*b1 + a5*b0 - a6*b3 + a7*b2
+        out[n, 6] = a4*b2 + a5*b3 + a6*b0 - a7*b1
+        out[n, 7] = a4*b3 - a5*b2 + a6*b1 + a7*b0
+    return out
+
+
+@njit(cache=True, parallel=True)
+def motor_mul_translator_batch(a, b, out):
+    """Batch form of ``motor_mul_translator``, one row per sample.
+
+    ``out = a b`` for a translator ``b = 1 + b4 e1∞ + b5 e2∞ + b6 e3∞`` (only b4..b6
+    are read): a prismatic joint's motor.
+
+    12 multiplications, 12 additions per sample.
+    """
+    for n in prange(a.shape[0]):
+        a0, a1, a2, a3, a4, a5, a6, a7 = a[n, 0], a[n, 1], a[n, 2], a[n, 3], a[n, 4], a[n, 5], a[n, 6], a[n, 7]
+        b4, b5, b6 = b[n, 4], b[n, 5], b[n, 6]
+        out[n, 0] = a0
+        out[n, 1] = a1
+        out[n, 2] = a2
+        out[n, 3] = a3
+        out[n, 4] = a0*b4 + a1*b5 + a2*b6 + a4
+        out[n, 5] = a0*b5 - a1*b4 + a3*b6 + a5
+        out[n, 6] = a0*b6 - a2*b4 - a3*b5 + a6
+        out[n, 7] = a1*b6 - a2*b5 + a3*b4 + a7
+    return out
+
+
+@njit(cache=True, parallel=True)
 def motor_reverse_batch(a, out):
     """Batch form of ``motor_reverse``, one row per sample.
 

@@ -16,7 +16,13 @@ import math
 
 from numba import njit
 
-from ._generated import motor_mul, motor_translation, translator_rotor
+from ._generated import (
+    motor_mul,
+    motor_mul_rotor,
+    motor_mul_translator,
+    motor_translation,
+    translator_rotor,
+)
 
 
 @njit(cache=True, nogil=True)
@@ -118,6 +124,20 @@ def screw_motor(axis, c, s, out):
     out[7] = 0.0
 
 
+@njit(cache=True, nogil=True, inline="always")
+def joint_frame_motor(placement, joint, prismatic, out):
+    """``M_j = X_j exp(q_j B_j / 2)`` (eq. 5) by the product the joint motor allows.
+
+    Joint axes pass through the joint frame's origin (URDF's convention, checked by
+    ``Model``), so a revolute joint's motor is a rotor (32 multiplications) and a prismatic
+    joint's a translator (12), where the general motor product takes 48.
+    """
+    if prismatic:
+        motor_mul_translator(placement, joint, out)
+    else:
+        motor_mul_rotor(placement, joint, out)
+
+
 @njit(cache=True, nogil=True)
 def motor_normalize(m, out):
     """Project a motor back onto the manifold ``M ~M = 1``.
@@ -131,5 +151,5 @@ def motor_normalize(m, out):
     translator_rotor(p1 * s, p2 * s, p3 * s, m[0] / n, m[1] / n, m[2] / n, m[3] / n, out)
 
 
-__all__ = ["joint_motor", "motor_log", "motor_mul", "motor_normalize", "screw_motor",
-           "twist_exp"]
+__all__ = ["joint_frame_motor", "joint_motor", "motor_log", "motor_mul", "motor_normalize",
+           "screw_motor", "twist_exp"]

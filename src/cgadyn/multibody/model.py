@@ -178,16 +178,36 @@ class Model:
             if not -1 <= p < j:
                 raise ValueError(f"parents[{j}] = {p}: a parent must come before its child "
                                  f"(-1 <= parents[j] < j)")
+        self._check_axes()
         if np.any((self.link_joint < -1) | (self.link_joint >= n)):
             raise ValueError("link_joint entries must lie in [-1, n)")
         if len(set(self.joint_names)) != n:
             raise ValueError("joint names must be unique")
+
+    def _check_axes(self):
+        """Joint axes pass through the joint frame's origin (URDF's convention): a revolute
+        axis is a line with no moment part, a prismatic one a direction. The recursions
+        rely on it (``kernels.motors.joint_frame_motor``)."""
+        prismatic = self.joint_types == PRISMATIC
+        stray = np.where(prismatic[:, None], self.axes[:, :3], self.axes[:, 3:])
+        for j in np.flatnonzero(np.any(stray != 0.0, axis=1)):
+            kind, used, unused = (("prismatic", "3:", ":3") if prismatic[j] else
+                                  ("revolute", ":3", "3:"))
+            raise ValueError(
+                f"Model.axes[{j}] (joint {self.joint_names[j]!r}, {kind}) = "
+                f"{self.axes[j].tolist()}: expected an axis through the joint frame's origin, "
+                f"nonzero only in axes[{j}, {used}], but axes[{j}, {unused}] is not zero")
 
     @cached_property
     def packed(self) -> np.ndarray:
         """The dynamics arrays and default gravity in one buffer for the compiled algorithms
         (``cgadyn.multibody.packed``). Not for users: read the public fields."""
         return pack(self)
+
+    @cached_property
+    def mass_matrix_shape(self) -> tuple[int, int]:
+        """``(nv, nv)``: the shape of one mass matrix, kept for its allocation."""
+        return (self.nv, self.nv)
 
     # --- sizes -----------------------------------------------------------------------
 
