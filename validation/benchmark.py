@@ -42,9 +42,10 @@ def notes(res: dict) -> list[str]:
         lines.append(
             f"- A (1, n) batch costs {b1['cgadyn']:.0f} µs (cgadyn) and "
             f"{b1.get('pinocchio_parallel', float('nan')):.0f} µs (Pinocchio InParallel) for "
-            "aba: cgadyn's batch path normalises and checks its inputs in Python before a "
-            "short serial loop (batches up to 2; larger ones start the thread pool). Use the "
-            "single-sample call for one sample.")
+            "aba: a float64 batch goes straight to the compiled batch entry, which checks it "
+            "and runs batches of fewer than 8 samples on the calling thread (larger ones "
+            "start the thread pool); it allocates and returns the result, and the wrapper "
+            "checks that it is finite. Use the single-sample call for one sample.")
     r = res["ratios"]["batch"][big]["aba"]
     lines.append(
         f"- At B = {big}, cgadyn aba runs at {r['pinocchio_loop']:.2f}x the time of a Python "

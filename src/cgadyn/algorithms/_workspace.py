@@ -6,8 +6,8 @@ call passes a handful of arrays (each array argument is a 7-9 word struct in com
 code). A one-sample entry point takes ``work`` from its own stack frame (``stack_buffer``:
 no allocator, no reference counts, gone when the call returns) up to ``STACK_FLOATS``; a
 batch allocates one heap workspace per thread chunk. Both are arrays of one type, so each
-core is compiled once for both (the tests find single and batch results equal bit for bit;
-with two compilations, fused multiply-adds placed differently broke that); the core reads
+core is compiled for one signature (LLVM may still inline it differently into the single and
+batch entries, so results can differ in the last bits, far below the 1e-12 asked); it reads
 ``work`` through a bare pointer (``pointer``). Concurrent calls never share memory.
 """
 
@@ -25,8 +25,8 @@ STACK_FLOATS = 8192
 """The largest workspace (64 KiB) a one-sample call takes from its stack; larger ones (ABA
 beyond about 80 joints) go on the heap, so that small thread stacks never overflow."""
 
-__all__ = ["STACK_FLOATS", "all_finite", "carve", "chunks", "pointer", "require_sample", "row",
-           "stack_buffer"]
+__all__ = ["MIN_CHUNK", "STACK_FLOATS", "all_finite", "carve", "chunks", "pointer",
+           "require_rows", "require_sample", "row", "stack_buffer"]
 
 
 @njit(cache=True, nogil=True)
@@ -75,9 +75,28 @@ def all_finite(x):
 
 
 @njit(cache=True, nogil=True)
+def require_rows(n, arrays):
+    """Check a batch's inputs (a tuple of arrays): each (B, n) with the same B, and finite.
+    Raises a bare ``ValueError`` (shape) or ``FloatingPointError`` (NaN, inf) that the
+    Python caller turns into a message naming the array, sample and joint."""
+    for x in arrays:
+        if x.shape[1] != n or x.shape[0] != arrays[0].shape[0]:
+            raise ValueError("wrong input shape")
+    for x in arrays:
+        if not all_finite(x):
+            raise FloatingPointError("non-finite input")
+
+
+MIN_CHUNK = 4
+"""The fewest samples a thread is given: a batch of fewer than twice this many runs on the
+calling thread, since starting the thread pool costs about as much as a few samples."""
+
+
+@njit(cache=True, nogil=True)
 def chunks(batch, threads):
-    """Split ``batch`` samples into one contiguous chunk per thread: (starts, stops)."""
-    t = min(max(threads, 1), max(batch, 1))
+    """Split ``batch`` samples into contiguous chunks, one per thread and at least
+    ``MIN_CHUNK`` samples each (one chunk for small batches): (starts, stops)."""
+    t = min(max(threads, 1), max(batch // MIN_CHUNK, 1))
     size = (batch + t - 1) // t
     starts = np.empty(t, dtype=np.int64)
     stops = np.empty(t, dtype=np.int64)

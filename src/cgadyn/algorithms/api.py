@@ -23,8 +23,9 @@ from .rnea import rnea_batch, rnea_single, rnea_single_ext
 
 G = chk.DEFAULT_GRAVITY
 _RNEA, _ABA, _CRBA = Compiled(rnea_single), Compiled(aba_single), Compiled(crba_single)
-_RNEA_ALL = (_RNEA, Compiled(rnea_single_ext), rnea_batch)
-_ABA_ALL = (_ABA, Compiled(aba_single_ext), aba_batch)
+_RNEA_B, _ABA_B, _CRBA_B = Compiled(rnea_batch), Compiled(aba_batch), Compiled(crba_batch)
+_RNEA_ALL = (_RNEA, Compiled(rnea_single_ext), _RNEA_B)
+_ABA_ALL = (_ABA, Compiled(aba_single_ext), _ABA_B)
 _ndarray, _empty = np.ndarray, np.empty  # module globals: one lookup less per call
 _FAST_PATH_MISSES = (TypeError, ValueError, FloatingPointError, ZeroDivisionError)
 """A fast call that raises one of these is redone on the checked path, which normalises
@@ -36,85 +37,84 @@ def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
 
     ``f_ext``: optional external force per joint, Pinocchio's ``[f, τ]`` in the joint frame.
     """
-    if f_ext is None and gravity is G and type(q) is _ndarray and q.ndim == 1:
-        tau = _empty(len(q))  # the common case: one float64 sample, straight to the
-        try:  # compiled code, which checks the types, lengths and finiteness
-            _RNEA.fast(model.packed, q, v, a, tau)
+    if f_ext is None and gravity is G and type(q) is _ndarray:
+        if q.ndim == 1:
+            tau = _empty(len(q))  # the common case: one float64 sample, straight to the
+            try:  # compiled code, which checks the types, lengths and finiteness
+                _RNEA.fast(model.packed, q, v, a, tau)
+                return tau
+            except _FAST_PATH_MISSES:
+                pass
+        elif (tau := _fast_batch(_RNEA_B, model.packed, q, v, a, None)) is not None:
             return tau
-        except _FAST_PATH_MISSES:
-            pass
     return _checked(model, _RNEA_ALL, {"q": q, "v": v, "a": a}, gravity, f_ext)
 
 
 def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
     """Joint accelerations ``q̈`` of forward dynamics (Algorithms 1 and 3)."""
-    if f_ext is None and gravity is G and type(q) is _ndarray and q.ndim == 1:
-        qdd = _empty(len(q))
-        try:
-            _ABA.fast(model.packed, q, v, tau, qdd)
+    if f_ext is None and gravity is G and type(q) is _ndarray:
+        if q.ndim == 1:
+            qdd = _empty(len(q))
+            try:
+                _ABA.fast(model.packed, q, v, tau, qdd)
+                return qdd
+            except _FAST_PATH_MISSES:
+                pass
+        elif (qdd := _fast_batch(_ABA_B, model.packed, q, v, tau, None)) is not None:
             return qdd
-        except _FAST_PATH_MISSES:
-            pass
     return _checked(model, _ABA_ALL, {"q": q, "v": v, "tau": tau}, gravity, f_ext)
 
 
 def crba(model, q) -> np.ndarray:
     """Joint-space mass matrix ``M(q)``, full and symmetric, (n, n) or (B, n, n)."""
-    if type(q) is _ndarray:  # a (B, n) batch is refused by the compiled signature
+    if type(q) is _ndarray:
         H = _empty(model.mass_matrix_shape)
         try:
             _CRBA.fast(model.packed, q, H)
             return H
-        except _FAST_PATH_MISSES:
-            pass
+        except _FAST_PATH_MISSES:  # not one float64 sample: a batch, or the checked path
+            if (H := _fast_batch(_CRBA_B, model.packed, q)) is not None:
+                return H
     q = chk.state(model, q, "q")
-    n = model.nv
     try:
         if q.ndim == 1:
-            H = np.empty((n, n))
+            H = np.empty((model.nv, model.nv))
             _CRBA.call(model.packed, q, H)
             return H
-        if len(q) <= SERIAL_BATCH:
-            H = np.empty((len(q), n, n))
-            for b in range(len(q)):
-                _CRBA.call(model.packed, q[b], H[b])
-            return H
+        return _CRBA_B.call(model.packed, q, _threads())
     except FloatingPointError:
         raise chk.explain(model, q=q) from None
-    _require_finite(model, q=q)
-    return crba_batch(model.packed, q, _threads())
 
 
-SERIAL_BATCH = 2
-"""Batches this small run sample by sample: starting the thread pool costs more."""
+def _fast_batch(batch: Compiled, *args) -> np.ndarray | None:
+    """A (B, n) batch of C-contiguous float64 arrays straight to the compiled batch entry,
+    which checks shapes and finiteness; None when it refuses them or a result is not finite
+    (the checked path then converts the inputs, or explains what is wrong)."""
+    try:
+        out = batch.fast(*args, _threads())
+    except _FAST_PATH_MISSES:
+        return None
+    return out if all_finite(out) else None
 
 
 def _checked(model, algorithm: tuple, states: dict, gravity, f_ext) -> np.ndarray:
-    """Any accepted input: normalise and check it, then one sample, a short loop of them,
-    or one parallel compiled call over a (B, n) batch. ``algorithm``: the single-sample
-    entry points without and with external forces, and the parallel batch."""
+    """Any accepted input: normalise and check it, then one sample or one compiled call over
+    a (B, n) batch. ``algorithm``: the single-sample entry points without and with external
+    forces, and the batch entry."""
     single, single_ext, parallel = algorithm
     x = chk.states(model, tuple(states.values()), tuple(states))
     states = dict(zip(states, x, strict=True))
     packed = chk.packed(model, gravity)
     fe = chk.external(model, f_ext, x[0].shape[:-1])
-    out = np.empty(x[0].shape)
     try:
         if x[0].ndim == 1:
+            out = np.empty(x[0].shape)
             if fe is None:
                 single.call(packed, *x, out)
             else:
                 single_ext.call(packed, *x, fe, out)
-            return out
-        if len(out) <= SERIAL_BATCH:
-            for b in range(len(out)):
-                if fe is None:
-                    single.call(packed, *(s[b] for s in x), out[b])
-                else:
-                    single_ext.call(packed, *(s[b] for s in x), fe[b], out[b])
         else:
-            _require_finite(model, **states)
-            out = parallel(packed, *x, fe, _threads())
+            out = parallel.call(packed, *x, fe, _threads())
     except FloatingPointError:
         raise chk.explain(model, **states) from None
     except ZeroDivisionError:

@@ -90,13 +90,22 @@ def crba_single(packed, q, H):
 
 @njit(cache=True, nogil=True, parallel=True)
 def crba_batch(packed, q, threads):
-    """(B, n) samples in parallel, one heap workspace per thread."""
-    n = njoints(packed)
-    batch = q.shape[0]
-    H = np.empty((batch, n, n))
-    starts, stops = ws.chunks(batch, threads)
-    for c in prange(starts.shape[0]):
-        work = np.empty(workspace_size(n))
-        for b in range(starts[c], stops[c]):
-            crba_core(packed, q[b], H[b], work)
+    """(B, n) samples, in parallel over chunks of them (on the calling thread for a small
+    batch). Checks the shapes and finiteness of the inputs."""
+    ws.require_rows(njoints(packed), (q,))
+    H = np.empty((q.shape[0], q.shape[1], q.shape[1]))
+    starts, stops = ws.chunks(q.shape[0], threads)
+    if starts.shape[0] == 1:
+        _rows(packed, q, H, 0, q.shape[0])
+    else:
+        for c in prange(starts.shape[0]):
+            _rows(packed, q, H, starts[c], stops[c])
     return H
+
+
+@njit(cache=True, nogil=True)
+def _rows(packed, q, H, start, stop):
+    """Samples ``start:stop`` of a batch, with one heap workspace."""
+    work = np.empty(workspace_size(njoints(packed)))
+    for b in range(start, stop):
+        crba_core(packed, q[b], H[b], work)
