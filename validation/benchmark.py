@@ -42,10 +42,10 @@ def notes(res: dict) -> list[str]:
         lines.append(
             f"- A (1, n) batch costs {b1['cgadyn']:.0f} µs (cgadyn) and "
             f"{b1.get('pinocchio_parallel', float('nan')):.0f} µs (Pinocchio InParallel) for "
-            "aba: a float64 batch goes straight to the compiled batch entry, which checks it "
-            "and runs batches of fewer than 8 samples on the calling thread (larger ones "
-            "start the thread pool); it allocates and returns the result, and the wrapper "
-            "checks that it is finite. Use the single-sample call for one sample.")
+            "aba: a float64 (1, n) batch goes straight to the one-sample entry, on views of "
+            "its row, and the wrapper then checks that the result is finite; larger batches "
+            "go to the compiled batch entry, which wakes the thread pool for 8 samples or "
+            "more. Use the single-sample call for one sample.")
     r = res["ratios"]["batch"][big]["aba"]
     lines.append(
         f"- At B = {big}, cgadyn aba runs at {r['pinocchio_loop']:.2f}x the time of a Python "

@@ -88,8 +88,8 @@ def require_rows(n, arrays):
 
 
 MIN_CHUNK = 4
-"""The fewest samples a thread is given: a batch of fewer than twice this many runs on the
-calling thread, since starting the thread pool costs about as much as a few samples."""
+"""The fewest samples a thread is given: a batch of fewer than twice this many runs as one
+chunk, since waking a second thread costs about as much as computing a few samples."""
 
 
 @njit(cache=True, nogil=True)

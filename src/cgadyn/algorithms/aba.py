@@ -161,22 +161,14 @@ def aba_single_ext(packed, q, qd, tau, f_ext, qdd):
 
 @njit(cache=True, nogil=True, parallel=True)
 def aba_batch(packed, q, qd, tau, f_ext, threads):
-    """(B, n) samples, in parallel over chunks of them (on the calling thread for a small
-    batch); ``f_ext`` (B, n, 6) or None. Checks the shapes and finiteness of the inputs."""
+    """(B, n) samples in parallel, in chunks of at least ``MIN_CHUNK`` samples with one heap
+    workspace each; ``f_ext`` (B, n, 6) or None. Checks the shapes and finiteness of the
+    inputs."""
     ws.require_rows(njoints(packed), (q, qd, tau))
     qdd = np.empty(q.shape)
     starts, stops = ws.chunks(q.shape[0], threads)
-    if starts.shape[0] == 1:
-        _rows(packed, q, qd, tau, f_ext, qdd, 0, q.shape[0])
-    else:
-        for c in prange(starts.shape[0]):
-            _rows(packed, q, qd, tau, f_ext, qdd, starts[c], stops[c])
+    for c in prange(starts.shape[0]):
+        work = np.empty(workspace_size(q.shape[1]))
+        for b in range(starts[c], stops[c]):
+            aba_core(packed, q[b], qd[b], tau[b], ws.row(f_ext, b), qdd[b], work)
     return qdd
-
-
-@njit(cache=True, nogil=True)
-def _rows(packed, q, qd, tau, f_ext, qdd, start, stop):
-    """Samples ``start:stop`` of a batch, with one heap workspace."""
-    work = np.empty(workspace_size(njoints(packed)))
-    for b in range(start, stop):
-        aba_core(packed, q[b], qd[b], tau[b], ws.row(f_ext, b), qdd[b], work)

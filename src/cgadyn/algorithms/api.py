@@ -45,7 +45,7 @@ def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
                 return tau
             except _FAST_PATH_MISSES:
                 pass
-        elif (tau := _fast_batch(_RNEA_B, model.packed, q, v, a, None)) is not None:
+        elif (tau := _fast_batch(_RNEA, _RNEA_B, model, (q, v, a), None)) is not None:
             return tau
     return _checked(model, _RNEA_ALL, {"q": q, "v": v, "a": a}, gravity, f_ext)
 
@@ -60,7 +60,7 @@ def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
                 return qdd
             except _FAST_PATH_MISSES:
                 pass
-        elif (qdd := _fast_batch(_ABA_B, model.packed, q, v, tau, None)) is not None:
+        elif (qdd := _fast_batch(_ABA, _ABA_B, model, (q, v, tau), None)) is not None:
             return qdd
     return _checked(model, _ABA_ALL, {"q": q, "v": v, "tau": tau}, gravity, f_ext)
 
@@ -73,48 +73,64 @@ def crba(model, q) -> np.ndarray:
             _CRBA.fast(model.packed, q, H)
             return H
         except _FAST_PATH_MISSES:  # not one float64 sample: a batch, or the checked path
-            if (H := _fast_batch(_CRBA_B, model.packed, q)) is not None:
+            if (H := _fast_batch(_CRBA, _CRBA_B, model, (q,))) is not None:
                 return H
     q = chk.state(model, q, "q")
     try:
-        if q.ndim == 1:
-            H = np.empty((model.nv, model.nv))
-            _CRBA.call(model.packed, q, H)
-            return H
-        return _CRBA_B.call(model.packed, q, _threads())
+        if q.ndim == 2 and len(q) > SERIAL_BATCH:
+            return _CRBA_B.call(model.packed, q, _threads())
+        H = np.empty(q.shape[:-1] + model.mass_matrix_shape)  # one sample, or a row or two
+        for b in np.ndindex(q.shape[:-1]):
+            _CRBA.call(model.packed, q[b], H[b])
+        return H
     except FloatingPointError:
         raise chk.explain(model, q=q) from None
 
 
-def _fast_batch(batch: Compiled, *args) -> np.ndarray | None:
-    """A (B, n) batch of C-contiguous float64 arrays straight to the compiled batch entry,
-    which checks shapes and finiteness; None when it refuses them or a result is not finite
-    (the checked path then converts the inputs, or explains what is wrong)."""
+def _fast_batch(single: Compiled, batch: Compiled, model, states: tuple, *options):
+    """A (B, n) batch of C-contiguous float64 arrays straight to compiled code, which checks
+    shapes and finiteness: one call of the batch entry (``options``: its arguments after the
+    states), or a one-sample call for a (1, n) batch (waking the thread pool costs more).
+    None when the arrays are refused or a result is not finite: the checked path then
+    converts the inputs, or explains what is wrong."""
+    q = states[0]
     try:
-        out = batch.fast(*args, _threads())
+        if len(q) != 1:
+            out = batch.fast(model.packed, *states, *options, _threads())
+        else:
+            for x in states:
+                if type(x) is not _ndarray or x.shape != q.shape:
+                    return None
+            out = _empty((1,) + (model.mass_matrix_shape if batch is _CRBA_B else q.shape[1:]))
+            single.fast(model.packed, *[x[0] for x in states], out[0])
     except _FAST_PATH_MISSES:
         return None
     return out if all_finite(out) else None
 
 
+SERIAL_BATCH = 1
+"""Batches this small run as one-sample calls."""
+
+
 def _checked(model, algorithm: tuple, states: dict, gravity, f_ext) -> np.ndarray:
-    """Any accepted input: normalise and check it, then one sample or one compiled call over
-    a (B, n) batch. ``algorithm``: the single-sample entry points without and with external
-    forces, and the batch entry."""
+    """Any accepted input: normalise and check it, then one-sample calls (one sample, or a
+    row or two) or one compiled call over a (B, n) batch. ``algorithm``: the single-sample
+    entry points without and with external forces, and the batch entry."""
     single, single_ext, parallel = algorithm
     x = chk.states(model, tuple(states.values()), tuple(states))
     states = dict(zip(states, x, strict=True))
     packed = chk.packed(model, gravity)
     fe = chk.external(model, f_ext, x[0].shape[:-1])
     try:
-        if x[0].ndim == 1:
-            out = np.empty(x[0].shape)
-            if fe is None:
-                single.call(packed, *x, out)
-            else:
-                single_ext.call(packed, *x, fe, out)
-        else:
+        if x[0].ndim == 2 and len(x[0]) > SERIAL_BATCH:
             out = parallel.call(packed, *x, fe, _threads())
+        else:  # one sample, or a row or two of them
+            out = np.empty(x[0].shape)
+            for b in np.ndindex(x[0].shape[:-1]):
+                if fe is None:
+                    single.call(packed, *(s[b] for s in x), out[b])
+                else:
+                    single_ext.call(packed, *(s[b] for s in x), fe[b], out[b])
     except FloatingPointError:
         raise chk.explain(model, **states) from None
     except ZeroDivisionError:

@@ -90,22 +90,13 @@ def crba_single(packed, q, H):
 
 @njit(cache=True, nogil=True, parallel=True)
 def crba_batch(packed, q, threads):
-    """(B, n) samples, in parallel over chunks of them (on the calling thread for a small
-    batch). Checks the shapes and finiteness of the inputs."""
+    """(B, n) samples in parallel, in chunks of at least ``MIN_CHUNK`` samples with one heap
+    workspace each. Checks the shapes and finiteness of the inputs."""
     ws.require_rows(njoints(packed), (q,))
     H = np.empty((q.shape[0], q.shape[1], q.shape[1]))
     starts, stops = ws.chunks(q.shape[0], threads)
-    if starts.shape[0] == 1:
-        _rows(packed, q, H, 0, q.shape[0])
-    else:
-        for c in prange(starts.shape[0]):
-            _rows(packed, q, H, starts[c], stops[c])
+    for c in prange(starts.shape[0]):
+        work = np.empty(workspace_size(q.shape[1]))
+        for b in range(starts[c], stops[c]):
+            crba_core(packed, q[b], H[b], work)
     return H
-
-
-@njit(cache=True, nogil=True)
-def _rows(packed, q, H, start, stop):
-    """Samples ``start:stop`` of a batch, with one heap workspace."""
-    work = np.empty(workspace_size(njoints(packed)))
-    for b in range(start, stop):
-        crba_core(packed, q[b], H[b], work)

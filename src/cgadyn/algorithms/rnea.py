@@ -129,22 +129,14 @@ def rnea_single_ext(packed, q, qd, qdd, f_ext, tau):
 
 @njit(cache=True, nogil=True, parallel=True)
 def rnea_batch(packed, q, qd, qdd, f_ext, threads):
-    """(B, n) samples, in parallel over chunks of them (on the calling thread for a small
-    batch); ``f_ext`` (B, n, 6) or None. Checks the shapes and finiteness of the inputs."""
+    """(B, n) samples in parallel, in chunks of at least ``MIN_CHUNK`` samples with one heap
+    workspace each; ``f_ext`` (B, n, 6) or None. Checks the shapes and finiteness of the
+    inputs."""
     ws.require_rows(njoints(packed), (q, qd, qdd))
     tau = np.empty(q.shape)
     starts, stops = ws.chunks(q.shape[0], threads)
-    if starts.shape[0] == 1:
-        _rows(packed, q, qd, qdd, f_ext, tau, 0, q.shape[0])
-    else:
-        for c in prange(starts.shape[0]):
-            _rows(packed, q, qd, qdd, f_ext, tau, starts[c], stops[c])
+    for c in prange(starts.shape[0]):
+        work = np.empty(workspace_size(q.shape[1]))
+        for b in range(starts[c], stops[c]):
+            rnea_core(packed, q[b], qd[b], qdd[b], ws.row(f_ext, b), tau[b], work)
     return tau
-
-
-@njit(cache=True, nogil=True)
-def _rows(packed, q, qd, qdd, f_ext, tau, start, stop):
-    """Samples ``start:stop`` of a batch, with one heap workspace."""
-    work = np.empty(workspace_size(njoints(packed)))
-    for b in range(start, stop):
-        rnea_core(packed, q[b], qd[b], qdd[b], ws.row(f_ext, b), tau[b], work)
