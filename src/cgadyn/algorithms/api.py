@@ -45,7 +45,7 @@ def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
                 return tau
             except _FAST_PATH_MISSES:
                 pass
-        elif (tau := _fast_batch(_RNEA, _RNEA_B, model, (q, v, a), None)) is not None:
+        elif (tau := _fast_batch(_RNEA, _RNEA_B, model, (q, v, a), (model.nv,), None)) is not None:
             return tau
     return _checked(model, _RNEA_ALL, {"q": q, "v": v, "a": a}, gravity, f_ext)
 
@@ -60,7 +60,7 @@ def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
                 return qdd
             except _FAST_PATH_MISSES:
                 pass
-        elif (qdd := _fast_batch(_ABA, _ABA_B, model, (q, v, tau), None)) is not None:
+        elif (qdd := _fast_batch(_ABA, _ABA_B, model, (q, v, tau), (model.nv,), None)) is not None:
             return qdd
     return _checked(model, _ABA_ALL, {"q": q, "v": v, "tau": tau}, gravity, f_ext)
 
@@ -73,7 +73,7 @@ def crba(model, q) -> np.ndarray:
             _CRBA.fast(model.packed, q, H)
             return H
         except _FAST_PATH_MISSES:  # not one float64 sample: a batch, or the checked path
-            if (H := _fast_batch(_CRBA, _CRBA_B, model, (q,))) is not None:
+            if (H := _fast_batch(_CRBA, _CRBA_B, model, (q,), model.mass_matrix_shape)) is not None:
                 return H
     q = chk.state(model, q, "q")
     try:
@@ -87,10 +87,12 @@ def crba(model, q) -> np.ndarray:
         raise chk.explain(model, q=q) from None
 
 
-def _fast_batch(single: Compiled, batch: Compiled, model, states: tuple, *options):
+def _fast_batch(single: Compiled, batch: Compiled, model, states: tuple, row: tuple,
+                *options):
     """A (B, n) batch of C-contiguous float64 arrays straight to compiled code, which checks
     shapes and finiteness: one call of the batch entry (``options``: its arguments after the
-    states), or a one-sample call for a (1, n) batch (waking the thread pool costs more).
+    states), or a one-sample call for a (1, n) batch (waking the thread pool costs more;
+    ``row``: the shape of one sample's result).
     None when the arrays are refused or a result is not finite: the checked path then
     converts the inputs, or explains what is wrong."""
     q = states[0]
@@ -101,7 +103,7 @@ def _fast_batch(single: Compiled, batch: Compiled, model, states: tuple, *option
             for x in states:
                 if type(x) is not _ndarray or x.shape != q.shape:
                     return None
-            out = _empty((1,) + (model.mass_matrix_shape if batch is _CRBA_B else q.shape[1:]))
+            out = _empty((1, *row))
             single.fast(model.packed, *[x[0] for x in states], out[0])
     except _FAST_PATH_MISSES:
         return None
