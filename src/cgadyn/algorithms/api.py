@@ -77,9 +77,9 @@ def crba(model, q) -> np.ndarray:
                 return H
     q = chk.state(model, q, "q")
     try:
-        if q.ndim == 2 and len(q) > SERIAL_BATCH:
+        if q.ndim == 2 and len(q) > 1:
             return _CRBA_B.call(model.packed, q, _threads())
-        H = np.empty(q.shape[:-1] + model.mass_matrix_shape)  # one sample, or a row or two
+        H = np.empty(q.shape[:-1] + model.mass_matrix_shape)  # one sample, or (1, n)
         for b in np.ndindex(q.shape[:-1]):
             _CRBA.call(model.packed, q[b], H[b])
         return H
@@ -91,10 +91,10 @@ def _fast_batch(single: Compiled, batch: Compiled, model, states: tuple, row: tu
                 *options):
     """A (B, n) batch of C-contiguous float64 arrays straight to compiled code, which checks
     shapes and finiteness: one call of the batch entry (``options``: its arguments after the
-    states), or a one-sample call for a (1, n) batch (waking the thread pool costs more;
-    ``row``: the shape of one sample's result).
-    None when the arrays are refused or a result is not finite: the checked path then
-    converts the inputs, or explains what is wrong."""
+    states), or a one-sample call for a (1, n) batch (starting numba's parallel loop costs
+    more). ``row``: the shape of one sample's result. None when the arrays are refused or a
+    result is not finite: the checked path then converts the inputs, or explains what is
+    wrong."""
     q = states[0]
     try:
         if len(q) != 1:
@@ -110,13 +110,9 @@ def _fast_batch(single: Compiled, batch: Compiled, model, states: tuple, row: tu
     return out if all_finite(out) else None
 
 
-SERIAL_BATCH = 1
-"""Batches this small run as one-sample calls."""
-
-
 def _checked(model, algorithm: tuple, states: dict, gravity, f_ext) -> np.ndarray:
-    """Any accepted input: normalise and check it, then one-sample calls (one sample, or a
-    row or two) or one compiled call over a (B, n) batch. ``algorithm``: the single-sample
+    """Any accepted input: normalise and check it, then a one-sample call (one sample, or a
+    (1, n) batch) or one compiled call over a (B, n) batch. ``algorithm``: the single-sample
     entry points without and with external forces, and the batch entry."""
     single, single_ext, parallel = algorithm
     x = chk.states(model, tuple(states.values()), tuple(states))
@@ -124,9 +120,9 @@ def _checked(model, algorithm: tuple, states: dict, gravity, f_ext) -> np.ndarra
     packed = chk.packed(model, gravity)
     fe = chk.external(model, f_ext, x[0].shape[:-1])
     try:
-        if x[0].ndim == 2 and len(x[0]) > SERIAL_BATCH:
+        if x[0].ndim == 2 and len(x[0]) > 1:
             out = parallel.call(packed, *x, fe, _threads())
-        else:  # one sample, or a row or two of them
+        else:  # one sample, or a (1, n) batch
             out = np.empty(x[0].shape)
             for b in np.ndindex(x[0].shape[:-1]):
                 if fe is None:
