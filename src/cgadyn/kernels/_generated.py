@@ -482,10 +482,10 @@ def translator_rotor(p1, p2, p3, r0, r1, r2, r3, out):
 def motor_translation(m):
     """Translation ``p`` of a normalised motor ``M = T R``: ``p = -2 <M ~R>_(e∞)``.
 
-    24 multiplications, 9 additions.
+    15 multiplications, 9 additions.
     """
     m0, m1, m2, m3, m4, m5, m6, m7 = m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7]
-    return -2*m0*m4 - 2*m1*m5 - 2*m2*m6 - 2*m3*m7, -2*m0*m5 + 2*m1*m4 + 2*m2*m7 - 2*m3*m6, -2*m0*m6 - 2*m1*m7 + 2*m2*m4 + 2*m3*m5
+    return -2*(m0*m4 + m1*m5 + m2*m6 + m3*m7), 2*(-m0*m5 + m1*m4 + m2*m7 - m3*m6), 2*(-m0*m6 - m1*m7 + m2*m4 + m3*m5)
 
 
 @njit(cache=True, nogil=True, inline="always")
