@@ -94,26 +94,11 @@ else:
     helper that returns it)."""
 
 
-def pointer(buf):
-    """A workspace buffer as ``carve`` takes it fastest: an array argument becomes a
-    pointer to its data (bare views, valid while the caller's array lives), a pointer
-    stays as it is."""
-    return buf
-
-
-@overload(pointer)
-def _pointer(buf):
-    if isinstance(buf, types.CPointer):
-        return lambda buf: buf
-    return lambda buf: _data_pointer(buf)
-
-
 def carve(buf, offset, shape):
     """A C-contiguous view of ``shape`` into ``buf`` at ``offset``, and the next offset.
 
-    ``buf`` is an array (the view keeps it alive, at the cost of a reshape and
-    reference counting) or a pointer from ``pointer`` or ``data_pointer`` (a bare view,
-    valid while that stack frame or array lives). One buffer per call holds every
+    ``buf`` is a pointer from ``data_pointer`` (compiled: a bare view, valid while that
+    array lives) or, in pure Python, the array itself. One buffer per call holds every
     array of an algorithm's workspace.
     """
     size = 1
@@ -124,20 +109,10 @@ def carve(buf, offset, shape):
 
 @overload(carve)
 def _carve(buf, offset, shape):
-    if isinstance(buf, types.CPointer):
-
-        def bare(buf, offset, shape):
-            size = 1
-            for s in shape:
-                size *= s
-            return numba.carray(_advance(buf, offset), shape), offset + size
-
-        return bare
-
-    def on_heap(buf, offset, shape):
+    def bare(buf, offset, shape):
         size = 1
         for s in shape:
             size *= s
-        return buf[offset:offset + size].reshape(shape), offset + size
+        return numba.carray(_advance(buf, offset), shape), offset + size
 
-    return on_heap
+    return bare

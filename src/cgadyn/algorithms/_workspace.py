@@ -8,7 +8,7 @@ no allocator, no reference counts, gone when the call returns) up to ``STACK_FLO
 batch allocates one heap workspace per thread chunk. Both are arrays of one type, so each
 core is compiled for one signature (LLVM may still inline it differently into the single and
 batch entries, so results can differ in the last bits, far below the 1e-12 asked); it reads
-``work`` through a bare pointer (``pointer``). Concurrent calls never share memory.
+``work`` through a bare pointer (``data_pointer``). Concurrent calls never share memory.
 """
 
 from __future__ import annotations
@@ -19,13 +19,13 @@ import numpy as np
 from numba import njit, types
 from numba.extending import overload
 
-from .._views import carve, pointer, stack_buffer
+from .._views import carve, data_pointer, stack_buffer
 
 STACK_FLOATS = 8192
 """The largest workspace (64 KiB) a one-sample call takes from its stack; larger ones (ABA
 beyond about 80 joints) go on the heap, so that small thread stacks never overflow."""
 
-__all__ = ["MIN_CHUNK", "STACK_FLOATS", "all_finite", "carve", "chunks", "pointer",
+__all__ = ["MIN_CHUNK", "STACK_FLOATS", "all_finite", "carve", "chunks", "data_pointer",
            "require_rows", "require_sample", "row", "stack_buffer"]
 
 

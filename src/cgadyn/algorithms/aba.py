@@ -53,11 +53,11 @@ from . import _workspace as ws
 @njit(cache=True, nogil=True, fastmath={"contract"})
 def aba_core(packed, q, qd, tau, f_ext, qdd, work):
     """One sample of Algorithm 3 into ``qdd``; ``f_ext`` (n, 6) or None; ``work`` a buffer
-    of ``workspace_size(n)`` floats (a pointer or an array)."""
+    of ``workspace_size(n)`` floats (on the caller's stack or heap)."""
     parents, types, placements, axes, inertias, gravity = unpack(packed)
     n = parents.shape[0]
     Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M, c, s = _workspace(
-        ws.pointer(work), n)
+        ws.data_pointer(work), n)
     joint_scalars(types, q, c, s)  # the scalars of every joint motor (eq. 6)
     for j in range(n):
         p = parents[j]

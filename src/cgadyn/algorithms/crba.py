@@ -26,11 +26,11 @@ from . import _workspace as ws
 
 @njit(cache=True, nogil=True, fastmath={"contract"})
 def crba_core(packed, q, H, work):
-    """One sample into ``H``; ``work`` a buffer of ``workspace_size(n)`` floats (a pointer
-    or an array)."""
+    """One sample into ``H``; ``work`` a buffer of ``workspace_size(n)`` floats (on the
+    caller's stack or heap)."""
     parents, types, placements, axes, inertias, _ = unpack(packed)
     n = parents.shape[0]
-    Ic, S, Mw, joint, M, c, s = _workspace(ws.pointer(work), n)
+    Ic, S, Mw, joint, M, c, s = _workspace(ws.data_pointer(work), n)
     joint_scalars(types, q, c, s)  # exp(q_j B_j / 2) = c_j + s_j B_j for all joints
     for j in range(n):
         p = parents[j]

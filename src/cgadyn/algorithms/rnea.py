@@ -47,10 +47,10 @@ from . import _workspace as ws
 @njit(cache=True, nogil=True, fastmath={"contract"})
 def rnea_core(packed, q, qd, qdd, f_ext, tau, work):
     """One sample of Algorithm 2 into ``tau``; ``f_ext`` (n, 6) or None; ``work`` a buffer
-    of ``workspace_size(n)`` floats (a pointer or an array)."""
+    of ``workspace_size(n)`` floats (on the caller's stack or heap)."""
     parents, types, placements, axes, inertias, gravity = unpack(packed)
     n = parents.shape[0]
-    Ad, V, A, W, tmp, joint, M, c, s = _workspace(ws.pointer(work), n)
+    Ad, V, A, W, tmp, joint, M, c, s = _workspace(ws.data_pointer(work), n)
     joint_scalars(types, q, c, s)  # the scalars of every joint motor (eq. 6)
     for j in range(n):
         p = parents[j]
