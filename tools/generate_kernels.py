@@ -110,7 +110,7 @@ class Kernel:
     def source(self) -> str:
         mul, add = count_ops(self.exprs)
         signature = f"def {self.name}({', '.join(self.args)}):"
-        lines = ["", "", '@njit(cache=True, nogil=True, inline="always")', signature]
+        lines = ["", "", "@inline", signature]
         lines.append(f'    """{self.doc}')
         lines.append("")
         lines.append(f"    {mul} multiplications, {add} additions.")
@@ -480,7 +480,7 @@ be called from other compiled code, where numba inlines it (``inline="always"``:
 recursive algorithms run about 30 % faster than with calls).
 """
 
-from numba import njit
+from .._jit import inline
 '''
 
 
@@ -508,7 +508,9 @@ Indexing is direct, ``a[n, i]``: row views cost several times the arithmetic.
 """
 
 # ruff: noqa: E501
-from numba import njit, prange
+from numba import prange
+
+from .._jit import parallel
 '''
 
 
@@ -534,7 +536,7 @@ def batch_source(kernel: Kernel) -> str:
                      for i, e in enumerate(kernel.exprs)]
     first = args[0]
     mul, add = count_ops(kernel.exprs)
-    lines = ["", "", "@njit(cache=True, parallel=True)",
+    lines = ["", "", "@parallel",
              f"def {kernel.name}_batch({', '.join(args)}):",
              f'    """Batch form of ``{kernel.name}``, one row per sample.', "",
              "    " + kernel.doc.split("\n\n")[0], "",

@@ -16,9 +16,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit, types
+from numba import types
 from numba.extending import overload
 
+from .._jit import serial
 from .._views import carve, data_pointer, stack_buffer
 
 STACK_FLOATS = 8192
@@ -29,17 +30,17 @@ __all__ = ["MIN_CHUNK", "STACK_FLOATS", "all_finite", "carve", "chunks", "data_p
            "require_rows", "require_sample", "row", "stack_buffer"]
 
 
-@njit(cache=True, nogil=True)
+@serial
 def motors(n):
     return np.empty((n, 8))
 
 
-@njit(cache=True, nogil=True)
+@serial
 def bivectors(n):
     return np.empty((n, 6))
 
 
-@njit(cache=True, nogil=True)
+@serial
 def require_sample(n, a, b, c, out):
     """Check one sample's inputs: ``a, b, c`` of length ``n`` and finite, ``out`` of length
     ``n`` (rows). Raises a bare ``ValueError`` (shape) or ``FloatingPointError`` (NaN, inf)
@@ -64,7 +65,7 @@ def _row(x, b):
     return lambda x, b: x[b]
 
 
-@njit(cache=True, nogil=True)
+@serial
 def all_finite(x):
     """True when a C-contiguous array holds no NaN or inf (numpy's isfinite().all() costs
     microseconds on small arrays)."""
@@ -74,7 +75,7 @@ def all_finite(x):
     return True
 
 
-@njit(cache=True, nogil=True)
+@serial
 def require_rows(n, arrays):
     """Check a batch's inputs (a tuple of arrays): each (B, n) with the same B, and finite.
     Raises a bare ``ValueError`` (shape) or ``FloatingPointError`` (NaN, inf) that the
@@ -92,7 +93,7 @@ MIN_CHUNK = 4
 chunk, since waking a second thread costs about as much as computing a few samples."""
 
 
-@njit(cache=True, nogil=True)
+@serial
 def chunks(batch, threads):
     """Split ``batch`` samples into contiguous chunks, one per thread and at least
     ``MIN_CHUNK`` samples each (one chunk for small batches): (starts, stops)."""

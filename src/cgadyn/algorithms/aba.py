@@ -31,8 +31,9 @@ As in ``rnea``, each joint's sandwich is expanded once into its matrix ``Ad_j``
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
+from .._jit import core, inline, parallel, serial
 from ..kernels import (
     adjoint_apply,
     adjoint_apply_transpose,
@@ -50,7 +51,7 @@ from ..multibody.packed import njoints, unpack
 from . import _workspace as ws
 
 
-@njit(cache=True, nogil=True, fastmath={"contract"})
+@core
 def aba_core(packed, q, qd, tau, f_ext, qdd, work):
     """One sample of Algorithm 3 into ``qdd``; ``f_ext`` (n, 6) or None; ``work`` a buffer
     of ``workspace_size(n)`` floats (on the caller's stack or heap)."""
@@ -112,12 +113,12 @@ def aba_core(packed, q, qd, tau, f_ext, qdd, work):
             V[j, k] = tmp[k] + qdd[j] * axes[j, k]  # V̇_j = V̄_j + q̈_j B_j
 
 
-@njit(cache=True, nogil=True)
+@serial
 def workspace_size(n):
     return 100 * n + 64
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def _workspace(buf, n):
     """Ad, Ih (n,6,6), V, C, Wh, WB (n,6), Ω, u (n), tmp, tmp2 (6), joint, M (8), It (6,6),
     the joint motors' scalars c, s (n)."""
@@ -139,13 +140,13 @@ def _workspace(buf, n):
     return Ad, V, C, Wh, WB, Ih, Omega, u, tmp, tmp2, joint, It, M, c, s
 
 
-@njit(cache=True)
+@serial
 def aba_single(packed, q, qd, tau, qdd):
     """One sample into ``qdd`` (n,), without external forces."""
     aba_single_ext(packed, q, qd, tau, None, qdd)
 
 
-@njit(cache=True)
+@serial
 def aba_single_ext(packed, q, qd, tau, f_ext, qdd):
     """One sample into ``qdd`` (n,); ``f_ext`` (n, 6) or None. Checks the lengths and
     finiteness of the inputs; the workspace lives on this call's stack
@@ -159,7 +160,7 @@ def aba_single_ext(packed, q, qd, tau, f_ext, qdd):
         aba_core(packed, q, qd, tau, f_ext, qdd, np.empty(size))
 
 
-@njit(cache=True, nogil=True, parallel=True)
+@parallel
 def aba_batch(packed, q, qd, tau, f_ext, threads):
     """(B, n) samples in parallel, in chunks of at least ``MIN_CHUNK`` samples with one heap
     workspace each; ``f_ext`` (B, n, 6) or None. Checks the shapes and finiteness of the

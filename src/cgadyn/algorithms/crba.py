@@ -16,15 +16,16 @@ matrix is returned.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
+from .._jit import core, inline, parallel, serial
 from ..kernels import dot, joint_frame_motor, joint_scalars, motor_mul, screw_motor
 from ..kernels.rigid import rigid_apply, rigid_axis_transform
 from ..multibody.packed import njoints, unpack
 from . import _workspace as ws
 
 
-@njit(cache=True, nogil=True, fastmath={"contract"})
+@core
 def crba_core(packed, q, H, work):
     """One sample into ``H``; ``work`` a buffer of ``workspace_size(n)`` floats (on the
     caller's stack or heap)."""
@@ -56,12 +57,12 @@ def crba_core(packed, q, H, work):
                 Ic[p, k] += Ic[j, k]  # I^c_λ += I^c_j, ten parameters in world coordinates
 
 
-@njit(cache=True, nogil=True)
+@serial
 def workspace_size(n):
     return 26 * n + 16
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def _workspace(buf, n):
     """Ic (n,10) (ten parameters of rigid inertias), S (n,6), Mw (n,8), joint (8), M (8),
     the joint motors' scalars c (n) and s (n), carved from ``buf``."""
@@ -75,7 +76,7 @@ def _workspace(buf, n):
     return Ic, S, Mw, joint, M, c, s
 
 
-@njit(cache=True)
+@serial
 def crba_single(packed, q, H):
     """One sample into ``H`` (n, n); checks the length and finiteness of ``q``; the
     workspace lives on this call's stack (on the heap for very large models)."""
@@ -88,7 +89,7 @@ def crba_single(packed, q, H):
         crba_core(packed, q, H, np.empty(size))
 
 
-@njit(cache=True, nogil=True, parallel=True)
+@parallel
 def crba_batch(packed, q, threads):
     """(B, n) samples in parallel, in chunks of at least ``MIN_CHUNK`` samples with one heap
     workspace each. Checks the shapes and finiteness of the inputs."""

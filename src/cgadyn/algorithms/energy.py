@@ -9,8 +9,9 @@ with ``c_j`` the world position of body j's centre of mass, the translation of t
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
+from .._jit import parallel, serial
 from ..kernels import (
     dot,
     inertia_apply,
@@ -24,7 +25,7 @@ from ..multibody.packed import unpack
 from . import _workspace as ws
 
 
-@njit(cache=True, nogil=True)
+@serial
 def energy_core(parents, types, placements, axes, inertias, masses, coms, q, qd, gravity,
                 M, Mw, V, tmp, joint, local):
     """(kinetic, potential) of one sample; ``gravity`` is the 3-vector g."""
@@ -52,7 +53,7 @@ def energy_core(parents, types, placements, axes, inertias, masses, coms, q, qd,
     return kinetic, potential
 
 
-@njit(cache=True, nogil=True, parallel=True)
+@parallel
 def energy_batch(packed, masses, coms, q, qd, gravity, threads):
     parents, types, placements, axes, inertias, _ = unpack(packed)
     n = parents.shape[0]

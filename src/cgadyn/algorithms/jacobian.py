@@ -10,8 +10,9 @@ local-world-aligned one only by the link's translation.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
+from .._jit import parallel, serial
 from ..kernels import motor_translation, translator_rotor, twist_sandwich, twist_sandwich_rev
 from . import _workspace as ws
 from .kinematics import frames_core, kinematics_core
@@ -19,7 +20,7 @@ from .kinematics import frames_core, kinematics_core
 WORLD, LOCAL, LOCAL_WORLD_ALIGNED = 0, 1, 2
 
 
-@njit(cache=True, nogil=True)
+@serial
 def jacobian_core(parents, types, placements, axes, link_joint, link_placements, q, link, frame,
                   J, Mw, links, joint, local, tmp, frame_motor):
     """Jacobian columns (n, 6) of link ``link`` into ``J`` (twist coefficients)."""
@@ -41,7 +42,7 @@ def jacobian_core(parents, types, placements, axes, link_joint, link_placements,
         j = parents[j]
 
 
-@njit(cache=True, nogil=True)
+@serial
 def jacobian_single(parents, types, placements, axes, link_joint, link_placements, q, link,
                     frame):
     n = parents.shape[0]
@@ -52,7 +53,7 @@ def jacobian_single(parents, types, placements, axes, link_joint, link_placement
     return J
 
 
-@njit(cache=True, nogil=True, parallel=True)
+@parallel
 def jacobian_batch(parents, types, placements, axes, link_joint, link_placements, q, link, frame,
                 threads):
     n = parents.shape[0]

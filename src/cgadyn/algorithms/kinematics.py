@@ -7,13 +7,14 @@ the root, each factor the joint's placement times its joint motor (eq. 6).
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
+from .._jit import parallel, serial
 from ..kernels import joint_motor, motor_mul
 from . import _workspace as ws
 
 
-@njit(cache=True, nogil=True)
+@serial
 def kinematics_core(parents, types, placements, axes, q, Mw, joint, local):
     """World motors of the joint frames into ``Mw`` (n, 8)."""
     for j in range(parents.shape[0]):
@@ -26,7 +27,7 @@ def kinematics_core(parents, types, placements, axes, q, Mw, joint, local):
             motor_mul(Mw[p], local, Mw[j])
 
 
-@njit(cache=True, nogil=True)
+@serial
 def frames_core(Mw, link_joint, link_placements, out):
     """World motors of link frames: ``M^w_link = M^w_j P_link`` (P: link in its joint frame)."""
     for i in range(link_joint.shape[0]):
@@ -37,7 +38,7 @@ def frames_core(Mw, link_joint, link_placements, out):
             motor_mul(Mw[j], link_placements[i], out[i])
 
 
-@njit(cache=True, nogil=True)
+@serial
 def link_motors_single(parents, types, placements, axes, link_joint, link_placements, q):
     n = parents.shape[0]
     Mw = ws.motors(n)
@@ -47,7 +48,7 @@ def link_motors_single(parents, types, placements, axes, link_joint, link_placem
     return Mw, out
 
 
-@njit(cache=True, nogil=True, parallel=True)
+@parallel
 def link_motors_batch(parents, types, placements, axes, link_joint, link_placements, q, threads):
     n = parents.shape[0]
     batch = q.shape[0]

@@ -26,8 +26,9 @@ by the invariance of the power pairing, ``~M_j V M_j = Ad_jᵀ V``.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
+from .._jit import core, inline, parallel, serial
 from ..kernels import (
     adjoint_apply,
     adjoint_apply_transpose,
@@ -44,7 +45,7 @@ from ..multibody.packed import njoints, unpack
 from . import _workspace as ws
 
 
-@njit(cache=True, nogil=True, fastmath={"contract"})
+@core
 def rnea_core(packed, q, qd, qdd, f_ext, tau, work):
     """One sample of Algorithm 2 into ``tau``; ``f_ext`` (n, 6) or None; ``work`` a buffer
     of ``workspace_size(n)`` floats (on the caller's stack or heap)."""
@@ -86,12 +87,12 @@ def rnea_core(packed, q, qd, qdd, f_ext, tau, work):
                 W[p, k] += tmp[k]
 
 
-@njit(cache=True, nogil=True)
+@serial
 def workspace_size(n):
     return 56 * n + 22
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def _workspace(buf, n):
     """Ad (n,6,6), V, A, W (n,6), tmp (6), joint, M (8), the joint motors' scalars c, s (n),
     carved from ``buf``."""
@@ -107,13 +108,13 @@ def _workspace(buf, n):
     return Ad, V, A, W, tmp, joint, M, c, s
 
 
-@njit(cache=True)
+@serial
 def rnea_single(packed, q, qd, qdd, tau):
     """One sample into ``tau`` (n,), without external forces."""
     rnea_single_ext(packed, q, qd, qdd, None, tau)
 
 
-@njit(cache=True)
+@serial
 def rnea_single_ext(packed, q, qd, qdd, f_ext, tau):
     """One sample into ``tau`` (n,); ``f_ext`` (n, 6) or None. Checks the lengths and
     finiteness of the inputs; the workspace lives on this call's stack
@@ -127,7 +128,7 @@ def rnea_single_ext(packed, q, qd, qdd, f_ext, tau):
         rnea_core(packed, q, qd, qdd, f_ext, tau, np.empty(size))
 
 
-@njit(cache=True, nogil=True, parallel=True)
+@parallel
 def rnea_batch(packed, q, qd, qdd, f_ext, threads):
     """(B, n) samples in parallel, in chunks of at least ``MIN_CHUNK`` samples with one heap
     workspace each; ``f_ext`` (B, n, 6) or None. Checks the shapes and finiteness of the

@@ -10,10 +10,12 @@ Indexing is direct, ``a[n, i]``: row views cost several times the arithmetic.
 """
 
 # ruff: noqa: E501
-from numba import njit, prange
+from numba import prange
+
+from .._jit import parallel
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def motor_mul_batch(a, b, out):
     """Batch form of ``motor_mul``, one row per sample.
 
@@ -35,7 +37,7 @@ def motor_mul_batch(a, b, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def motor_mul_rotor_batch(a, b, out):
     """Batch form of ``motor_mul_rotor``, one row per sample.
 
@@ -58,7 +60,7 @@ def motor_mul_rotor_batch(a, b, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def motor_mul_translator_batch(a, b, out):
     """Batch form of ``motor_mul_translator``, one row per sample.
 
@@ -81,7 +83,7 @@ def motor_mul_translator_batch(a, b, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def motor_reverse_batch(a, out):
     """Batch form of ``motor_reverse``, one row per sample.
 
@@ -102,7 +104,7 @@ def motor_reverse_batch(a, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def twist_sandwich_batch(m, x, out):
     """Batch form of ``twist_sandwich``, one row per sample.
 
@@ -132,7 +134,7 @@ def twist_sandwich_batch(m, x, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def twist_sandwich_rev_batch(m, x, out):
     """Batch form of ``twist_sandwich_rev``, one row per sample.
 
@@ -162,7 +164,7 @@ def twist_sandwich_rev_batch(m, x, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def wrench_sandwich_batch(m, x, out):
     """Batch form of ``wrench_sandwich``, one row per sample.
 
@@ -192,7 +194,7 @@ def wrench_sandwich_batch(m, x, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def wrench_sandwich_rev_batch(m, x, out):
     """Batch form of ``wrench_sandwich_rev``, one row per sample.
 
@@ -222,7 +224,7 @@ def wrench_sandwich_rev_batch(m, x, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def twist_cross_batch(a, b, out):
     """Batch form of ``twist_cross``, one row per sample.
 
@@ -242,7 +244,7 @@ def twist_cross_batch(a, b, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def twist_cross_wrench_batch(a, b, out):
     """Batch form of ``twist_cross_wrench``, one row per sample.
 
@@ -262,7 +264,7 @@ def twist_cross_wrench_batch(a, b, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def dot_batch(v, w, out):
     """Batch form of ``dot``, one row per sample.
 
@@ -277,7 +279,7 @@ def dot_batch(v, w, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def inertia_apply_batch(inertia, v, out):
     """Batch form of ``inertia_apply``, one row per sample.
 
@@ -302,7 +304,7 @@ def inertia_apply_batch(inertia, v, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def wrench_adjoint_batch(m, out):
     """Batch form of ``wrench_adjoint``, one row per sample.
 
@@ -383,7 +385,7 @@ def wrench_adjoint_batch(m, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def inertia_transform_batch(m, inertia, out):
     """Batch form of ``inertia_transform``, one row per sample.
 
@@ -504,7 +506,7 @@ def inertia_transform_batch(m, inertia, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def translator_rotor_batch(p, r, out):
     """Batch form of ``translator_rotor``, one row per sample.
 
@@ -527,7 +529,7 @@ def translator_rotor_batch(p, r, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def motor_translation_batch(m, out):
     """Batch form of ``motor_translation``, one row per sample.
 
@@ -543,7 +545,7 @@ def motor_translation_batch(m, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def adjoint_apply_batch(x, v, out):
     """Batch form of ``adjoint_apply``, one row per sample.
 
@@ -563,7 +565,7 @@ def adjoint_apply_batch(x, v, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def adjoint_apply_transpose_batch(x, v, out):
     """Batch form of ``adjoint_apply_transpose``, one row per sample.
 
@@ -583,7 +585,7 @@ def adjoint_apply_transpose_batch(x, v, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def inertia_congruence_batch(x, inertia, out):
     """Batch form of ``inertia_congruence``, one row per sample.
 
@@ -676,7 +678,7 @@ def inertia_congruence_batch(x, inertia, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def inertia_congruence_add_batch(x, inertia, out):
     """Batch form of ``inertia_congruence_add``, one row per sample.
 

@@ -11,8 +11,9 @@ should go through ``cgadyn.cga.objects`` (which does) or pass arrays of matching
 
 from __future__ import annotations
 
-from numba import njit, prange
+from numba import prange
 
+from .._jit import parallel
 from ._generated_batch import (
     adjoint_apply_batch,
     adjoint_apply_transpose_batch,
@@ -38,7 +39,7 @@ from ._generated_batch import (
 from .motors import joint_motor, motor_log, motor_normalize, twist_exp
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def twist_exp_batch(v, out):
     """Motors ``out[n] = exp(V[n] / 2)`` of twists ``v`` (B, 6) (eq. 6)."""
     for n in prange(v.shape[0]):
@@ -46,7 +47,7 @@ def twist_exp_batch(v, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def motor_log_batch(m, out):
     """Twists ``out[n]`` with ``exp(out[n] / 2) = M[n]`` of normalised motors ``m`` (B, 8)."""
     for n in prange(m.shape[0]):
@@ -54,7 +55,7 @@ def motor_log_batch(m, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def motor_normalize_batch(m, out):
     """Motors ``m`` (B, 8) projected back onto ``M ~M = 1``."""
     for n in prange(m.shape[0]):
@@ -62,7 +63,7 @@ def motor_normalize_batch(m, out):
     return out
 
 
-@njit(cache=True, parallel=True)
+@parallel
 def joint_motor_batch(axis, prismatic, q, out):
     """Joint motors ``exp(q[n] B / 2)`` (eq. 6) of one unit screw axis ``B`` (6,), q (B,)."""
     for n in prange(q.shape[0]):

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from .._jit import inline
 
 PIO2_1 = 1.5707963267341256  # π/2 to 33 significant bits
 PIO2_2 = 6.077100506303966e-11  # the next 33 bits
@@ -34,7 +34,7 @@ LIBM_BEYOND = 1e5
 """Half angles of larger magnitude take libm's sin and cos."""
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def _sin_cos_reduced(r):
     """(sin r, cos r) for ``|r| <= π/4``: Taylor polynomials in z = r²."""
     z = r * r
@@ -47,7 +47,7 @@ def _sin_cos_reduced(r):
     return sin, cos
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def half_angle_sincos(x):
     """(cos x/2, sin x/2), branch-free for ``|x/2| <= LIBM_BEYOND``."""
     h = 0.5 * x
@@ -63,7 +63,7 @@ def half_angle_sincos(x):
     return c_sign * c, s_sign * s
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def joint_scalars(types, q, c, s):
     """``c[j], s[j]`` of every joint motor ``exp(q_j B_j / 2) = c_j + s_j B_j`` (eq. 6):
     ``(cos q_j/2, sin q_j/2)`` for revolute joints (type 0), ``(1, q_j/2)`` for prismatic

@@ -14,8 +14,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
-
+from .._jit import inline, serial
 from ._generated import (
     motor_mul,
     motor_mul_rotor,
@@ -25,7 +24,7 @@ from ._generated import (
 )
 
 
-@njit(cache=True, nogil=True)
+@serial
 def _rotation_coefficients(theta):
     """(sin θ/θ, (1 - cos θ)/θ², (θ - sin θ)/θ³), with series below 1e-4."""
     if theta < 1e-4:
@@ -36,7 +35,7 @@ def _rotation_coefficients(theta):
     return s / theta, (1.0 - c) / (theta * theta), (theta - s) / (theta * theta * theta)
 
 
-@njit(cache=True, nogil=True)
+@serial
 def twist_exp(v, out):
     """Motor of the screw motion ``out = exp(V / 2)`` of a twist (eq. 6)."""
     w1, w2, w3 = -v[0], v[1], -v[2]
@@ -63,7 +62,7 @@ def twist_exp(v, out):
     translator_rotor(p1, p2, p3, r0, r1, r2, r3, out)
 
 
-@njit(cache=True, nogil=True)
+@serial
 def motor_log(m, out):
     """Twist ``V`` with ``exp(V / 2) = M`` for a normalised motor, rotation angle in [0, 2π).
 
@@ -97,7 +96,7 @@ def motor_log(m, out):
     out[5] = -(p3 - 0.5 * cx3 + d * cc3)
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def joint_motor(axis, prismatic, q, out):
     """Joint motor ``M_j(q_j) = exp(q_j B_j / 2)`` (eq. 6) of a unit screw axis ``B_j``.
 
@@ -110,7 +109,7 @@ def joint_motor(axis, prismatic, q, out):
         screw_motor(axis, math.cos(0.5 * q), math.sin(0.5 * q), out)
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def screw_motor(axis, c, s, out):
     """The motor ``c + s B`` of a unit screw axis ``B``: eq. (6)'s ``exp(q B / 2)`` from
     its two scalars (``halfangle.joint_scalars`` computes them for every joint at once)."""
@@ -124,7 +123,7 @@ def screw_motor(axis, c, s, out):
     out[7] = 0.0
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def joint_frame_motor(placement, joint, prismatic, out):
     """``M_j = X_j exp(q_j B_j / 2)`` (eq. 5) by the product the joint motor allows.
 
@@ -138,7 +137,7 @@ def joint_frame_motor(placement, joint, prismatic, out):
         motor_mul_rotor(placement, joint, out)
 
 
-@njit(cache=True, nogil=True)
+@serial
 def motor_normalize(m, out):
     """Project a motor back onto the manifold ``M ~M = 1``.
 

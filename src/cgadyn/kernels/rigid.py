@@ -21,12 +21,11 @@ multiplications where the 6x6 element matrix takes 36) in this form.
 
 from __future__ import annotations
 
-from numba import njit
-
+from .._jit import inline
 from ._generated import motor_translation
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def _rotation(m):
     """Rotation matrix (row by row) of the rotor of a normalised motor."""
     w, x, y, z = m[0], -m[3], m[2], -m[1]  # quaternion (w, x, y, z) of the rotor
@@ -35,7 +34,7 @@ def _rotation(m):
             2.0 * (x * z - y * w), 2.0 * (y * z + x * w), 1.0 - 2.0 * (x * x + y * y))
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def rigid_parameters(inertia):
     """The ten parameters ``(m, h, Ī11, Ī22, Ī33, Ī12, Ī13, Ī23)`` of a rigid inertia given
     as an element matrix: ``P = D I D``, ``Ī = P[:3, :3]``, ``[h]× = P[:3, 3:]``, m = P[3, 3]."""
@@ -45,7 +44,7 @@ def rigid_parameters(inertia):
             -inertia[0, 1], inertia[0, 2], -inertia[1, 2])  # Ī12, Ī13, Ī23
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def rigid_matrix(par, out):
     """The element matrix ``I = D P D`` of a rigid inertia given by its ten parameters."""
     mass, k0, k1, k2 = par[0], par[1], par[2], par[3]
@@ -63,14 +62,14 @@ def rigid_matrix(par, out):
             out[3 + i, 3 + j] = mass if i == j else 0.0  # m 1
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def _store(par, out):
     """Write ten parameters (a tuple) into ``out``."""
     out[0], out[1], out[2], out[3], out[4] = par[0], par[1], par[2], par[3], par[4]
     out[5], out[6], out[7], out[8], out[9] = par[5], par[6], par[7], par[8], par[9]
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def _transform(r, p0, p1, p2, par):
     """Ten parameters of ``M * I`` from those of I (an array or a tuple), M's rotation
     matrix r (row by row) and its translation p."""
@@ -110,7 +109,7 @@ def _transform(r, p0, p1, p2, par):
             b12 - (p1 * g2 + k1 * p2))  # Ī'23
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def rigid_inertia_transform(m, inertia, out):
     """``out = M * I`` for a rigid inertia ``I`` (any inertia built from mass, com and a
     3x3 rotational inertia, or a sum of them), as element matrices. ``out`` may alias
@@ -119,7 +118,7 @@ def rigid_inertia_transform(m, inertia, out):
     rigid_matrix(_transform(_rotation(m), p0, p1, p2, rigid_parameters(inertia)), out)
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def rigid_axis_transform(m, axis, inertia, s, out):
     """One motor, two moves: the twist ``s = M B ~M`` (eq. 4) of a joint axis B and the ten
     parameters ``out`` of ``M * I`` (eq. 16) of a rigid inertia given as an element matrix.
@@ -143,7 +142,7 @@ def rigid_axis_transform(m, axis, inertia, s, out):
     _store(_transform(r, p0, p1, p2, rigid_parameters(inertia)), out)
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def rigid_apply(par, v):
     """``I[V]`` (eq. 15) for a rigid inertia given by its ten parameters: the physical
     ``n = Ī ω + h × v``, ``f = m v + ω × h``, on twist and wrench coefficients. Returns the

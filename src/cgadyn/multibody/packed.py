@@ -17,8 +17,8 @@ makes a copy for another gravity.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
+from .._jit import inline
 from .._views import as_int64, carve, data_pointer
 from ..cga.conventions import twist_from_motion
 
@@ -54,13 +54,13 @@ def with_gravity(packed: np.ndarray, gravity) -> np.ndarray:
     return out
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def njoints(packed):
     """n, from the length of a packed buffer."""
     return (packed.shape[0] - 6) // FLOATS_PER_JOINT
 
 
-@njit(cache=True, nogil=True, inline="always")
+@inline
 def unpack(packed):
     """``(parents, joint_types, placements, axes, inertias, base_acceleration)``: views
     into the buffer, valid while it lives (pass it as an argument of the caller)."""

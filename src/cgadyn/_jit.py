@@ -1,0 +1,75 @@
+"""The one place where cgadyn asks numba to compile, and how.
+
+Every compiled function of the package is declared with one of these decorators, named by
+its role:
+
+- ``inline``: a small kernel (a motor product, a sandwich) that numba inlines into every
+  compiled caller (``inline="always"``: the recursions run about 30 % faster than with calls);
+- ``core``: the body of an algorithm, one sample; the only liberty taken with IEEE
+  arithmetic is fusing a multiply and an add into one FMA instruction (``contract``);
+- ``serial``: any other compiled function;
+- ``parallel``: a batch entry, its samples split over numba's threads with ``prange``;
+- ``native(signature)``: a C-callable entry point (``numba.cfunc``) that ``cgadyn._native``
+  calls with raw pointers (see ``docs/architecture.md``).
+
+Machine code is cached on disk (``__pycache__`` beside the sources, or ``NUMBA_CACHE_DIR``,
+or numba's user cache directory) so that a second process starts in about a second. Where
+numba finds no writable cache location at all, decorating with ``cache=True`` raises
+``RuntimeError`` at import; here the package then compiles in memory instead, with one
+warning, and works the same (only slower to start).
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Callable
+
+import numba
+
+__all__ = ["caching", "core", "inline", "native", "parallel", "serial"]
+
+_CACHE = [True]
+"""Whether numba can cache on disk: True until a decoration finds no cache location."""
+
+
+def caching() -> bool:
+    """True while compiled code is cached on disk (False after no location was writable)."""
+    return _CACHE[0]
+
+
+def _compile(decorator: Callable, fn: Callable, **options):
+    if _CACHE[0]:
+        try:
+            return decorator(cache=True, **options)(fn)
+        except RuntimeError as exc:  # "cannot cache function ...: no locator available"
+            _CACHE[0] = False
+            warnings.warn(
+                f"cgadyn: numba cannot cache compiled code on disk ({exc}); compiling in "
+                f"memory instead, so every new process compiles again. Set NUMBA_CACHE_DIR "
+                f"to a writable directory to cache it.", RuntimeWarning, stacklevel=3)
+    return decorator(**options)(fn)
+
+
+def inline(fn: Callable):
+    """A kernel inlined into its compiled callers."""
+    return _compile(numba.njit, fn, nogil=True, inline="always")
+
+
+def core(fn: Callable):
+    """One sample of an algorithm, with multiply-adds fused (``fastmath={"contract"}``)."""
+    return _compile(numba.njit, fn, nogil=True, fastmath={"contract"})
+
+
+def serial(fn: Callable):
+    """A compiled function that runs on the calling thread."""
+    return _compile(numba.njit, fn, nogil=True)
+
+
+def parallel(fn: Callable):
+    """A batch entry whose ``prange`` loops run on numba's threads."""
+    return _compile(numba.njit, fn, nogil=True, parallel=True)
+
+
+def native(signature) -> Callable:
+    """A C-callable entry point of the given numba signature (``numba.cfunc``)."""
+    return lambda fn: _compile(numba.cfunc, fn, sig=signature, nopython=True)
