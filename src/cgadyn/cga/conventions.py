@@ -27,9 +27,18 @@ from __future__ import annotations
 import numpy as np
 
 from .. import kernels as K
+from ..kernels.layout import BIVECTOR_SIGN, QUATERNION_OF_ROTOR
 
-# coefficient = SIGN * physical component, physical order (ω or n, then v or f)
-SIGN = np.array([-1.0, 1.0, -1.0, -1.0, -1.0, -1.0])
+SIGN = np.array(BIVECTOR_SIGN)
+"""Coefficient = SIGN * physical component, physical order (ω or n, then v or f)."""
+_Q_INDEX = [i for i, _ in QUATERNION_OF_ROTOR]
+_Q_SIGN = np.array([s for _, s in QUATERNION_OF_ROTOR])
+
+
+def _quaternion_of(rotor: np.ndarray) -> np.ndarray:
+    """``(w, x, y, z)`` of rotor coefficients ``(..., 1/e12/e13/e23)`` (and back: the map is
+    its own inverse)."""
+    return rotor[..., _Q_INDEX] * _Q_SIGN
 
 
 def _vec(x, n: int, what: str) -> np.ndarray:
@@ -88,9 +97,7 @@ def twist_from_axis(kind: str, axis) -> np.ndarray:
 
 def rotor_from_rotation(rot) -> np.ndarray:
     """Rotor coefficients ``(1, e12, e13, e23)`` of a rotation matrix."""
-    w, x, y, z = _quaternion(rot)
-    # R = w - (x e23 + y e31 + z e12) = w - z e12 + y e13 - x e23
-    return np.array([w, -z, y, -x])
+    return _quaternion_of(_quaternion(rot))  # R = w - (x e23 + y e31 + z e12)
 
 
 def motor_from_rt(rot, trans) -> np.ndarray:
@@ -124,7 +131,7 @@ def matrix_from_motor(M) -> np.ndarray:
     m = _vec(M, 8, "motor")
     flat = np.ascontiguousarray(m.reshape(-1, 8))
     n = motor_normalize_batch(flat, np.empty_like(flat))
-    w, x, y, z = n[:, 0], -n[:, 3], n[:, 2], -n[:, 1]
+    w, x, y, z = _quaternion_of(n[:, :4]).T
     out = np.zeros((len(n), 4, 4))
     out[:, :3, :3] = np.moveaxis(_rotation(w, x, y, z), (0, 1), (-2, -1))
     out[:, :3, 3] = motor_translation_batch(n, np.empty((len(n), 3)))
@@ -142,7 +149,7 @@ def motor_from_quaternion(quat, trans=(0.0, 0.0, 0.0)) -> np.ndarray:
 def quaternion_from_motor(M) -> np.ndarray:
     """Unit quaternion ``(w, x, y, z)`` of a motor's rotation (sign as the rotor's)."""
     m = _vec(M, 8, "motor")
-    q = np.array([m[0], -m[3], m[2], -m[1]])
+    q = _quaternion_of(m[:4])
     return q / np.linalg.norm(q)
 
 

@@ -22,6 +22,7 @@ from ._generated import (
     motor_translation,
     translator_rotor,
 )
+from .layout import physical, store_bivector
 
 
 @serial
@@ -38,8 +39,7 @@ def _rotation_coefficients(theta):
 @serial
 def twist_exp(v, out):
     """Motor of the screw motion ``out = exp(V / 2)`` of a twist (eq. 6)."""
-    w1, w2, w3 = -v[0], v[1], -v[2]
-    u1, u2, u3 = -v[3], -v[4], -v[5]
+    w1, w2, w3, u1, u2, u3 = physical(v)  # ω and v
     theta = math.sqrt(w1 * w1 + w2 * w2 + w3 * w3)
     half = 0.5 * theta
     if theta < 1e-4:
@@ -79,7 +79,7 @@ def motor_log(m, out):
     out[1] = r2 / k
     out[2] = r1 / k
     p1, p2, p3 = motor_translation(m)
-    w1, w2, w3 = -out[0], out[1], -out[2]
+    w1, w2, w3, _, _, _ = physical(out)  # ω
     # v = J(ω)^-1 p, J^-1 = 1 - ½ ω^ + d ω^2
     if theta < 1e-4:
         d = 1.0 / 12.0 + theta * theta / 720.0
@@ -91,9 +91,8 @@ def motor_log(m, out):
     cc1 = w2 * cx3 - w3 * cx2
     cc2 = w3 * cx1 - w1 * cx3
     cc3 = w1 * cx2 - w2 * cx1
-    out[3] = -(p1 - 0.5 * cx1 + d * cc1)
-    out[4] = -(p2 - 0.5 * cx2 + d * cc2)
-    out[5] = -(p3 - 0.5 * cx3 + d * cc3)
+    store_bivector(w1, w2, w3, p1 - 0.5 * cx1 + d * cc1, p2 - 0.5 * cx2 + d * cc2,
+                   p3 - 0.5 * cx3 + d * cc3, out)
 
 
 @inline

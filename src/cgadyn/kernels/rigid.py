@@ -23,12 +23,13 @@ from __future__ import annotations
 
 from .._jit import inline
 from ._generated import motor_translation
+from .layout import bivector, physical, quaternion, store_bivector
 
 
 @inline
 def _rotation(m):
     """Rotation matrix (row by row) of the rotor of a normalised motor."""
-    w, x, y, z = m[0], -m[3], m[2], -m[1]  # quaternion (w, x, y, z) of the rotor
+    w, x, y, z = quaternion(m)
     return (1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y - z * w), 2.0 * (x * z + y * w),
             2.0 * (x * y + z * w), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z - x * w),
             2.0 * (x * z - y * w), 2.0 * (y * z + x * w), 1.0 - 2.0 * (x * x + y * y))
@@ -130,15 +131,14 @@ def rigid_axis_transform(m, axis, inertia, s, out):
     r = _rotation(m)  # rotation matrix R of M
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = r
     p0, p1, p2 = motor_translation(m)  # translation p of M
-    w0, w1, w2 = -axis[0], axis[1], -axis[2]  # ω of B from its coefficients (-ω1, ω2, -ω3)
-    v0, v1, v2 = -axis[3], -axis[4], -axis[5]  # v of B from (-v1, -v2, -v3)
+    w0, w1, w2, v0, v1, v2 = physical(axis)  # ω and v of B
     u0 = r00 * w0 + r01 * w1 + r02 * w2  # ω' = R ω
     u1 = r10 * w0 + r11 * w1 + r12 * w2
     u2 = r20 * w0 + r21 * w1 + r22 * w2
-    s[0], s[1], s[2] = -u0, u1, -u2  # angular coefficients (-ω'1, ω'2, -ω'3) of S
-    s[3] = -(r00 * v0 + r01 * v1 + r02 * v2 + p1 * u2 - p2 * u1)  # -v'1, v' = R v + p × ω'
-    s[4] = -(r10 * v0 + r11 * v1 + r12 * v2 + p2 * u0 - p0 * u2)  # -v'2
-    s[5] = -(r20 * v0 + r21 * v1 + r22 * v2 + p0 * u1 - p1 * u0)  # -v'3
+    store_bivector(u0, u1, u2,  # S = (ω', v'), v' = R v + p × ω'
+                   r00 * v0 + r01 * v1 + r02 * v2 + p1 * u2 - p2 * u1,
+                   r10 * v0 + r11 * v1 + r12 * v2 + p2 * u0 - p0 * u2,
+                   r20 * v0 + r21 * v1 + r22 * v2 + p0 * u1 - p1 * u0, s)
     _store(_transform(r, p0, p1, p2, rigid_parameters(inertia)), out)
 
 
@@ -148,11 +148,10 @@ def rigid_apply(par, v):
     ``n = Ī ω + h × v``, ``f = m v + ω × h``, on twist and wrench coefficients. Returns the
     wrench's six coefficients as a tuple (kept in registers by the caller)."""
     mass, h0, h1, h2 = par[0], par[1], par[2], par[3]
-    w0, w1, w2 = -v[0], v[1], -v[2]  # ω from the coefficients (-ω1, ω2, -ω3)
-    u0, u1, u2 = -v[3], -v[4], -v[5]  # v from (-v1, -v2, -v3)
-    return (-(par[4] * w0 + par[7] * w1 + par[8] * w2 + h1 * u2 - h2 * u1),  # -n1
-            par[7] * w0 + par[5] * w1 + par[9] * w2 + h2 * u0 - h0 * u2,  # n2
-            -(par[8] * w0 + par[9] * w1 + par[6] * w2 + h0 * u1 - h1 * u0),  # -n3
-            -(mass * u0 + w1 * h2 - w2 * h1),  # -f1
-            -(mass * u1 + w2 * h0 - w0 * h2),  # -f2
-            -(mass * u2 + w0 * h1 - w1 * h0))  # -f3
+    w0, w1, w2, u0, u1, u2 = physical(v)  # ω and v
+    return bivector(par[4] * w0 + par[7] * w1 + par[8] * w2 + h1 * u2 - h2 * u1,  # n
+                    par[7] * w0 + par[5] * w1 + par[9] * w2 + h2 * u0 - h0 * u2,
+                    par[8] * w0 + par[9] * w1 + par[6] * w2 + h0 * u1 - h1 * u0,
+                    mass * u0 + w1 * h2 - w2 * h1,  # f
+                    mass * u1 + w2 * h0 - w0 * h2,
+                    mass * u2 + w0 * h1 - w1 * h0)
