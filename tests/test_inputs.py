@@ -18,7 +18,7 @@ def test_wrong_length_names_n_and_the_joint_order():
         cgadyn.rnea(PANDA, np.zeros(7), Z9, Z9)
     with pytest.raises(ValueError, match="tau must have shape"):
         cgadyn.aba(PANDA, Z9, Z9, np.zeros((3, 8)))
-    with pytest.raises(ValueError, match="share one shape"):
+    with pytest.raises(ValueError, match="batches of the same size"):
         cgadyn.rnea(PANDA, np.zeros((2, 9)), np.zeros((3, 9)), np.zeros((3, 9)))
 
 

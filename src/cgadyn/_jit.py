@@ -12,6 +12,9 @@ its role:
 - ``native(signature)``: a C-callable entry point (``numba.cfunc``) that ``cgadyn._native``
   calls with raw pointers (see ``docs/architecture.md``).
 
+Every one uses numpy's error model: a float division by zero gives inf or NaN (which the
+algorithms report as a status) instead of raising, since compiled code must not raise.
+
 Machine code is cached on disk (``__pycache__`` beside the sources, or ``NUMBA_CACHE_DIR``,
 or numba's user cache directory) so that a second process starts in about a second. Where
 numba finds no writable cache location at all, decorating with ``cache=True`` raises
@@ -21,6 +24,7 @@ warning, and works the same (only slower to start).
 
 from __future__ import annotations
 
+import threading
 import warnings
 from collections.abc import Callable
 
@@ -52,24 +56,43 @@ def _compile(decorator: Callable, fn: Callable, **options):
 
 def inline(fn: Callable):
     """A kernel inlined into its compiled callers."""
-    return _compile(numba.njit, fn, nogil=True, inline="always")
+    return _compile(numba.njit, fn, nogil=True, inline="always", error_model="numpy")
 
 
 def core(fn: Callable):
     """One sample of an algorithm, with multiply-adds fused (``fastmath={"contract"}``)."""
-    return _compile(numba.njit, fn, nogil=True, fastmath={"contract"})
+    return _compile(numba.njit, fn, nogil=True, fastmath={"contract"}, error_model="numpy")
 
 
 def serial(fn: Callable):
     """A compiled function that runs on the calling thread."""
-    return _compile(numba.njit, fn, nogil=True)
+    return _compile(numba.njit, fn, nogil=True, error_model="numpy")
 
 
 def parallel(fn: Callable):
     """A batch entry whose ``prange`` loops run on numba's threads."""
-    return _compile(numba.njit, fn, nogil=True, parallel=True)
+    return _compile(numba.njit, fn, nogil=True, parallel=True, error_model="numpy")
 
 
 def native(signature) -> Callable:
-    """A C-callable entry point of the given numba signature (``numba.cfunc``)."""
-    return lambda fn: _compile(numba.cfunc, fn, sig=signature, nopython=True)
+    """A C-callable entry point of the given numba signature (``numba.cfunc``), compiled (or
+    loaded from the disk cache) on first use of its ``address``, not at import."""
+    return lambda fn: Native(fn, signature)
+
+
+class Native:
+    """A ``numba.cfunc`` made on demand: ``address`` is the C function's address."""
+
+    _lock = threading.Lock()
+
+    def __init__(self, fn: Callable, signature):
+        self.py_func, self.signature, self._cfunc = fn, signature, None
+
+    @property
+    def address(self) -> int:
+        if self._cfunc is None:
+            with self._lock:
+                if self._cfunc is None:
+                    self._cfunc = _compile(numba.cfunc, self.py_func, sig=self.signature,
+                                           error_model="numpy")
+        return self._cfunc.address

@@ -71,8 +71,8 @@ if numba.config.DISABLE_JIT:
         return np.empty(size)
 
     def data_pointer(array: np.ndarray) -> np.ndarray:
-        """Pure Python: the array itself."""
-        return array
+        """Pure Python: the array's data as a flat view."""
+        return array.reshape(-1)
 
     def as_int64(array: np.ndarray) -> np.ndarray:
         """Pure Python: the same bytes viewed as int64."""

@@ -1,47 +1,72 @@
-"""Input checks shared by the algorithm wrappers: shapes, dtypes, finiteness, gravity.
+"""Checks and conversions of what users pass to the algorithms: states, gravity, f_ext, links.
 
-The checks on the hot path are cheap (a contiguous float64 view and a shape test); the
-finiteness of the inputs is checked inside the compiled code, which raises a bare
-``FloatingPointError`` that ``explain`` turns into a message naming the array and joint.
+Everything here runs on the checked path only (``calls.run``): a one-sample call whose
+arrays are already C-contiguous float64 of the right length goes straight to compiled code,
+which checks finiteness itself. Each function raises a ``ValueError`` that names the
+argument, what was expected and what was given.
 """
 
 from __future__ import annotations
+
+import numbers
 
 import numpy as np
 
 from ..cga.conventions import wrench_from_force
 from ..multibody.packed import DEFAULT_GRAVITY, with_gravity
 
+_NUMERIC = "biuf"
+"""numpy dtype kinds taken as numbers: bool, signed and unsigned integers, floats."""
 
-def state(model, x, name: str) -> np.ndarray:
-    """``x`` as a contiguous writable float64 array of shape (n,) or (B, n) (the types
-    the compiled code is specialised for)."""
+
+def state(model, x, name: str, size: int) -> np.ndarray:
+    """``x`` as a contiguous writable float64 array of shape (size,) or (B, size)."""
+    layout = ("q: " if name == "q" else f"{name}: ") + _layout(model, name)
+    if x is None:
+        raise ValueError(f"{name} is None; expected an array of shape ({size},) or "
+                         f"(B, {size}) for {model.name!r} ({layout})")
     try:
-        a = np.ascontiguousarray(x, dtype=np.float64)
-        if not a.flags.writeable:
-            a = a.copy()
+        a = np.asarray(x)
     except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be an array of floats: {exc}") from None
-    if a.shape[-1:] != (model.nv,) or a.ndim > 2:
-        raise ValueError(
-            f"{name} must have shape ({model.nv},) or (B, {model.nv}) for {model.name!r}, "
-            f"got {a.shape}; joint order: {', '.join(model.joint_names)}"
-        )
-    return a
+        raise ValueError(f"{name} must be an array of real numbers: {exc}") from None
+    if a.dtype.kind == "c":
+        raise ValueError(f"{name} has complex values; expected real numbers")
+    if a.dtype.kind not in _NUMERIC:
+        try:
+            a = a.astype(np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name} must be an array of real numbers, got an array of "
+                             f"dtype {a.dtype}") from None
+    if a.ndim not in (1, 2) or a.shape[-1] != size:
+        raise ValueError(f"{name} must have shape ({size},) or (B, {size}) for "
+                         f"{model.name!r}, got {a.shape}; {layout}")
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    return a if a.flags.writeable else a.copy()  # one compiled signature: writable arrays
 
 
-def states(model, arrays: tuple, names: tuple[str, ...]) -> tuple[np.ndarray, ...]:
-    """State arrays of one shape (n,) or (B, n), as contiguous writable float64."""
-    out = [state(model, a, name) for a, name in zip(arrays, names, strict=True)]
-    same_batch(*out, names=names)
-    return tuple(out)
+def _layout(model, name: str) -> str:
+    """The order of a state's entries: the joints, and a free flyer's coordinates."""
+    parts = []
+    for j, joint in enumerate(model.joint_names):
+        if model.joint_kinds[j] != "free_flyer":
+            parts.append(joint)
+        elif name == "q":
+            parts.append(f"{joint} (x, y, z, qx, qy, qz, qw)")
+        else:
+            parts.append(f"{joint} (vx, vy, vz, wx, wy, wz)")
+    return "joint order " + ", ".join(parts)
 
 
-def same_batch(*arrays: np.ndarray, names: tuple[str, ...]) -> None:
-    first = arrays[0].shape
-    if not all(a.shape == first for a in arrays):
-        detail = ", ".join(f"{n} {a.shape}" for n, a in zip(names, arrays, strict=True))
-        raise ValueError(f"inputs must share one shape: {detail}")
+def states(model, arrays: tuple, inputs: tuple) -> tuple[np.ndarray, ...]:
+    """The state arrays of one algorithm (``inputs``: its table entries ``(name, size)``),
+    converted, each one sample or all one batch of the same size."""
+    sizes = {"nq": model.nq, "nv": model.nv}
+    out = tuple(state(model, a, name, sizes[size])
+                for a, (name, size) in zip(arrays, inputs, strict=True))
+    if any(a.shape[:-1] != out[0].shape[:-1] for a in out):
+        detail = ", ".join(f"{name} {a.shape}" for (name, _), a in zip(inputs, out, strict=True))
+        raise ValueError(f"inputs must be one sample each or batches of the same size: {detail}")
+    return out
 
 
 def packed(model, gravity) -> np.ndarray:
@@ -53,43 +78,52 @@ def packed(model, gravity) -> np.ndarray:
 
 
 def gravity_vector(gravity) -> tuple[float, float, float]:
-    g = np.asarray(gravity, dtype=float)
-    if g.shape != (3,) or not np.all(np.isfinite(g)):
+    try:
+        g = np.asarray(gravity, dtype=float)
+    except (TypeError, ValueError):
+        g = None
+    if g is None or g.shape != (3,) or not np.all(np.isfinite(g)):
         raise ValueError(f"gravity must be 3 finite numbers (world frame), got {gravity!r}")
     return (float(g[0]), float(g[1]), float(g[2]))
 
 
 def external(model, f_ext, batch: tuple[int, ...]) -> np.ndarray | None:
-    """External wrenches as CGA wrench coefficients (..., n, 6), or None when absent.
+    """External wrenches as CGA wrench coefficients, (n, 6) or (B, n, 6), or None.
 
     ``f_ext`` follows Pinocchio: one force per joint, ``[f, τ]`` (linear, angular), applied
     to the joint's body and expressed in that joint's frame.
     """
-    n = model.nv
     if f_ext is None:
         return None
-    f = np.asarray(f_ext, dtype=float)
-    if f.shape not in ((n, 6), batch + (n, 6)):
+    n = model.njoints
+    shapes = [(n, 6)] + ([batch + (n, 6)] if batch else [])
+    try:
+        f = np.asarray(f_ext)
+    except (TypeError, ValueError):
+        f = np.empty(0)
+    if f.dtype.kind not in _NUMERIC or f.shape not in shapes:
+        expected = " or ".join(str(s) for s in shapes)
         raise ValueError(
-            f"f_ext must have shape ({n}, 6) or {batch + (n, 6)} (one [f, τ] per joint, "
-            f"in the joint's frame), got {f.shape}"
-        )
-    if not np.all(np.isfinite(f)):
-        raise ValueError("f_ext contains NaN or inf")
-    w = np.ascontiguousarray(wrench_from_force(f))
+            f"f_ext must have shape {expected} (one [f, τ] per joint, in the joint's frame, "
+            f"joints {', '.join(model.joint_names)}), got {f.shape} of dtype {f.dtype}")
+    f = f.astype(np.float64)
+    bad = np.argwhere(~np.isfinite(f))
+    if bad.size:
+        raise ValueError(f"f_ext contains NaN or inf at index {tuple(int(i) for i in bad[0])}")
+    w = wrench_from_force(f)
     if batch and w.ndim == 2:
-        w = np.ascontiguousarray(np.broadcast_to(w, batch + (n, 6)))
-    return w
+        w = np.broadcast_to(w, batch + (n, 6))
+    return np.ascontiguousarray(w)
 
 
-def explain(model, **arrays) -> ValueError:
-    """A message naming the first non-finite input and its joint."""
-    for name, a in arrays.items():
-        if a is None:
-            continue
-        bad = np.argwhere(~np.isfinite(a))
-        if bad.size:
-            idx = tuple(int(i) for i in bad[0])
-            joint = model.joint_names[idx[-1]] if a.shape[-1] == model.nv else "?"
-            return ValueError(f"{name} contains NaN or inf at index {idx} (joint {joint!r})")
-    return ValueError("the computation produced NaN or inf from finite inputs")
+def link_index(model, link) -> int:
+    """The index of a link given by name or by index (an integer, not a float)."""
+    if isinstance(link, str):
+        return model.link_index(link)
+    if isinstance(link, numbers.Integral) and not isinstance(link, bool):
+        if 0 <= link < model.nlinks:
+            return int(link)
+        raise ValueError(f"link index {link} out of range 0..{model.nlinks - 1} for "
+                         f"{model.name!r}")
+    raise ValueError(f"link must be a link name or an integer index, got {link!r}; links: "
+                     f"{', '.join(model.link_names)}")

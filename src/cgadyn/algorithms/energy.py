@@ -1,70 +1,74 @@
 """Kinetic and potential energy of a robot.
 
 Kinetic: ``T = ½ Σ_j p(V_j, I_j[V_j]) = -½ Σ_j V_j · I_j[V_j]`` (eqs. 9 and 15), with the
-body twists ``V_j`` of the forward pass of Algorithm 2. Potential: ``U = -Σ_j m_j g · c_j``
-with ``c_j`` the world position of body j's centre of mass, the translation of the motor
-``M^w_j T(c_j)``.
+body twists ``V_j = ~M_j V_λ M_j + S_j q̇_j`` of the forward pass of Algorithm 2. Potential:
+``U = -Σ_j m_j g · c_j``, with ``m_j c_j = m_j p_j + R_j h_j`` the body's first moment in
+the world (h_j its first moment in its own frame, ``M^w_j = T(p_j) R_j``), as in Pinocchio.
+Gravity is read from the model's base acceleration ``V̇_0 = -g``.
 """
 
 from __future__ import annotations
 
-import numpy as np
-from numba import prange
-
-from .._jit import parallel, serial
-from ..kernels import (
-    dot,
-    inertia_apply,
-    joint_motor,
-    motor_mul,
-    motor_translation,
-    translator_rotor,
-    twist_sandwich_rev,
-)
-from ..multibody.packed import unpack
+from .._jit import core, inline
+from ..kernels import dot, inertia_apply, twist_sandwich_rev
+from ..kernels.layout import physical
+from ..kernels.rigid import rigid_frame, rigid_parameters
+from ..multibody.joints import joint_twist
 from . import _workspace as ws
+from ._checks import check_configuration, check_result
+from .kinematics import world_motors
+from .status import OK
 
 
-@serial
-def energy_core(parents, types, placements, axes, inertias, masses, coms, q, qd, gravity,
-                M, Mw, V, tmp, joint, local):
-    """(kinetic, potential) of one sample; ``gravity`` is the 3-vector g."""
-    n = parents.shape[0]
+@core
+def energy_core(m, q, v, out, option, work):
+    """``out = (T, U)`` of one sample."""
+    status = check_configuration(m, q)
+    if status != OK:
+        return status
+    Mw, V, tmp, VJ, M, tmp8, c, s = _workspace(ws.data_pointer(work), m)
+    _, _, _, g1, g2, g3 = physical(m.gravity)  # -g, the base acceleration's linear part
     kinetic = 0.0
     potential = 0.0
-    for j in range(n):
-        p = parents[j]
-        joint_motor(axes[j], types[j] == 1, q[j], joint)
-        motor_mul(placements[j], joint, M[j])
+    world_motors(m, q, c, s, tmp8, M, Mw)  # M_j and M^w_j = M^w_λ M_j
+    for j in range(m.n):
+        p = m.parents[j]
         if p < 0:
-            V[j, :] = 0.0
-            Mw[j] = M[j]
+            for k in range(6):
+                V[j, k] = 0.0
         else:
-            twist_sandwich_rev(M[j], V[p], V[j])
-            motor_mul(Mw[p], M[j], Mw[j])
+            twist_sandwich_rev(M[j], V[p], V[j])  # ~M_j V_λ M_j
+        joint_twist(m, j, v, VJ)
         for k in range(6):
-            V[j, k] += qd[j] * axes[j, k]
-        inertia_apply(inertias[j], V[j], tmp)
-        kinetic -= 0.5 * dot(V[j], tmp)
-        translator_rotor(coms[j, 0], coms[j, 1], coms[j, 2], 1.0, 0.0, 0.0, 0.0, joint)
-        motor_mul(Mw[j], joint, local)
-        c1, c2, c3 = motor_translation(local)
-        potential -= masses[j] * (gravity[0] * c1 + gravity[1] * c2 + gravity[2] * c3)
-    return kinetic, potential
+            V[j, k] += VJ[k]  # V_j = ~M_j V_λ M_j + S_j q̇_j
+        inertia_apply(m.inertias[j], V[j], tmp)
+        kinetic -= 0.5 * dot(V[j], tmp)  # ½ p(V_j, I_j[V_j]) = -½ V_j · I_j[V_j]
+        r, pw = rigid_frame(Mw[j])
+        par = rigid_parameters(m.inertias[j])  # (m_j, h_j, ...)
+        mass, h0, h1, h2 = par[0], par[1], par[2], par[3]
+        c0 = mass * pw[0] + r[0] * h0 + r[1] * h1 + r[2] * h2  # m_j c_j = m_j p_j + R_j h_j
+        c1 = mass * pw[1] + r[3] * h0 + r[4] * h1 + r[5] * h2
+        c2 = mass * pw[2] + r[6] * h0 + r[7] * h1 + r[8] * h2
+        potential += g1 * c0 + g2 * c1 + g3 * c2  # -m_j g · c_j
+    out[0] = kinetic
+    out[1] = potential
+    return check_result(out)
 
 
-@parallel
-def energy_batch(packed, masses, coms, q, qd, gravity, threads):
-    parents, types, placements, axes, inertias, _ = unpack(packed)
-    n = parents.shape[0]
-    batch = q.shape[0]
-    out = np.empty((batch, 2))
-    starts, stops = ws.chunks(batch, threads)
-    for c in prange(starts.shape[0]):
-        M, Mw, V = ws.motors(n), ws.motors(n), ws.bivectors(n)
-        tmp, joint, local = np.empty(6), np.empty(8), np.empty(8)
-        for b in range(starts[c], stops[c]):
-            out[b, 0], out[b, 1] = energy_core(parents, types, placements, axes, inertias, masses,
-                                               coms, q[b], qd[b], gravity, M, Mw, V, tmp, joint,
-                                               local)
-    return out
+@inline
+def workspace_size(n, nq, nv, nl):
+    return 22 * n + 2 * nq + 20
+
+
+@inline
+def _workspace(buf, m):
+    """Mw (m.n, 8), V (m.n, 6), tmp, VJ (6), M, tmp8 (8), the joint motors' scalars c, s (nq)."""
+    Mw, o = ws.carve(buf, 0, (m.n, 8))
+    V, o = ws.carve(buf, o, (m.n, 6))
+    tmp, o = ws.carve(buf, o, (6,))
+    VJ, o = ws.carve(buf, o, (6,))
+    M, o = ws.carve(buf, o, (m.n, 8))
+    tmp8, o = ws.carve(buf, o, (8,))
+    c, o = ws.carve(buf, o, (m.nq,))
+    s, o = ws.carve(buf, o, (m.nq,))
+    return Mw, V, tmp, VJ, M, tmp8, c, s

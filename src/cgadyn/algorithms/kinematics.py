@@ -1,63 +1,87 @@
-"""Forward kinematics: the motor of every joint frame in the world, eq. (5) on trees.
+"""Forward kinematics: the motor of every joint frame and link frame in the world, eq. (5).
 
-``M^w_j = M^w_λ(j) X_j exp(q_j B_j / 2)``: the product of eq. (5) taken along the path from
-the root, each factor the joint's placement times its joint motor (eq. 6).
+``M^w_j = M^w_λ(j) M_j`` with ``M_j = X_j M_J(q_j)`` (eqs. 5-6): the product of eq. (5)
+taken along the path from the root. A link rigidly attached to body j is at
+``M^w_link = M^w_j P_link`` (P: the link frame in the joint frame, the world for links
+fixed to it).
 """
 
 from __future__ import annotations
 
-import numpy as np
-from numba import prange
-
-from .._jit import parallel, serial
-from ..kernels import joint_motor, motor_mul
+from .._jit import core, inline
+from ..kernels import motor_mul
+from ..kernels.rigid import motor_matrix
+from ..multibody.joints import joint_motors, joint_scalars
 from . import _workspace as ws
+from ._checks import check_configuration, check_result
+from .status import OK
 
 
-@serial
-def kinematics_core(parents, types, placements, axes, q, Mw, joint, local):
-    """World motors of the joint frames into ``Mw`` (n, 8)."""
-    for j in range(parents.shape[0]):
-        joint_motor(axes[j], types[j] == 1, q[j], joint)
-        p = parents[j]
+@inline
+def world_motors(m, q, c, s, tmp8, M, Mw):
+    """``Mw[j] = M^w_j`` (n, 8) for every joint frame, ``M[j] = M_j`` (n, 8) on the way;
+    ``c, s`` (nq) and ``tmp8`` (8) scratch."""
+    joint_scalars(q, c, s)  # the scalars of every revolute joint motor (eq. 6)
+    joint_motors(m, q, c, s, tmp8, M)  # M_j = X_j M_J(q_j)
+    for j in range(m.n):
+        p = m.parents[j]
         if p < 0:
-            motor_mul(placements[j], joint, Mw[j])
+            for k in range(8):
+                Mw[j, k] = M[j, k]  # M^w_j = M_j at the root
         else:
-            motor_mul(placements[j], joint, local)
-            motor_mul(Mw[p], local, Mw[j])
+            motor_mul(Mw[p], M[j], Mw[j])  # M^w_j = M^w_λ M_j
 
 
-@serial
-def frames_core(Mw, link_joint, link_placements, out):
-    """World motors of link frames: ``M^w_link = M^w_j P_link`` (P: link in its joint frame)."""
-    for i in range(link_joint.shape[0]):
-        j = link_joint[i]
-        if j < 0:
-            out[i] = link_placements[i]
-        else:
-            motor_mul(Mw[j], link_placements[i], out[i])
+@inline
+def link_motor(m, Mw, i, out):
+    """``out = M^w_link`` of link frame ``i`` from the joints' world motors."""
+    j = m.link_joint[i]
+    if j < 0:
+        for k in range(8):
+            out[k] = m.link_placements[i, k]
+    else:
+        motor_mul(Mw[j], m.link_placements[i], out)
 
 
-@serial
-def link_motors_single(parents, types, placements, axes, link_joint, link_placements, q):
-    n = parents.shape[0]
-    Mw = ws.motors(n)
-    kinematics_core(parents, types, placements, axes, q, Mw, np.empty(8), np.empty(8))
-    out = ws.motors(link_joint.shape[0])
-    frames_core(Mw, link_joint, link_placements, out)
-    return Mw, out
+@core
+def motors_core(m, q, joints, links, option, work):
+    """World motors of the joint frames (n, 8) and of the link frames (nl, 8)."""
+    status = check_configuration(m, q)
+    if status != OK:
+        return status
+    M, tmp8, c, s, _ = _workspace(ws.data_pointer(work), m)
+    world_motors(m, q, c, s, tmp8, M, joints)
+    for i in range(m.nl):
+        link_motor(m, joints, i, links[i])
+    return check_result(links)
 
 
-@parallel
-def link_motors_batch(parents, types, placements, axes, link_joint, link_placements, q, threads):
-    n = parents.shape[0]
-    batch = q.shape[0]
-    joints = np.empty((batch, n, 8))
-    links = np.empty((batch, link_joint.shape[0], 8))
-    starts, stops = ws.chunks(batch, threads)
-    for c in prange(starts.shape[0]):
-        joint, local = np.empty(8), np.empty(8)
-        for b in range(starts[c], stops[c]):
-            kinematics_core(parents, types, placements, axes, q[b], joints[b], joint, local)
-            frames_core(joints[b], link_joint, link_placements, links[b])
-    return joints, links
+@core
+def placements_core(m, q, T, option, work):
+    """World 4x4 matrices of the link frames (nl, 4, 4)."""
+    status = check_configuration(m, q)
+    if status != OK:
+        return status
+    M, tmp8, c, s, Mw = _workspace(ws.data_pointer(work), m)
+    world_motors(m, q, c, s, tmp8, M, Mw)
+    for i in range(m.nl):
+        link_motor(m, Mw, i, tmp8)
+        motor_matrix(tmp8, T[i])
+    return check_result(T)
+
+
+@inline
+def workspace_size(n, nq, nv, nl):
+    return 16 * n + 2 * nq + 8
+
+
+@inline
+def _workspace(buf, m):
+    """M (n, 8), tmp8 (8), the joint motors' scalars c, s (nq), the joints' world motors Mw (m.n, 8)
+    (``motors_core`` writes them into its output instead)."""
+    M, o = ws.carve(buf, 0, (m.n, 8))
+    tmp8, o = ws.carve(buf, o, (8,))
+    c, o = ws.carve(buf, o, (m.nq,))
+    s, o = ws.carve(buf, o, (m.nq,))
+    Mw, o = ws.carve(buf, o, (m.n, 8))
+    return M, tmp8, c, s, Mw

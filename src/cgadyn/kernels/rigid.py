@@ -120,26 +120,55 @@ def rigid_inertia_transform(m, inertia, out):
 
 
 @inline
-def rigid_axis_transform(m, axis, inertia, s, out):
-    """One motor, two moves: the twist ``s = M B ~M`` (eq. 4) of a joint axis B and the ten
-    parameters ``out`` of ``M * I`` (eq. 16) of a rigid inertia given as an element matrix.
+def rigid_frame(m):
+    """The rotation matrix R (row by row) and the translation p of a normalised motor M,
+    built once for the moves below."""
+    return _rotation(m), motor_translation(m)
 
-    R and p are built once. On physical components the twist sandwich is the motion
-    transform ``ω' = R ω``, ``v' = R v + p × ω'``: 24 multiplications where the general
-    sandwich takes 72.
-    """
-    r = _rotation(m)  # rotation matrix R of M
+
+@inline
+def rigid_move_twist(r, p, x, out):
+    """``out = M X ~M`` (eq. 4) for a twist X, from M's R and p (``rigid_frame``): on physical
+    components the motion transform ``ω' = R ω``, ``v' = R v + p × ω'``, 24 multiplications
+    where the general sandwich takes 72."""
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = r
-    p0, p1, p2 = motor_translation(m)  # translation p of M
-    w0, w1, w2, v0, v1, v2 = physical(axis)  # ω and v of B
+    p0, p1, p2 = p
+    w0, w1, w2, v0, v1, v2 = physical(x)  # ω and v of X
     u0 = r00 * w0 + r01 * w1 + r02 * w2  # ω' = R ω
     u1 = r10 * w0 + r11 * w1 + r12 * w2
     u2 = r20 * w0 + r21 * w1 + r22 * w2
-    store_bivector(u0, u1, u2,  # S = (ω', v'), v' = R v + p × ω'
+    store_bivector(u0, u1, u2,  # v' = R v + p × ω'
                    r00 * v0 + r01 * v1 + r02 * v2 + p1 * u2 - p2 * u1,
                    r10 * v0 + r11 * v1 + r12 * v2 + p2 * u0 - p0 * u2,
-                   r20 * v0 + r21 * v1 + r22 * v2 + p0 * u1 - p1 * u0, s)
-    _store(_transform(r, p0, p1, p2, rigid_parameters(inertia)), out)
+                   r20 * v0 + r21 * v1 + r22 * v2 + p0 * u1 - p1 * u0, out)
+
+
+@inline
+def rigid_move_inertia(r, p, inertia, out):
+    """The ten parameters ``out`` of ``M * I`` (eq. 16) of a rigid inertia given as an
+    element matrix, from M's R and p (``rigid_frame``)."""
+    _store(_transform(r, p[0], p[1], p[2], rigid_parameters(inertia)), out)
+
+
+@inline
+def rigid_axis_transform(m, axis, inertia, s, out):
+    """One motor, two moves: the twist ``s = M B ~M`` (eq. 4) of a joint axis B and the ten
+    parameters ``out`` of ``M * I`` (eq. 16) of a rigid inertia, R and p built once."""
+    r, p = rigid_frame(m)
+    rigid_move_twist(r, p, axis, s)
+    rigid_move_inertia(r, p, inertia, out)
+
+
+@inline
+def motor_matrix(m, out):
+    """The 4x4 homogeneous matrix of a normalised motor into ``out``."""
+    r, p = rigid_frame(m)
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = r[3 * i + j]
+        out[i, 3] = p[i]
+        out[3, i] = 0.0
+    out[3, 3] = 1.0
 
 
 @inline

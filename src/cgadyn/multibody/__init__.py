@@ -4,11 +4,13 @@
 ``load_urdf(source)`` loads a URDF file or text.
 """
 
-from cgadyn.multibody.model import PRISMATIC, REVOLUTE, Model, build_model, merge_inertias
+from cgadyn.multibody.joints import FREE_FLYER, PRISMATIC, REVOLUTE
+from cgadyn.multibody.model import Model, build_model, merge_inertias
 from cgadyn.multibody.registry import load, robot_path, robots
 from cgadyn.multibody.urdf import load_urdf
 
 __all__ = [
+    "FREE_FLYER",
     "Model",
     "PRISMATIC",
     "REVOLUTE",

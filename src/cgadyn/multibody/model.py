@@ -1,10 +1,11 @@
-"""The immutable multibody :class:`Model`: a kinematic tree of one-dof joints.
+"""The immutable multibody :class:`Model`: a kinematic tree of joints.
 
-A model holds, for every movable joint ``j = 0..n-1`` (in Pinocchio's order for the same
-URDF), the index of its parent joint, its placement at ``q = 0`` as a CGA motor, its screw
-axis as a CGA twist and the CGA inertia of its body (every link attached to it through
-fixed joints merged in). It also keeps the raw physical data (4x4 placements, unit axes,
-mass, centre of mass, rotational inertia) and the frames of every URDF link.
+A model holds, for every joint ``j = 0..n-1`` (in Pinocchio's order for the same URDF),
+its type (``cgadyn.multibody.joints``: revolute, prismatic, or a free-flyer root), the
+index of its parent joint, its placement as a CGA motor, its screw axis as a CGA twist
+(one-dof joints) and the CGA inertia of its body (every link attached to it through fixed
+joints merged in). It also keeps the raw physical data (4x4 placements, unit axes, mass,
+centre of mass, rotational inertia) and the frames of every URDF link.
 
 All arrays are read-only; build a model with :func:`build_model` (from raw data) or
 :func:`cgadyn.multibody.load_urdf` (from a URDF).
@@ -17,13 +18,10 @@ from functools import cached_property
 
 import numpy as np
 
+from .joints import FREE_FLYER, KIND_TYPE, NQ, NV, PRISMATIC, TYPE_NAMES
 from .packed import pack
 
-REVOLUTE = 0
-PRISMATIC = 1
-
-JOINT_KINDS = ("revolute", "continuous", "prismatic")
-_KIND_TYPE = {"revolute": REVOLUTE, "continuous": REVOLUTE, "prismatic": PRISMATIC}
+JOINT_KINDS = tuple(KIND_TYPE)
 
 _ARRAY_FIELDS = (
     "joint_types",
@@ -48,12 +46,16 @@ _ARRAY_FIELDS = (
 
 @dataclass(frozen=True, eq=False)
 class Model:
-    """A robot: a tree of one-dof joints with rigid bodies, the root link fixed to the world.
+    """A robot: a tree of joints with rigid bodies.
 
     Joint ``j`` (``0 <= j < n``) moves body ``j``; its frame is the URDF child link frame
-    of that joint. The order of the joints, and so of ``q``, ``v``, ``a`` and ``tau``, is
-    Pinocchio's for the same URDF (see ``joint_names``). Every joint has one degree of
-    freedom: a continuous joint takes one angle, so ``nq == nv == n``.
+    of that joint (for a free-flyer root: the root link's frame). The order of the joints,
+    and so of ``q``, ``v``, ``a`` and ``tau``, is Pinocchio's for the same URDF (see
+    ``joint_names``); joint j's coordinates are ``q[idx_q[j]:idx_q[j+1]]`` and
+    ``v[idx_v[j]:idx_v[j+1]]``. A one-dof joint takes one coordinate (a continuous joint
+    one angle, not Pinocchio's cos and sin); a free-flyer root (``root_joint``) takes
+    Pinocchio's ``[x, y, z, qx, qy, qz, qw]`` in q and the body twist ``[v, ω]`` in v.
+    Without a free flyer the root link is fixed to the world and ``nq == nv == n``.
 
     Mimic joints are treated as independent joints, as Pinocchio does by default; the
     ``mimic`` attribute records the URDF ``<mimic>`` data (leader joint name, multiplier,
@@ -64,11 +66,12 @@ class Model:
     name : str
         The robot's name.
     joint_names : tuple[str, ...]
-        Movable joints, in Pinocchio's order (``pin_model.names[1:]``).
+        Joints, in Pinocchio's order (``pin_model.names[1:]``).
     joint_kinds : tuple[str, ...]
-        ``'revolute'``, ``'continuous'`` or ``'prismatic'`` per joint.
+        ``'revolute'``, ``'continuous'``, ``'prismatic'`` or ``'free_flyer'`` per joint.
     joint_types : int64 (n,)
-        ``REVOLUTE`` (0, for revolute and continuous) or ``PRISMATIC`` (1).
+        ``REVOLUTE`` (revolute and continuous), ``PRISMATIC`` or ``FREE_FLYER``
+        (``cgadyn.multibody.joints``).
     parents : int64 (n,)
         Parent joint index, ``-1`` for the world; ``parents[j] < j``.
     placements : float64 (n, 8)
@@ -76,7 +79,8 @@ class Model:
         at ``q = 0``, fixed joints in between composed in (Pinocchio's
         ``model.jointPlacements[j + 1]``).
     axes : float64 (n, 6)
-        Joint screw ``B_j`` as a CGA twist in joint frame ``j``, with a unit axis.
+        Joint screw ``B_j`` as a CGA twist in joint frame ``j``, with a unit axis (zero for
+        a free flyer, whose motion subspace is every twist).
     inertias : float64 (n, 6, 6)
         CGA inertia of body ``j`` in joint frame ``j`` (Pinocchio's ``model.inertias[j+1]``).
     body_mass : float64 (n,)
@@ -84,9 +88,10 @@ class Model:
         Centre of mass of body ``j`` in joint frame ``j``.
     body_rotational_inertia : float64 (n, 3, 3)
         Rotational inertia of body ``j`` about its centre of mass, axes of joint frame ``j``.
-    lower, upper : float64 (n,)
-        Position limits (``-inf``/``inf`` for continuous joints).
-    velocity_limit, effort_limit : float64 (n,)
+    lower, upper : float64 (nq,)
+        Position limits per configuration coordinate (``-inf``/``inf`` for continuous joints
+        and a free flyer's translation, ``±1`` for its quaternion).
+    velocity_limit, effort_limit : float64 (nv,)
         Velocity and effort limits (``inf`` where the URDF gives none).
     link_names : tuple[str, ...]
         Every URDF link, in the order of the URDF file.
@@ -99,7 +104,7 @@ class Model:
     placement_matrices : float64 (n, 4, 4)
         ``placements`` as homogeneous 4x4 matrices.
     axis_vectors : float64 (n, 3)
-        Unit joint axes in joint frame ``j``.
+        Unit joint axes in joint frame ``j`` (zero for a free flyer).
     link_placement_matrices : float64 (nl, 4, 4)
         ``link_placements`` as homogeneous 4x4 matrices.
     mimic : tuple
@@ -144,6 +149,11 @@ class Model:
     def _check(self):
         n = len(self.joint_names)
         nl = len(self.link_names)
+        for t in self.joint_types:
+            if not 0 <= t < len(TYPE_NAMES):
+                raise ValueError(f"unknown joint type {t}, expected one of "
+                                 f"{dict(enumerate(TYPE_NAMES))}")
+        nq, nv = sum(NQ[t] for t in self.joint_types), sum(NV[t] for t in self.joint_types)
         shapes = {
             "joint_types": (n,),
             "parents": (n,),
@@ -153,10 +163,10 @@ class Model:
             "body_mass": (n,),
             "body_com": (n, 3),
             "body_rotational_inertia": (n, 3, 3),
-            "lower": (n,),
-            "upper": (n,),
-            "velocity_limit": (n,),
-            "effort_limit": (n,),
+            "lower": (nq,),
+            "upper": (nq,),
+            "velocity_limit": (nv,),
+            "effort_limit": (nv,),
             "link_joint": (nl,),
             "link_placements": (nl, 8),
             "placement_matrices": (n, 4, 4),
@@ -171,9 +181,10 @@ class Model:
             if len(getattr(self, field)) != n:
                 raise ValueError(f"Model.{field} has {len(getattr(self, field))} entries, "
                                  f"expected {n}")
-        for kind in self.joint_kinds:
-            if kind not in JOINT_KINDS:
-                raise ValueError(f"unknown joint kind {kind!r}, expected one of {JOINT_KINDS}")
+        for kind, t in zip(self.joint_kinds, self.joint_types, strict=True):
+            if KIND_TYPE.get(kind) != t:
+                raise ValueError(f"joint kind {kind!r} does not match joint type {t}; "
+                                 f"expected one of {JOINT_KINDS}")
         for j, p in enumerate(self.parents):
             if not -1 <= p < j:
                 raise ValueError(f"parents[{j}] = {p}: a parent must come before its child "
@@ -190,6 +201,7 @@ class Model:
         rely on it (``kernels.motors.joint_frame_motor``)."""
         prismatic = self.joint_types == PRISMATIC
         stray = np.where(prismatic[:, None], self.axes[:, :3], self.axes[:, 3:])
+        stray[self.joint_types == FREE_FLYER] = 0.0
         for j in np.flatnonzero(np.any(stray != 0.0, axis=1)):
             kind, used, unused = (("prismatic", "3:", ":3") if prismatic[j] else
                                   ("revolute", ":3", "3:"))
@@ -205,26 +217,72 @@ class Model:
         return pack(self)
 
     @cached_property
-    def mass_matrix_shape(self) -> tuple[int, int]:
-        """``(nv, nv)``: the shape of one mass matrix, kept for its allocation."""
-        return (self.nv, self.nv)
+    def idx_q(self) -> np.ndarray:
+        """int64 (n + 1,): joint j's configuration is ``q[idx_q[j]:idx_q[j + 1]]``."""
+        return _offsets(self.joint_types, NQ)
+
+    @cached_property
+    def idx_v(self) -> np.ndarray:
+        """int64 (n + 1,): joint j's velocity is ``v[idx_v[j]:idx_v[j + 1]]``."""
+        return _offsets(self.joint_types, NV)
+
+    @cached_property
+    def dof_joint(self) -> np.ndarray:
+        """int64 (nv,): the joint of each velocity coordinate."""
+        out = np.repeat(np.arange(self.njoints), np.diff(self.idx_v))
+        out.flags.writeable = False
+        return out
+
+    @cached_property
+    def dof_parent(self) -> np.ndarray:
+        """int64 (nv,): the velocity coordinate each one hangs from (Featherstone's expanded
+        tree: a joint's coordinates form a chain, the first hanging from the parent joint's
+        last coordinate), -1 at the root."""
+        out = np.arange(-1, self.nv - 1)
+        for j in range(self.njoints):
+            p = int(self.parents[j])
+            out[self.idx_v[j]] = -1 if p < 0 else self.idx_v[p + 1] - 1
+        out.flags.writeable = False
+        return out
+
+    @cached_property
+    def motion_subspace(self) -> np.ndarray:
+        """float64 (nv, 6): the twist of each velocity coordinate in its joint's frame, the
+        columns of the joints' motion subspaces ``S_j`` (``multibody.joints``)."""
+        from ..cga.conventions import twist_from_motion
+
+        S = np.zeros((self.nv, 6))
+        for j, t in enumerate(self.joint_types):
+            k = self.idx_v[j]
+            if t == FREE_FLYER:
+                S[k:k + 6] = twist_from_motion(np.eye(6))  # [v, ω] of the body
+            else:
+                S[k] = self.axes[j]
+        S.flags.writeable = False
+        return S
 
     # --- sizes -----------------------------------------------------------------------
 
     @property
     def njoints(self) -> int:
-        """Number of movable joints n."""
+        """Number of joints n (a free-flyer root counts as one)."""
         return len(self.joint_names)
 
     @property
     def nq(self) -> int:
-        """Size of the configuration vector q (= n: one angle per continuous joint)."""
-        return len(self.joint_names)
+        """Size of the configuration vector q (one angle per one-dof joint, 7 for a free
+        flyer)."""
+        return int(self.idx_q[-1])
 
     @property
     def nv(self) -> int:
-        """Size of the velocity vector v (= n)."""
-        return len(self.joint_names)
+        """Size of the velocity vector v (one per one-dof joint, 6 for a free flyer)."""
+        return int(self.idx_v[-1])
+
+    @property
+    def floating_base(self) -> bool:
+        """True when the root joint is a free flyer (``root_joint``)."""
+        return bool(self.njoints) and int(self.joint_types[0]) == FREE_FLYER
 
     @property
     def nlinks(self) -> int:
@@ -267,11 +325,32 @@ class Model:
         """Mass of all moving bodies (links fixed to the world not included)."""
         return float(self.body_mass.sum())
 
+    def joint_dofs(self, j: int) -> range:
+        """The indices of joint ``j``'s velocity coordinates in v (and tau)."""
+        return range(int(self.idx_v[j]), int(self.idx_v[j + 1]))
+
     def __repr__(self) -> str:
         kinds = {k: self.joint_kinds.count(k) for k in JOINT_KINDS if k in self.joint_kinds}
         kinds_s = ", ".join(f"{v} {k}" for k, v in kinds.items())
-        return (f"Model({self.name!r}, n={self.njoints} ({kinds_s}), "
-                f"links={self.nlinks}, root={self.root_link!r})")
+        base = "free-flyer base" if self.floating_base else "fixed base"
+        return (f"Model({self.name!r}, nq={self.nq}, nv={self.nv}, {base}, "
+                f"{self.njoints} joints ({kinds_s}), links={self.nlinks}, "
+                f"root={self.root_link!r})")
+
+
+def _limits(values, size: int, name: str) -> np.ndarray:
+    out = np.array(values, dtype=float).reshape(-1)
+    if out.shape != (size,):
+        raise ValueError(f"{name} must have {size} entries (one per coordinate), got "
+                         f"{out.shape}")
+    return out
+
+
+def _offsets(types, sizes) -> np.ndarray:
+    out = np.zeros(len(types) + 1, dtype=np.int64)
+    out[1:] = np.cumsum([sizes[t] for t in types])
+    out.flags.writeable = False
+    return out
 
 
 def merge_inertias(masses, coms, rotational_inertias):
@@ -334,30 +413,38 @@ def build_model(
     joint_kinds = tuple(str(s) for s in joint_kinds)
     n = len(joint_names)
     for kind in joint_kinds:
-        if kind not in _KIND_TYPE:
+        if kind not in KIND_TYPE:
             raise ValueError(f"unknown joint kind {kind!r}, expected one of {JOINT_KINDS}")
-    joint_types = np.array([_KIND_TYPE[k] for k in joint_kinds], dtype=np.int64)
+    joint_types = np.array([KIND_TYPE[k] for k in joint_kinds], dtype=np.int64)
+    free = joint_types == FREE_FLYER
+    nq, nv = int(sum(NQ[t] for t in joint_types)), int(sum(NV[t] for t in joint_types))
     placement_matrices = np.asarray(placement_matrices, dtype=float).reshape(n, 4, 4)
-    axis_vectors = np.asarray(axis_vectors, dtype=float).reshape(n, 3)
+    axis_vectors = np.asarray(axis_vectors, dtype=float).reshape(n, 3).copy()
+    axis_vectors[free] = 0.0  # a free flyer has no axis: its subspace is every twist
     norms = np.linalg.norm(axis_vectors, axis=1)
-    for j in range(n):
+    for j in np.flatnonzero(~free):
         if not norms[j] > 1e-12 or not np.isfinite(norms[j]):
             raise ValueError(f"joint {joint_names[j]!r} has a zero (or invalid) axis "
                              f"{axis_vectors[j].tolist()}; expected a non-zero 3-vector")
-    axis_vectors = axis_vectors / norms[:, None] if n else axis_vectors
+    axis_vectors[~free] /= norms[~free, None]
     body_mass = np.asarray(body_mass, dtype=float).reshape(n)
     body_com = np.asarray(body_com, dtype=float).reshape(n, 3)
     body_rot = np.asarray(body_rotational_inertia, dtype=float).reshape(n, 3, 3)
 
-    continuous = np.array([k == "continuous" for k in joint_kinds], dtype=bool)
-    lower = np.full(n, -np.inf) if lower is None else np.asarray(lower, dtype=float).copy()
-    upper = np.full(n, np.inf) if upper is None else np.asarray(upper, dtype=float).copy()
-    lower[continuous] = -np.inf
-    upper[continuous] = np.inf
-    velocity_limit = (np.full(n, np.inf) if velocity_limit is None
-                      else np.asarray(velocity_limit, dtype=float))
-    effort_limit = (np.full(n, np.inf) if effort_limit is None
-                    else np.asarray(effort_limit, dtype=float))
+    idx_q = _offsets(joint_types, NQ)
+    lower = np.full(nq, -np.inf) if lower is None else _limits(lower, nq, "lower")
+    upper = np.full(nq, np.inf) if upper is None else _limits(upper, nq, "upper")
+    for j, kind in enumerate(joint_kinds):
+        i = idx_q[j]
+        if kind == "continuous":
+            lower[i], upper[i] = -np.inf, np.inf
+        elif kind == "free_flyer":
+            lower[i + 3:i + 7] = np.maximum(lower[i + 3:i + 7], -1.0)  # a unit quaternion
+            upper[i + 3:i + 7] = np.minimum(upper[i + 3:i + 7], 1.0)
+    velocity_limit = (np.full(nv, np.inf) if velocity_limit is None
+                      else _limits(velocity_limit, nv, "velocity_limit"))
+    effort_limit = (np.full(nv, np.inf) if effort_limit is None
+                    else _limits(effort_limit, nv, "effort_limit"))
 
     if link_names is None:
         link_names = (root_link, *joint_names)
@@ -368,7 +455,8 @@ def build_model(
     link_placement_matrices = np.asarray(link_placement_matrices, dtype=float).reshape(nl, 4, 4)
 
     placements = np.array([motor_from_matrix(T) for T in placement_matrices]).reshape(n, 8)
-    axes = np.array([twist_from_axis("prismatic" if t == PRISMATIC else "revolute", a)
+    axes = np.array([np.zeros(6) if t == FREE_FLYER else
+                     twist_from_axis("prismatic" if t == PRISMATIC else "revolute", a)
                      for t, a in zip(joint_types, axis_vectors, strict=True)]).reshape(n, 6)
     inertias = np.array([inertia_from_parameters(m, c, i)
                          for m, c, i in zip(body_mass, body_com, body_rot, strict=True)]

@@ -1,20 +1,32 @@
-"""The model's dynamics arrays packed into one buffer, for the compiled algorithms.
+"""The model packed into one float64 buffer, the form in which compiled code receives it.
 
-Every array handed to a compiled function costs about 50 ns to unbox on each call, a
-large share of a one-sample call that computes in under a microsecond. So the compiled
-entry points take everything the recursions read about the model as one float64 buffer,
-and ``unpack`` cuts it back into bare C-contiguous views (``cgadyn._views``)::
+Every array handed to compiled code from Python costs time to unbox, a large share of a
+call that computes in a microsecond; a pointer handed to a C entry point costs nothing. So
+the compiled algorithms take everything they read about the model as one buffer, and
+``unpack`` cuts it back into bare C-contiguous views (``cgadyn._views``), returned as a
+``ModelView``. The integers are stored as their int64 bit patterns (both types are 8 bytes
+wide)::
 
-    [parents (n) | joint_types (n) | placements (n, 8) | axes (n, 6) | inertias (n, 6, 6)
-     | base acceleration (6)]
+    ints:   n, nq, nv, nl, length | parents (n) | types (n) | iq (n + 1) | iv (n + 1)
+            | dof_parent (nv) | dof_joint (nv) | link_joint (nl)
+    floats: placements (n, 8) | S (nv, 6) | inertias (n, 6, 6) | base acceleration (6)
+            | link_placements (nl, 8)
 
-The integers are stored as their int64 bit patterns (both types are 8 bytes wide) and
-read back as int64. The base acceleration is ``V̇_0 = -g`` as a twist (gravity as a
-fictitious base acceleration, as Pinocchio keeps ``model.gravity``); ``with_gravity``
-makes a copy for another gravity.
+``n`` joints, ``nq``/``nv`` the sizes of q and v, ``nl`` link frames, ``length`` the
+buffer's length; ``iq``/``iv`` the first index of each joint in q and v (the last entries
+nq and nv); ``dof_parent`` the velocity coordinate each one hangs from in the tree of
+coordinates (Featherstone's expanded tree: a multi-dof joint is a chain of its
+coordinates, the first hanging from the parent joint's last), -1 at the root, and
+``dof_joint`` the joint of each coordinate; ``S`` the motion subspace of every velocity
+coordinate (``multibody.joints``).
+The base acceleration is ``V̇_0 = -g`` as a twist (gravity as a fictitious acceleration of
+the world, as Pinocchio keeps ``model.gravity``); ``with_gravity`` makes a copy for
+another gravity.
 """
 
 from __future__ import annotations
+
+from collections import namedtuple
 
 import numpy as np
 
@@ -22,10 +34,20 @@ from .._jit import inline
 from .._views import as_int64, carve, data_pointer
 from ..cga.conventions import twist_from_motion
 
-FLOATS_PER_JOINT = 2 + 8 + 6 + 36
-"""parent, type, motor, twist, inertia."""
-
 DEFAULT_GRAVITY = (0.0, 0.0, -9.81)
+HEADER = 5
+"""n, nq, nv, nl, length."""
+
+ModelView = namedtuple("ModelView", [
+    "n", "nq", "nv", "nl", "parents", "types", "iq", "iv", "dof_parent", "dof_joint",
+    "link_joint",
+    "placements", "S", "inertias", "gravity", "link_placements"])
+"""The model as compiled code reads it: sizes and views into the packed buffer.
+``gravity`` is the base acceleration ``V̇_0 = -g`` (a twist)."""
+
+
+def _ints(n: int, nv: int, nl: int) -> int:
+    return HEADER + 2 * n + 2 * (n + 1) + 2 * nv + nl
 
 
 def base_acceleration(gravity) -> np.ndarray:
@@ -35,40 +57,46 @@ def base_acceleration(gravity) -> np.ndarray:
 
 
 def pack(model, gravity=DEFAULT_GRAVITY) -> np.ndarray:
-    """One new writable float64 buffer (numba dispatches faster on writable arrays; the
-    compiled code never writes to it)."""
-    ints = np.concatenate([model.parents, model.joint_types]).astype(np.int64)
-    return np.concatenate([
-        ints.view(np.float64),
-        model.placements.ravel(),
-        model.axes.ravel(),
-        model.inertias.ravel(),
-        base_acceleration(gravity),
-    ])
+    """One new writable float64 buffer of the model (compiled code never writes to it)."""
+    n, nl = model.njoints, model.nlinks
+    floats = [model.placements, model.motion_subspace, model.inertias,
+              base_acceleration(gravity), model.link_placements]
+    length = _ints(n, model.nv, nl) + sum(a.size for a in floats)
+    ints = np.concatenate([[n, model.nq, model.nv, nl, length], model.parents,
+                           model.joint_types, model.idx_q, model.idx_v, model.dof_parent,
+                           model.dof_joint, model.link_joint]).astype(np.int64)
+    out = np.concatenate([ints.view(np.float64)] + [np.ravel(a) for a in floats])
+    assert out.shape == (length,)
+    return out
 
 
 def with_gravity(packed: np.ndarray, gravity) -> np.ndarray:
     """A copy of a packed model with another gravity."""
+    n, nq, nv, nl, _ = packed[:HEADER].view(np.int64)
+    at = _ints(n, nv, nl) + 8 * n + 6 * nv + 36 * n
     out = packed.copy()
-    out[-6:] = base_acceleration(gravity)
+    out[at:at + 6] = base_acceleration(gravity)
     return out
 
 
 @inline
-def njoints(packed):
-    """n, from the length of a packed buffer."""
-    return (packed.shape[0] - 6) // FLOATS_PER_JOINT
-
-
-@inline
 def unpack(packed):
-    """``(parents, joint_types, placements, axes, inertias, base_acceleration)``: views
-    into the buffer, valid while it lives (pass it as an argument of the caller)."""
-    n = njoints(packed)
+    """The ``ModelView`` of a packed buffer: views valid while the buffer lives (pass the
+    buffer as an argument of the caller)."""
     at = data_pointer(packed)
-    ints, o = carve(as_int64(at), 0, (2 * n,))
+    header, o = carve(as_int64(at), 0, (HEADER,))
+    n, nq, nv, nl = header[0], header[1], header[2], header[3]
+    parents, o = carve(as_int64(at), o, (n,))
+    types, o = carve(as_int64(at), o, (n,))
+    iq, o = carve(as_int64(at), o, (n + 1,))
+    iv, o = carve(as_int64(at), o, (n + 1,))
+    dof_parent, o = carve(as_int64(at), o, (nv,))
+    dof_joint, o = carve(as_int64(at), o, (nv,))
+    link_joint, o = carve(as_int64(at), o, (nl,))
     placements, o = carve(at, o, (n, 8))
-    axes, o = carve(at, o, (n, 6))
+    S, o = carve(at, o, (nv, 6))
     inertias, o = carve(at, o, (n, 6, 6))
-    base, o = carve(at, o, (6,))
-    return ints[:n], ints[n:], placements, axes, inertias, base
+    gravity, o = carve(at, o, (6,))
+    link_placements, o = carve(at, o, (nl, 8))
+    return ModelView(n, nq, nv, nl, parents, types, iq, iv, dof_parent, dof_joint, link_joint,
+                     placements, S, inertias, gravity, link_placements)

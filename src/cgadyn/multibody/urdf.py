@@ -94,13 +94,15 @@ def _limit(joint, attr, default):
     return default if value is None else float(value)
 
 
-def load_urdf(source: str | os.PathLike, name: str | None = None) -> Model:
+def load_urdf(source: str | os.PathLike, name: str | None = None,
+              floating_base: bool = False) -> Model:
     """Build a :class:`Model` from a URDF file path or URDF XML text.
 
-    The root link is fixed to the world. Links joined by fixed joints are merged into the
-    body of the nearest movable joint above them (their inertial frames' rotations
-    honoured); links without ``<inertial>`` are massless. Mimic joints are treated as
-    independent joints, as Pinocchio does by default.
+    The root link is fixed to the world, or with ``floating_base`` moved by a free-flyer
+    joint ``root_joint`` (Pinocchio's ``JointModelFreeFlyer``), the first joint. Links
+    joined by fixed joints are merged into the body of the nearest movable joint above them
+    (their inertial frames' rotations honoured); links without ``<inertial>`` are massless.
+    Mimic joints are treated as independent joints, as Pinocchio does by default.
 
     Raises ``FileNotFoundError`` for a missing file and ``ValueError`` for malformed XML,
     unsupported joint types (``floating``, ``planar``), closed loops, several roots, links
@@ -108,10 +110,15 @@ def load_urdf(source: str | os.PathLike, name: str | None = None) -> Model:
     a moving link whose rotational inertia is not positive semi-definite.
     """
     xml, path = _read_source(source)
-    return cached(xml, name, lambda: _build(xml, path, name))
+    floating_base = bool(floating_base)
+    return cached(xml, (name, floating_base), lambda: _build(xml, path, name, floating_base))
 
 
-def _build(xml: bytes, path: str | None, name: str | None) -> Model:
+ROOT_JOINT = "root_joint"
+"""The name of a free-flyer root joint, as Pinocchio names it."""
+
+
+def _build(xml: bytes, path: str | None, name: str | None, floating_base: bool) -> Model:
     where = repr(path) if path is not None else "the URDF text"
     robot = _parse(xml, where)
 
@@ -160,11 +167,19 @@ def _build(xml: bytes, path: str | None, name: str | None) -> Model:
     root = roots[0]
 
     # Depth-first walk in Pinocchio's order: child joints sorted by name (byte-wise).
-    joints = []  # movable yourdfpy joints, in order
+    joints = []  # movable yourdfpy joints, in order (None: the free-flyer root)
     parents = []
     placement_matrices = []
     link_joint = {root: -1}
     link_pose = {root: np.eye(4)}  # link frame in its body's joint frame
+    if floating_base:  # the root link is the body of a free flyer at the world's origin
+        if ROOT_JOINT in {jt.name for jt in robot.joints}:
+            raise ValueError(f"{where}: a joint is called {ROOT_JOINT!r}, the name of the "
+                             f"free-flyer root joint; rename it to load with a floating base")
+        joints.append(None)
+        parents.append(-1)
+        placement_matrices.append(np.eye(4))
+        link_joint[root] = 0
     def sorted_children(link):
         return sorted(children.get(link, []), key=lambda jt: jt.name.encode("utf-8"))
 
@@ -190,15 +205,19 @@ def _build(xml: bytes, path: str | None, name: str | None) -> Model:
                          f"{root!r}: their joints form a closed loop; expected a tree")
 
     n = len(joints)
-    joint_names = [jt.name for jt in joints]
-    kinds = [jt.type for jt in joints]
+    joint_names = [ROOT_JOINT if jt is None else jt.name for jt in joints]
+    kinds = ["free_flyer" if jt is None else jt.type for jt in joints]
     axis_vectors = np.zeros((n, 3))
-    lower = np.zeros(n)
-    upper = np.zeros(n)
-    velocity = np.full(n, np.inf)
-    effort = np.full(n, np.inf)
+    lower, upper, velocity, effort = [], [], [], []  # per coordinate of q, q, v, v
     mimic = []
     for j, jt in enumerate(joints):
+        if jt is None:  # free flyer: a box of translations, a unit quaternion
+            lower += [-np.inf] * 3 + [-1.0] * 4
+            upper += [np.inf] * 3 + [1.0] * 4
+            velocity += [np.inf] * 6
+            effort += [np.inf] * 6
+            mimic.append(None)
+            continue
         axis = np.array([1.0, 0.0, 0.0]) if jt.axis is None else np.asarray(jt.axis, float)
         if axis.shape != (3,) or not np.all(np.isfinite(axis)) or np.linalg.norm(axis) < 1e-12:
             raise ValueError(f"{where}: joint {jt.name!r} has axis {axis.tolist()}; expected a "
@@ -208,12 +227,13 @@ def _build(xml: bytes, path: str | None, name: str | None) -> Model:
             raise ValueError(f"{where}: {jt.type} joint {jt.name!r} has no <limit>; expected "
                              f"<limit lower=... upper=... effort=... velocity=...>")
         if jt.type == "continuous":
-            lower[j], upper[j] = -np.inf, np.inf
+            lower.append(-np.inf)
+            upper.append(np.inf)
         else:
-            lower[j] = _limit(jt, "lower", 0.0)
-            upper[j] = _limit(jt, "upper", 0.0)
-        velocity[j] = _limit(jt, "velocity", np.inf)
-        effort[j] = _limit(jt, "effort", np.inf)
+            lower.append(_limit(jt, "lower", 0.0))
+            upper.append(_limit(jt, "upper", 0.0))
+        velocity.append(_limit(jt, "velocity", np.inf))
+        effort.append(_limit(jt, "effort", np.inf))
         m = jt.mimic
         mimic.append(None if m is None else (
             m.joint, 1.0 if m.multiplier is None else float(m.multiplier),

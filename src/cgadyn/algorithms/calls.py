@@ -1,0 +1,142 @@
+"""The path of a call from a public function to compiled code, and back.
+
+Each algorithm of ``table.py`` has three compiled entries (``_entries.py``). A public
+function first offers its arguments to ``cgadyn._native.call`` (``fast``): arrays that are
+already one C-contiguous float64 sample of the right length go straight to the algorithm's
+C entry point, which allocates nothing but the result. Anything else, and any fault, takes
+``run``, the checked path, which
+
+1. converts and checks the inputs (``_inputs``): lists, other dtypes, strided views;
+   wrong shapes, None, complex numbers get a ``ValueError`` naming the argument;
+2. runs one sample through the C entry point (or, where ``cgadyn._native`` is not built,
+   through numba's dispatcher; under ``NUMBA_DISABLE_JIT=1`` in pure Python), or a batch
+   ``(B, ...)`` through the parallel batch entry, one call for all samples;
+3. turns a status other than 0 into the ``ValueError`` of ``errors.explain``.
+
+The C entry points are compiled (or loaded from numba's disk cache) and registered with
+``cgadyn._native`` on their first use. Batches run under a lock: numba's workqueue
+threading layer (its fallback where OpenMP and TBB are missing) aborts the process when two
+threads enter parallel code at once, and a batch already uses every thread.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+
+import numba
+import numpy as np
+
+from ..multibody.packed import DEFAULT_GRAVITY
+from . import _entries, _inputs
+from .errors import explain
+from .table import ALGORITHMS, SIZES
+
+NATIVE_ENABLED = os.environ.get("CGADYN_NATIVE", "1") != "0" and not numba.config.DISABLE_JIT
+"""``CGADYN_NATIVE=0`` runs one-sample calls through numba's dispatcher instead."""
+
+try:
+    from .. import _native
+except ImportError:  # not built: see setup.py
+    _native = None
+if not NATIVE_ENABLED:
+    _native = None
+
+_PARALLEL = threading.Lock()
+_REGISTER = threading.Lock()
+
+
+def _code(size) -> int:
+    return size if isinstance(size, int) else -1 - SIZES.index(size)
+
+
+class Entry:
+    """The compiled entries of one algorithm and its slot in ``cgadyn._native``."""
+
+    def __init__(self, slot: int, algorithm):
+        self.slot, self.algorithm = slot, algorithm
+        name = algorithm.name
+        self.single = getattr(_entries, f"{name}_single")
+        self.native = getattr(_entries, f"{name}_native")
+        self.batch = getattr(_entries, f"{name}_batch")
+        self.registered = False
+
+    def register(self) -> None:
+        """Compile (or load) the C entry point and hand it to ``cgadyn._native``."""
+        with _REGISTER:
+            if not self.registered:
+                _native.register(self.slot, self.native.address,
+                                 [_code(size) for _, size in self.algorithm.inputs],
+                                 [[_code(d) for d in dims] for dims in self.algorithm.outputs])
+                self.registered = True
+
+    def outputs(self, model, batch: tuple[int, ...]) -> list[np.ndarray]:
+        sizes = {"n": model.njoints, "nq": model.nq, "nv": model.nv, "nl": model.nlinks}
+        return [np.empty(batch + tuple(sizes.get(d, d) for d in dims))
+                for dims in self.algorithm.outputs]
+
+    def one(self, model, packed, x: tuple, f, option: int):
+        """One sample: ``(status, outputs)``."""
+        if _native is not None:
+            if not self.registered:
+                self.register()
+            args = (x + (None, None))[:3]
+            r = _native.call(self.slot, packed, *args, f, option)
+            if isinstance(r, int):
+                return r, None
+            if r is not None:
+                return 0, r if isinstance(r, tuple) else (r,)
+        out = self.outputs(model, ())
+        forces = (f if f is not None else np.empty((0, 6)),) if self.algorithm.forces else ()
+        return int(self.single(packed, *x, *forces, *out, option)), tuple(out)
+
+    def many(self, model, packed, x: tuple, f, option: int):
+        """A (B, ...) batch in one parallel call: ``(status, outputs)``."""
+        out = self.outputs(model, x[0].shape[:1])
+        forces = ()
+        if self.algorithm.forces:
+            forces = (f if f is not None else np.empty((0, model.njoints, 6)),)
+        with _PARALLEL:
+            status = self.batch(packed, *x, *forces, *out, option, numba.get_num_threads())
+        return int(status), tuple(out)
+
+
+ENTRIES = {a.name: Entry(slot, a) for slot, a in enumerate(ALGORITHMS)}
+SLOTS = {name: e.slot for name, e in ENTRIES.items()}
+
+
+def _no_fast_path(*args):
+    return None
+
+
+fast = _native.call if _native is not None else _no_fast_path
+"""``fast(slot, packed, x0, x1, x2, f, option)``: the result of a canonical one-sample call,
+else (an odd input, a fault, an entry not yet registered) something that is not an
+ndarray or tuple; the caller then calls ``run``."""
+
+
+def run(name: str, model, arrays: tuple, gravity=DEFAULT_GRAVITY, f_ext=None, option: int = 0):
+    """The checked path of algorithm ``name`` on ``arrays`` (its inputs, in table order):
+    its output, or a tuple of its outputs, for one sample or a batch."""
+    entry = ENTRIES[name]
+    alg = entry.algorithm
+    x = _inputs.states(model, arrays, alg.inputs)
+    batch = x[0].shape[:-1]
+    packed = _inputs.packed(model, gravity)
+    f = _inputs.external(model, f_ext, batch) if alg.forces else None
+    if batch == (0,):
+        out = tuple(entry.outputs(model, batch))
+    elif batch == (1,):  # a one-sample batch: the one-sample entry, without threads
+        status, out = entry.one(model, packed, tuple(a[0] for a in x),
+                                None if f is None else f[0], option)
+        out = None if out is None else tuple(o[None] for o in out)
+    elif batch:
+        status, out = entry.many(model, packed, x, f, option)
+    else:
+        status, out = entry.one(model, packed, x, f, option)
+    if batch != (0,) and status != 0:
+        names = dict(zip((n for n, _ in alg.inputs), x, strict=True))
+        if f_ext is not None:
+            names["f_ext"] = np.asarray(f_ext, dtype=float)
+        raise explain(status, model, alg, names)
+    return out[0] if len(out) == 1 else out

@@ -1,0 +1,62 @@
+"""One record per compiled algorithm: what it reads, what it returns, what a fault means.
+
+The records are plain data (this module imports nothing of cgadyn), read twice:
+
+- ``tools/generate_entries.py`` writes ``_entries.py`` from them: for each algorithm its
+  one-sample entry, its C-callable form for ``cgadyn._native`` and its parallel batch
+  entry, all calling the algorithm's core ``<module>.<name>_core(m, inputs..., f, outputs...,
+  option, work) -> status``;
+- ``cgadyn.algorithms.calls`` calls those entries: checks and converts the inputs, allocates
+  the outputs, registers the C-callable forms with ``cgadyn._native`` and turns a status into
+  the message of a ``ValueError``.
+
+Sizes are written with the model's symbols: ``n`` joints, ``nq`` and ``nv`` the sizes of q
+and v, ``nl`` link frames.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+SIZES = ("n", "nq", "nv", "nl")
+"""The symbols a size may use; ``cgadyn._native`` numbers them -1, -2, -3, -4."""
+
+
+@dataclass(frozen=True)
+class Algorithm:
+    """A compiled algorithm.
+
+    ``inputs``: the name and size of each sample array (``("q", "nq")``, ``("v", "nv")``);
+    ``forces``: whether it takes external wrenches ``f_ext`` (one per joint);
+    ``outputs``: the shape of each result array of one sample;
+    ``option``: what the integer option carries, if anything;
+    ``nonfinite``: what a non-finite result from finite inputs means.
+    """
+
+    name: str
+    module: str
+    inputs: tuple[tuple[str, str], ...]
+    outputs: tuple[tuple[int | str, ...], ...]
+    forces: bool = False
+    option: str = ""
+    nonfinite: str = "an overflow"
+
+    @property
+    def core(self) -> str:
+        return f"{self.name}_core"
+
+
+Q, V, A, TAU = ("q", "nq"), ("v", "nv"), ("a", "nv"), ("tau", "nv")
+
+ALGORITHMS = (
+    Algorithm("rnea", "rnea", (Q, V, A), (("nv",),), forces=True),
+    Algorithm("aba", "aba", (Q, V, TAU), (("nv",),), forces=True,
+              nonfinite="an overflow, or a nearly singular articulated inertia"),
+    Algorithm("crba", "crba", (Q,), (("nv", "nv"),)),
+    Algorithm("motors", "kinematics", (Q,), (("n", 8), ("nl", 8))),
+    Algorithm("placements", "kinematics", (Q,), (("nl", 4, 4),)),
+    Algorithm("jacobian", "jacobian", (Q,), ((6, "nv"),), option="4 link + frame"),
+    Algorithm("energy", "energy", (Q, V), ((2,),)),
+)
+
+BY_NAME = {a.name: a for a in ALGORITHMS}
