@@ -23,7 +23,16 @@ from cgadyn.cga.conventions import (
     motor_from_matrix,
     motor_product,
 )
-from cgadyn.multibody import PRISMATIC, REVOLUTE, Model, load, load_urdf, robot_path, robots
+from cgadyn.multibody import (
+    PRISMATIC,
+    REVOLUTE,
+    REVOLUTE_UNBOUNDED,
+    Model,
+    load,
+    load_urdf,
+    robot_path,
+    robots,
+)
 from cgadyn.multibody.registry import OWN_ROBOTS_DIR
 
 OWN = sorted(p.stem for p in OWN_ROBOTS_DIR.glob("*.urdf"))
@@ -72,7 +81,8 @@ def test_axes(name):
         assert close(motion_from_twist(m.axes[j]), S), m.joint_names[j]
         assert close(np.linalg.norm(m.axis_vectors[j]), 1.0)
         kind = m.joint_kinds[j]
-        assert m.joint_types[j] == (PRISMATIC if kind == "prismatic" else REVOLUTE)
+        assert m.joint_types[j] == {"prismatic": PRISMATIC, "continuous": REVOLUTE_UNBOUNDED,
+                                    "revolute": REVOLUTE}[kind]
 
 
 @pytest.mark.parametrize("name", ALL)

@@ -16,24 +16,68 @@ Every one uses numpy's error model: a float division by zero gives inf or NaN (w
 algorithms report as a status) instead of raising, since compiled code must not raise.
 
 Machine code is cached on disk (``__pycache__`` beside the sources, or ``NUMBA_CACHE_DIR``,
-or numba's user cache directory) so that a second process starts in about a second. Where
-numba finds no writable cache location at all, decorating with ``cache=True`` raises
-``RuntimeError`` at import; here the package then compiles in memory instead, with one
-warning, and works the same (only slower to start).
+or numba's user cache directory) so that a second process starts in about a second. numba
+keys a cached function on its own file only, not on the kernels it inlines from other
+files, so this module first compares the package's fingerprint (``_sources.py``) with the
+one its cache was built from and, when the code has changed, deletes the package's cached
+machine code: a cache never outlives the code it was compiled from. Where numba finds no
+writable cache location at all, decorating with ``cache=True`` raises ``RuntimeError`` at
+import; here the package then compiles in memory instead, with one warning, and works the
+same (only slower to start).
 """
 
 from __future__ import annotations
 
+import os
 import threading
 import warnings
 from collections.abc import Callable
+from pathlib import Path
 
 import numba
+
+from ._sources import PACKAGE, fingerprint
 
 __all__ = ["caching", "core", "inline", "native", "parallel", "serial"]
 
 _CACHE = [True]
 """Whether numba can cache on disk: True until a decoration finds no cache location."""
+
+
+def _cache_dirs() -> list[Path]:
+    """Where numba may keep the package's compiled code: ``__pycache__`` beside the
+    sources, and its mirror of the package's path under ``NUMBA_CACHE_DIR``."""
+    dirs = [d for d in PACKAGE.rglob("__pycache__") if d.is_dir()]
+    root = os.environ.get("NUMBA_CACHE_DIR")
+    if root:
+        mirror = Path(root) / str(PACKAGE).lstrip(os.sep)
+        if mirror.is_dir():
+            dirs += [mirror, *(d for d in mirror.rglob("*") if d.is_dir())]
+    return dirs
+
+
+def _heal() -> None:
+    """Delete the package's cached machine code if it was compiled from other sources."""
+    stamp = PACKAGE / "__pycache__" / "numba-sources.txt"
+    try:
+        if stamp.read_text() == fingerprint():
+            return
+    except OSError:
+        pass
+    for d in _cache_dirs():
+        for f in [*d.glob("*.nbi"), *d.glob("*.nbc")]:
+            try:
+                f.unlink()
+            except OSError:
+                pass
+    try:
+        stamp.parent.mkdir(exist_ok=True)
+        stamp.write_text(fingerprint())
+    except OSError:
+        pass  # read-only: numba will not cache here either
+
+
+_heal()
 
 
 def caching() -> bool:

@@ -1,9 +1,10 @@
-"""Recursive dynamics on CGA: kinematics, RNEA, ABA, CRBA, Jacobians, energy.
+"""Recursive dynamics on CGA: RNEA, ABA, CRBA, kinematics, Jacobians, energy, the
+configuration manifold and centroidal quantities.
 
-The cores of rnea, aba and crba compile with ``fastmath={"contract"}``: the only liberty
-taken is fusing a multiply and an add into one FMA instruction (GCC does so by default),
-about 5 % faster; every other IEEE rule is kept, so NaN checks and the results against
-Pinocchio (1e-15 relative) are unchanged.
+Each compiled algorithm is one core in its own file (``rnea.py``, ``aba.py``, ...), listed in
+``table.py``; ``calls.py`` is the path of a call from the public functions (``api.py``,
+``configuration.py``, ``centroidal_api.py``) to the core, described in
+``docs/architecture.md``.
 """
 
 from .api import (
@@ -19,9 +20,35 @@ from .api import (
     potential_energy,
     rnea,
 )
+from .centroidal_api import (
+    center_of_mass,
+    centroidal_momentum,
+    centroidal_momentum_matrix,
+    com_jacobian,
+    total_mass,
+)
+from .configuration import (
+    difference,
+    integrate,
+    interpolate,
+    neutral,
+    normalize,
+    random_configuration,
+)
 
 __all__ = [
     "aba",
+    "center_of_mass",
+    "centroidal_momentum",
+    "centroidal_momentum_matrix",
+    "com_jacobian",
+    "difference",
+    "integrate",
+    "interpolate",
+    "neutral",
+    "normalize",
+    "random_configuration",
+    "total_mass",
     "crba",
     "energy",
     "forward_kinematics",

@@ -9,7 +9,7 @@ from numba import carray, prange, types
 from .._jit import native, parallel, serial
 from .._views import as_int64
 from ..multibody.packed import HEADER, unpack
-from . import aba, crba, energy, jacobian, kinematics, rnea
+from . import aba, centroidal, crba, energy, jacobian, kinematics, manifold, rnea
 from ._workspace import STACK_FLOATS, chunks, stack_buffer
 from .status import OK, WRONG_SHAPE, at_sample
 
@@ -372,6 +372,208 @@ def energy_batch(packed, q, v, o0, option, threads):
         work = np.empty(size)
         for b in range(starts[c], stops[c]):
             s = energy.energy_core(mc, q[b], v[b], o0[b], option, work)
+            if s != OK:
+                status[c] = at_sample(s, b)
+                break
+    for c in range(starts.shape[0]):
+        if status[c] != OK:
+            return status[c]
+    return OK
+
+
+@serial
+def com_single(packed, q, v, a, o0, option):
+    """One sample of ``com_core``; its workspace on this call's stack."""
+    m = unpack(packed)
+    size = centroidal.workspace_size(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return centroidal.com_core(m, q, v, a, o0, option, stack_buffer(size))
+    return centroidal.com_core(m, q, v, a, o0, option, np.empty(size))
+
+
+@native(SIGNATURE)
+def com_native(pk, x0, x1, x2, f, nf, o0, o1, o2, option):
+    """``com_single`` on raw pointers, for ``cgadyn._native``."""
+    packed = packed_array(pk)
+    m = unpack(packed)
+    return com_single(
+        packed,
+        carray(x0, (m.nq,)),
+        carray(x1, (m.nv,)),
+        carray(x2, (m.nv,)),
+        carray(o0, (3, 3)),
+        option)
+
+
+@parallel
+def com_batch(packed, q, v, a, o0, option, threads):
+    """(B, ...) samples of ``com_core`` in parallel chunks; a status."""
+    m = unpack(packed)
+    batch = q.shape[0]
+    if (q.shape[1] != m.nq
+            or v.shape[1] != m.nv
+            or a.shape[1] != m.nv
+            or v.shape[0] != batch
+            or a.shape[0] != batch
+            or o0.shape[0] != batch):
+        return WRONG_SHAPE
+    size = centroidal.workspace_size(m.n, m.nq, m.nv, m.nl)
+    starts, stops = chunks(batch, threads)
+    status = np.zeros(starts.shape[0], dtype=np.int64)
+    for c in prange(starts.shape[0]):
+        mc = unpack(packed)
+        work = np.empty(size)
+        for b in range(starts[c], stops[c]):
+            s = centroidal.com_core(mc, q[b], v[b], a[b], o0[b], option, work)
+            if s != OK:
+                status[c] = at_sample(s, b)
+                break
+    for c in range(starts.shape[0]):
+        if status[c] != OK:
+            return status[c]
+    return OK
+
+
+@serial
+def centroidal_single(packed, q, o0, o1, option):
+    """One sample of ``centroidal_core``; its workspace on this call's stack."""
+    m = unpack(packed)
+    size = centroidal.workspace_size(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return centroidal.centroidal_core(m, q, o0, o1, option, stack_buffer(size))
+    return centroidal.centroidal_core(m, q, o0, o1, option, np.empty(size))
+
+
+@native(SIGNATURE)
+def centroidal_native(pk, x0, x1, x2, f, nf, o0, o1, o2, option):
+    """``centroidal_single`` on raw pointers, for ``cgadyn._native``."""
+    packed = packed_array(pk)
+    m = unpack(packed)
+    return centroidal_single(
+        packed,
+        carray(x0, (m.nq,)),
+        carray(o0, (6, m.nv)),
+        carray(o1, (3,)),
+        option)
+
+
+@parallel
+def centroidal_batch(packed, q, o0, o1, option, threads):
+    """(B, ...) samples of ``centroidal_core`` in parallel chunks; a status."""
+    m = unpack(packed)
+    batch = q.shape[0]
+    if (q.shape[1] != m.nq
+            or o0.shape[0] != batch
+            or o1.shape[0] != batch):
+        return WRONG_SHAPE
+    size = centroidal.workspace_size(m.n, m.nq, m.nv, m.nl)
+    starts, stops = chunks(batch, threads)
+    status = np.zeros(starts.shape[0], dtype=np.int64)
+    for c in prange(starts.shape[0]):
+        mc = unpack(packed)
+        work = np.empty(size)
+        for b in range(starts[c], stops[c]):
+            s = centroidal.centroidal_core(mc, q[b], o0[b], o1[b], option, work)
+            if s != OK:
+                status[c] = at_sample(s, b)
+                break
+    for c in range(starts.shape[0]):
+        if status[c] != OK:
+            return status[c]
+    return OK
+
+
+@serial
+def integrate_single(packed, q, v, o0, option):
+    """One sample of ``integrate_core``; its workspace on this call's stack."""
+    m = unpack(packed)
+    size = manifold.workspace_size(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return manifold.integrate_core(m, q, v, o0, option, stack_buffer(size))
+    return manifold.integrate_core(m, q, v, o0, option, np.empty(size))
+
+
+@native(SIGNATURE)
+def integrate_native(pk, x0, x1, x2, f, nf, o0, o1, o2, option):
+    """``integrate_single`` on raw pointers, for ``cgadyn._native``."""
+    packed = packed_array(pk)
+    m = unpack(packed)
+    return integrate_single(
+        packed,
+        carray(x0, (m.nq,)),
+        carray(x1, (m.nv,)),
+        carray(o0, (m.nq,)),
+        option)
+
+
+@parallel
+def integrate_batch(packed, q, v, o0, option, threads):
+    """(B, ...) samples of ``integrate_core`` in parallel chunks; a status."""
+    m = unpack(packed)
+    batch = q.shape[0]
+    if (q.shape[1] != m.nq
+            or v.shape[1] != m.nv
+            or v.shape[0] != batch
+            or o0.shape[0] != batch):
+        return WRONG_SHAPE
+    size = manifold.workspace_size(m.n, m.nq, m.nv, m.nl)
+    starts, stops = chunks(batch, threads)
+    status = np.zeros(starts.shape[0], dtype=np.int64)
+    for c in prange(starts.shape[0]):
+        mc = unpack(packed)
+        work = np.empty(size)
+        for b in range(starts[c], stops[c]):
+            s = manifold.integrate_core(mc, q[b], v[b], o0[b], option, work)
+            if s != OK:
+                status[c] = at_sample(s, b)
+                break
+    for c in range(starts.shape[0]):
+        if status[c] != OK:
+            return status[c]
+    return OK
+
+
+@serial
+def difference_single(packed, q0, q1, o0, option):
+    """One sample of ``difference_core``; its workspace on this call's stack."""
+    m = unpack(packed)
+    size = manifold.workspace_size(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return manifold.difference_core(m, q0, q1, o0, option, stack_buffer(size))
+    return manifold.difference_core(m, q0, q1, o0, option, np.empty(size))
+
+
+@native(SIGNATURE)
+def difference_native(pk, x0, x1, x2, f, nf, o0, o1, o2, option):
+    """``difference_single`` on raw pointers, for ``cgadyn._native``."""
+    packed = packed_array(pk)
+    m = unpack(packed)
+    return difference_single(
+        packed,
+        carray(x0, (m.nq,)),
+        carray(x1, (m.nq,)),
+        carray(o0, (m.nv,)),
+        option)
+
+
+@parallel
+def difference_batch(packed, q0, q1, o0, option, threads):
+    """(B, ...) samples of ``difference_core`` in parallel chunks; a status."""
+    m = unpack(packed)
+    batch = q0.shape[0]
+    if (q0.shape[1] != m.nq
+            or q1.shape[1] != m.nq
+            or q1.shape[0] != batch
+            or o0.shape[0] != batch):
+        return WRONG_SHAPE
+    size = manifold.workspace_size(m.n, m.nq, m.nv, m.nl)
+    starts, stops = chunks(batch, threads)
+    status = np.zeros(starts.shape[0], dtype=np.int64)
+    for c in prange(starts.shape[0]):
+        mc = unpack(packed)
+        work = np.empty(size)
+        for b in range(starts[c], stops[c]):
+            s = manifold.difference_core(mc, q0[b], q1[b], o0[b], option, work)
             if s != OK:
                 status[c] = at_sample(s, b)
                 break

@@ -24,7 +24,7 @@ def explain(code: int, model, algorithm, arrays: dict) -> ValueError:
     if fault == S.NONFINITE_INPUT or not all(np.isfinite(a).all() for a in arrays.values()):
         return _nonfinite_input(model, arrays)  # NaN and inf propagate: look at inputs first
     if fault == S.QUATERNION:
-        return _quaternion(model, arrays["q"], joint, sample if batch else None)
+        return _quaternion(model, arrays, joint, sample if batch else None)
     if fault == S.SINGULAR:
         return ValueError(f"{where}singular articulated-body inertia at joint "
                           f"{model.joint_names[joint]!r}: {_subtree(model, joint)}; "
@@ -51,21 +51,28 @@ def _nonfinite_input(model, arrays: dict) -> ValueError:
 
 def _coordinate(model, name: str, k: int) -> str:
     """Which joint (and which of a free flyer's coordinates) entry k of a state is."""
-    offsets = model.idx_q if name == "q" else model.idx_v
+    configuration = name.startswith("q")
+    offsets = model.idx_q if configuration else model.idx_v
     j = int(np.searchsorted(offsets, k, side="right") - 1)
     joint = model.joint_names[j]
     if model.joint_kinds[j] != "free_flyer":
         return f"joint {joint!r}"
-    names = ("x", "y", "z", "qx", "qy", "qz", "qw") if name == "q" else (
+    names = ("x", "y", "z", "qx", "qy", "qz", "qw") if configuration else (
         "vx", "vy", "vz", "wx", "wy", "wz")
     return f"joint {joint!r}, coordinate {names[k - offsets[j]]}"
 
 
-def _quaternion(model, q: np.ndarray, joint: int, sample) -> ValueError:
+def _quaternion(model, arrays: dict, joint: int, sample) -> ValueError:
+    """The first configuration among ``arrays`` whose quaternion of ``joint`` is off."""
+    from ..multibody.joints import QUATERNION_TOLERANCE
+
     i = int(model.idx_q[joint]) + 3
-    x = q[sample] if sample is not None else q
-    norm = float(np.linalg.norm(x[i:i + 4]))
-    where = f"q[{sample}, {i}:{i + 4}]" if sample is not None else f"q[{i}:{i + 4}]"
+    for name, q in arrays.items():
+        x = q[sample] if sample is not None else q
+        norm = float(np.linalg.norm(x[i:i + 4])) if name.startswith("q") else 1.0
+        if not abs(norm - 1.0) <= QUATERNION_TOLERANCE:
+            break
+    where = f"{name}[{sample}, {i}:{i + 4}]" if sample is not None else f"{name}[{i}:{i + 4}]"
     return ValueError(f"{where}, the quaternion (qx, qy, qz, qw) of free-flyer joint "
                       f"{model.joint_names[joint]!r}, has norm {norm:.6g}; expected a unit "
                       f"quaternion (cgadyn.normalize(model, q) normalises q)")

@@ -57,6 +57,12 @@ ALGORITHMS = (
     Algorithm("placements", "kinematics", (Q,), (("nl", 4, 4),)),
     Algorithm("jacobian", "jacobian", (Q,), ((6, "nv"),), option="4 link + frame"),
     Algorithm("energy", "energy", (Q, V), ((2,),)),
+    Algorithm("com", "centroidal", (Q, V, A), ((3, 3),),
+              nonfinite="a model without mass, or an overflow"),
+    Algorithm("centroidal", "centroidal", (Q,), ((6, "nv"), (3,)),
+              nonfinite="a model without mass, or an overflow"),
+    Algorithm("integrate", "manifold", (Q, V), (("nq",),)),
+    Algorithm("difference", "manifold", (("q0", "nq"), ("q1", "nq")), (("nv",),)),
 )
 
 BY_NAME = {a.name: a for a in ALGORITHMS}

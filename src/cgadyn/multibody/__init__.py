@@ -4,7 +4,7 @@
 ``load_urdf(source)`` loads a URDF file or text.
 """
 
-from cgadyn.multibody.joints import FREE_FLYER, PRISMATIC, REVOLUTE
+from cgadyn.multibody.joints import FREE_FLYER, PRISMATIC, REVOLUTE, REVOLUTE_UNBOUNDED
 from cgadyn.multibody.model import Model, build_model, merge_inertias
 from cgadyn.multibody.registry import load, robot_path, robots
 from cgadyn.multibody.urdf import load_urdf
@@ -14,6 +14,7 @@ __all__ = [
     "Model",
     "PRISMATIC",
     "REVOLUTE",
+    "REVOLUTE_UNBOUNDED",
     "build_model",
     "load",
     "load_urdf",

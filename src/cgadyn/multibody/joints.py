@@ -10,20 +10,22 @@ with ``X_j`` its constant placement and ``M_J`` the joint motor of its configura
 ``S_j`` being the joint's motion subspace, constant twists in the joint frame. The joint
 types:
 
-================  ====  ====  ==========================================================
-type              nq_j  nv_j  M_J(q_j) and S_j
-================  ====  ====  ==========================================================
-``REVOLUTE``      1     1     ``exp(q B / 2) = cos(q/2) + sin(q/2) B``: B a unit line
-``PRISMATIC``     1     1     ``exp(q B / 2) = 1 + (q/2) B``: B a unit direction
-``FREE_FLYER``    7     6     the motor ``T(p) R(x, y, z, w)`` of
-                              ``q_j = (p1, p2, p3, x, y, z, w)``; ``S_j`` the six unit
-                              twists, so ``S_j v_j`` is the body twist ``(v, ω)``
-================  ====  ====  ==========================================================
+======================  ====  ====  ====================================================
+type                    nq_j  nv_j  M_J(q_j) and S_j
+======================  ====  ====  ====================================================
+``REVOLUTE``            1     1     ``exp(q B / 2) = cos(q/2) + sin(q/2) B``: B a unit line
+``REVOLUTE_UNBOUNDED``  1     1     the same, for an angle without limits
+``PRISMATIC``           1     1     ``exp(q B / 2) = 1 + (q/2) B``: B a unit direction
+``FREE_FLYER``          7     6     the motor ``T(p) R(x, y, z, w)`` of
+                                    ``q_j = (p1, p2, p3, x, y, z, w)``; ``S_j`` the six
+                                    unit twists, so ``S_j v_j`` is the body twist ``(v, ω)``
+======================  ====  ====  ====================================================
 
-A continuous joint is a revolute joint without limits and takes one angle (Pinocchio
-takes its cos and sin). The free flyer follows Pinocchio's ``JointModelFreeFlyer``: the
-translation in the parent frame, the unit quaternion in the order x, y, z, w, and the
-velocity ``[v, ω]`` of the body in its own frame.
+An unbounded revolute joint (URDF's ``continuous``) takes one angle, where Pinocchio takes
+its cos and sin; it differs from a revolute joint only on the configuration manifold, where
+``difference`` wraps its angle to (-π, π]. The free flyer follows Pinocchio's
+``JointModelFreeFlyer``: the translation in the parent frame, the unit quaternion in the
+order x, y, z, w, and the velocity ``[v, ω]`` of the body in its own frame.
 
 The compiled functions read a model unpacked by ``cgadyn.multibody.packed.unpack``: per joint
 ``types``, ``iq``/``iv`` (the first index of the joint in q and in v, with a final entry
@@ -36,21 +38,32 @@ from __future__ import annotations
 import math
 
 from .._jit import inline
-from ..kernels import dot, motor_mul, motor_mul_rotor, motor_mul_translator, translator_rotor
+from ..kernels import (
+    dot,
+    motor_log,
+    motor_mul,
+    motor_mul_rotor,
+    motor_mul_translator,
+    motor_reverse,
+    motor_translation,
+    translator_rotor,
+    twist_exp,
+)
 from ..kernels.halfangle import LIBM_BEYOND, half_angle_sincos
-from ..kernels.layout import rotor
+from ..kernels.layout import physical, quaternion, rotor
 
 REVOLUTE = 0
-PRISMATIC = 1
-FREE_FLYER = 2
+REVOLUTE_UNBOUNDED = 1
+PRISMATIC = 2
+FREE_FLYER = 3
 
-TYPE_NAMES = ("revolute", "prismatic", "free_flyer")
-NQ = (1, 1, 7)
+TYPE_NAMES = ("revolute", "revolute_unbounded", "prismatic", "free_flyer")
+NQ = (1, 1, 1, 7)
 """Size of a joint's configuration, by type."""
-NV = (1, 1, 6)
+NV = (1, 1, 1, 6)
 """Size of a joint's velocity, by type."""
 
-KIND_TYPE = {"revolute": REVOLUTE, "continuous": REVOLUTE, "prismatic": PRISMATIC,
+KIND_TYPE = {"revolute": REVOLUTE, "continuous": REVOLUTE_UNBOUNDED, "prismatic": PRISMATIC,
              "free_flyer": FREE_FLYER}
 """The joint kinds a model records (URDF's names, and ``free_flyer``) and their types."""
 
@@ -93,7 +106,7 @@ def joint_motors(m, q, c, s, tmp, out):
         t = m.types[j]
         k = m.iv[j]
         i = m.iq[j]
-        if t == REVOLUTE:  # cos(q/2) + sin(q/2) B, B = (e23, e13, e12) part of the line
+        if t <= REVOLUTE_UNBOUNDED:  # cos(q/2) + sin(q/2) B, B the (e23, e13, e12) part
             sk = s[i]
             tmp[0], tmp[1], tmp[2], tmp[3] = c[i], sk * m.S[k, 2], sk * m.S[k, 1], sk * m.S[k, 0]
             motor_mul_rotor(m.placements[j], tmp, out[j])
@@ -102,13 +115,29 @@ def joint_motors(m, q, c, s, tmp, out):
             tmp[4], tmp[5], tmp[6] = h * m.S[k, 3], h * m.S[k, 4], h * m.S[k, 5]
             motor_mul_translator(m.placements[j], tmp, out[j])
     for j in range(m.n):
-        if m.types[j] == FREE_FLYER:  # T(p) R(x, y, z, w), the quaternion normalised
-            i = m.iq[j]
-            x, y, z, w = q[i + 3], q[i + 4], q[i + 5], q[i + 6]
-            r = 1.0 / math.sqrt(x * x + y * y + z * z + w * w)
-            r0, r1, r2, r3 = rotor((w * r, x * r, y * r, z * r))
-            translator_rotor(q[i], q[i + 1], q[i + 2], r0, r1, r2, r3, tmp)
+        if m.types[j] == FREE_FLYER:
+            free_flyer_motor(q, m.iq[j], tmp)
             motor_mul(m.placements[j], tmp, out[j])
+
+
+@inline
+def free_flyer_motor(q, i, out):
+    """The motor ``T(p) R(x, y, z, w)`` of a free flyer's configuration
+    ``q[i:i+7] = (p1, p2, p3, x, y, z, w)``, the quaternion normalised."""
+    x, y, z, w = q[i + 3], q[i + 4], q[i + 5], q[i + 6]
+    r = 1.0 / math.sqrt(x * x + y * y + z * z + w * w)
+    r0, r1, r2, r3 = rotor((w * r, x * r, y * r, z * r))
+    translator_rotor(q[i], q[i + 1], q[i + 2], r0, r1, r2, r3, out)
+
+
+@inline
+def free_flyer_configuration(M, out, i):
+    """``out[i:i+7] = (p, x, y, z, w)`` of a motor, the quaternion normalised: the inverse
+    of ``free_flyer_motor``."""
+    w, x, y, z = quaternion(M)
+    r = 1.0 / math.sqrt(x * x + y * y + z * z + w * w)
+    out[i], out[i + 1], out[i + 2] = motor_translation(M)
+    out[i + 3], out[i + 4], out[i + 5], out[i + 6] = x * r, y * r, z * r, w * r
 
 
 @inline
@@ -142,3 +171,43 @@ def quaternion_error(m, q):
             if not abs(norm - 1.0) <= QUATERNION_TOLERANCE:
                 return j
     return -1
+
+
+@inline
+def joint_integrate(m, j, q, v, tmp, out):
+    """``out_j = q_j ⊕ v_j``, moving joint j's configuration along its velocity for unit
+    time: ``q + v`` for one-dof joints; ``M exp(V / 2)`` for a free flyer (eq. 6), the body
+    twist V applied in the body's frame (Pinocchio's ``integrate``). ``tmp``: (3, 8)."""
+    i = m.iq[j]
+    if m.types[j] != FREE_FLYER:
+        out[i] = q[i] + v[m.iv[j]]
+        return
+    joint_twist(m, j, v, tmp[2])  # V = S v, the body twist
+    twist_exp(tmp[2], tmp[1])  # exp(V / 2)
+    free_flyer_motor(q, i, tmp[0])  # M
+    motor_mul(tmp[0], tmp[1], tmp[2])  # M exp(V / 2)
+    free_flyer_configuration(tmp[2], out, i)
+
+
+@inline
+def joint_difference(m, j, q0, q1, tmp, out):
+    """``out_j = q1_j ⊖ q0_j``, the velocity that moves q0 to q1 in unit time (the inverse of
+    ``joint_integrate``): ``q1 - q0``, wrapped to (-π, π] for an unbounded revolute joint;
+    for a free flyer the body twist ``V = log(~M0 M1)`` with ``exp(V / 2) = ~M0 M1``, the
+    motor taken with a non-negative scalar part so that the rotation is at most π
+    (Pinocchio's ``log6``). ``tmp``: (3, 8)."""
+    i, k, t = m.iq[j], m.iv[j], m.types[j]
+    if t != FREE_FLYER:
+        d = q1[i] - q0[i]
+        out[k] = math.atan2(math.sin(d), math.cos(d)) if t == REVOLUTE_UNBOUNDED else d
+        return
+    free_flyer_motor(q0, i, tmp[0])
+    free_flyer_motor(q1, i, tmp[1])
+    motor_reverse(tmp[0], tmp[2])
+    motor_mul(tmp[2], tmp[1], tmp[0])  # ~M0 M1
+    if tmp[0, 0] < 0.0:  # -M is the same motion: the rotation angle in [0, π]
+        for c in range(8):
+            tmp[0, c] = -tmp[0, c]
+    motor_log(tmp[0], tmp[1])  # the twist V, exp(V / 2) = ~M0 M1
+    w1, w2, w3, v1, v2, v3 = physical(tmp[1])
+    out[k], out[k + 1], out[k + 2], out[k + 3], out[k + 4], out[k + 5] = v1, v2, v3, w1, w2, w3

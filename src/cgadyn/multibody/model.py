@@ -70,7 +70,7 @@ class Model:
     joint_kinds : tuple[str, ...]
         ``'revolute'``, ``'continuous'``, ``'prismatic'`` or ``'free_flyer'`` per joint.
     joint_types : int64 (n,)
-        ``REVOLUTE`` (revolute and continuous), ``PRISMATIC`` or ``FREE_FLYER``
+        ``REVOLUTE``, ``REVOLUTE_UNBOUNDED`` (continuous), ``PRISMATIC`` or ``FREE_FLYER``
         (``cgadyn.multibody.joints``).
     parents : int64 (n,)
         Parent joint index, ``-1`` for the world; ``parents[j] < j``.

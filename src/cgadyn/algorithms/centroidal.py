@@ -1,0 +1,165 @@
+"""Centroidal quantities: the centre of mass, its velocity and acceleration, and the
+centroidal momentum matrix (Pinocchio's ``centerOfMass`` and ``ccrba``).
+
+A body's first moment in the world is ``m_j c_j = m_j p_j + R_j h_j`` (h_j its first
+moment in its own frame, ``M^w_j = T(p_j) R_j``), and the force part of its momentum
+wrench ``I_j[V_j]`` (eq. 15) is its linear momentum ``m_j ċ_j``; the force part of
+``I_j[V̇_j] + V_j × I_j[V_j]`` (the RNEA body wrench without gravity) is its rate
+``m_j c̈_j``. Summed in the world and divided by the total mass: c, ċ, c̈.
+
+The centroidal momentum matrix ``A_g`` maps v to the momentum of the whole robot, linear and
+angular about its centre of mass. In world coordinates (as in ``crba``), velocity coordinate
+k of joint j moves the composite body ``I^c_j`` (j and its descendants) with the twist
+``S^w_k``, whose momentum wrench ``F_k = I^c_j[S^w_k]`` (eq. 15) is at the world's origin;
+moved to the centre of mass, its moment is ``n - c × f``: ``A_g[:, k] = (f, n - c × f)``.
+"""
+
+from __future__ import annotations
+
+from .._jit import core, inline
+from ..kernels import (
+    adjoint_apply_transpose,
+    inertia_apply,
+    twist_cross,
+    twist_cross_wrench,
+    wrench_adjoint,
+)
+from ..kernels.layout import physical
+from ..kernels.rigid import (
+    rigid_apply,
+    rigid_frame,
+    rigid_move_inertia,
+    rigid_move_twist,
+    rigid_parameters,
+)
+from ..multibody.joints import joint_twist
+from . import _workspace as ws
+from ._checks import check_configuration, check_result
+from .kinematics import world_motors
+from .status import OK
+
+
+@inline
+def _rotate(r, x, y, z):
+    """``R (x, y, z)`` for a rotation matrix given row by row."""
+    return (r[0] * x + r[1] * y + r[2] * z, r[3] * x + r[4] * y + r[5] * z,
+            r[6] * x + r[7] * y + r[8] * z)
+
+
+@core
+def com_core(m, q, v, a, out, option, work):
+    """``out = (c, ċ, c̈)`` (3, 3), world frame: the centre of mass, its velocity and its
+    (classical) acceleration."""
+    status = check_configuration(m, q)
+    if status != OK:
+        return status
+    Mw, M, tmp8, c, s, Ad, V, A, W, tmp, VJ, _, _, _ = _workspace(ws.data_pointer(work), m)
+    world_motors(m, q, c, s, tmp8, M, Mw)
+    for i in range(3):
+        for k in range(3):
+            out[i, k] = 0.0
+    mass = 0.0
+    for j in range(m.n):
+        p = m.parents[j]
+        wrench_adjoint(M[j], Ad)
+        if p < 0:
+            for k in range(6):
+                V[j, k] = 0.0
+                A[j, k] = 0.0  # no gravity: the accelerations of the bodies themselves
+        else:
+            adjoint_apply_transpose(Ad, V[p], V[j])  # ~M_j V_λ M_j
+            adjoint_apply_transpose(Ad, A[p], A[j])
+        joint_twist(m, j, v, VJ)
+        for k in range(6):
+            V[j, k] += VJ[k]  # V_j
+        twist_cross(V[j], VJ, tmp)
+        joint_twist(m, j, a, VJ)
+        for k in range(6):
+            A[j, k] += tmp[k] + VJ[k]  # V̇_j, eqs. (10-11)
+        inertia_apply(m.inertias[j], V[j], tmp)  # I_j[V_j]: (angular, linear) momentum
+        inertia_apply(m.inertias[j], A[j], W)
+        twist_cross_wrench(V[j], tmp, VJ)
+        for k in range(6):
+            W[k] += VJ[k]  # I_j[V̇_j] + V_j × I_j[V_j]: its rate
+        r, pw = rigid_frame(Mw[j])
+        par = rigid_parameters(m.inertias[j])
+        mj = par[0]
+        mass += mj
+        h = _rotate(r, par[1], par[2], par[3])
+        _, _, _, f1, f2, f3 = physical(tmp)  # linear momentum m_j ċ_j, body frame
+        _, _, _, g1, g2, g3 = physical(W)  # its rate m_j c̈_j, body frame
+        f = _rotate(r, f1, f2, f3)
+        g = _rotate(r, g1, g2, g3)
+        for i in range(3):
+            out[0, i] += mj * pw[i] + h[i]  # m_j c_j = m_j p_j + R_j h_j
+            out[1, i] += f[i]
+            out[2, i] += g[i]
+    for i in range(3):
+        for k in range(3):
+            out[i, k] /= mass
+    return check_result(out)
+
+
+@core
+def centroidal_core(m, q, Ag, com, option, work):
+    """The centroidal momentum matrix ``Ag`` (6, nv), rows linear then angular momentum
+    about the centre of mass, world axes; and the centre of mass ``com`` (3)."""
+    status = check_configuration(m, q)
+    if status != OK:
+        return status
+    Mw, M, tmp8, c, s, _, _, _, _, _, _, Ic, Sw, F = _workspace(ws.data_pointer(work), m)
+    world_motors(m, q, c, s, tmp8, M, Mw)
+    for j in range(m.n):
+        r, p = rigid_frame(Mw[j])
+        for k in range(m.iv[j], m.iv[j + 1]):
+            rigid_move_twist(r, p, m.S[k], Sw[k])  # S^w_k = M^w_j S_k ~M^w_j
+        rigid_move_inertia(r, p, m.inertias[j], Ic[j])  # M^w_j * I_j, eq. (16)
+    mass = h1 = h2 = h3 = 0.0  # mass and first moment of the whole robot
+    for k in range(m.nv - 1, -1, -1):  # children come after their parents
+        j = m.dof_joint[k]
+        f = rigid_apply(Ic[j], Sw[k])  # F_k = I^c_j[S^w_k], I^c_j complete
+        for l in range(6):
+            F[k, l] = f[l]
+        if k == m.iv[j]:  # joint j done
+            p = m.parents[j]
+            if p >= 0:
+                for l in range(10):
+                    Ic[p, l] += Ic[j, l]
+            else:
+                mass, h1, h2, h3 = mass + Ic[j, 0], h1 + Ic[j, 1], h2 + Ic[j, 2], h3 + Ic[j, 3]
+    com[0], com[1], com[2] = h1 / mass, h2 / mass, h3 / mass  # c = h / m
+    for k in range(m.nv):
+        n1, n2, n3, f1, f2, f3 = physical(F[k])
+        Ag[0, k], Ag[1, k], Ag[2, k] = f1, f2, f3
+        Ag[3, k] = n1 - (com[1] * f3 - com[2] * f2)  # n - c × f
+        Ag[4, k] = n2 - (com[2] * f1 - com[0] * f3)
+        Ag[5, k] = n3 - (com[0] * f2 - com[1] * f1)
+    status = check_result(com)
+    return status if status != OK else check_result(Ag)
+
+
+@inline
+def workspace_size(n, nq, nv, nl):
+    return 38 * n + 2 * nq + 12 * nv + 62
+
+
+@inline
+def _workspace(buf, m):
+    """Both cores': Mw, M (n, 8), tmp8 (8), the joint motors' scalars c, s (nq); for
+    ``com_core`` Ad (6, 6), V, A (n, 6), W, tmp, VJ (6); for ``centroidal_core`` Ic (n, 10),
+    Sw, F (nv, 6)."""
+    Mw, o = ws.carve(buf, 0, (m.n, 8))
+    M, o = ws.carve(buf, o, (m.n, 8))
+    tmp8, o = ws.carve(buf, o, (8,))
+    c, o = ws.carve(buf, o, (m.nq,))
+    s, o = ws.carve(buf, o, (m.nq,))
+    Ad, o = ws.carve(buf, o, (6, 6))
+    V, o = ws.carve(buf, o, (m.n, 6))
+    A, o = ws.carve(buf, o, (m.n, 6))
+    W, o = ws.carve(buf, o, (6,))
+    tmp, o = ws.carve(buf, o, (6,))
+    VJ, o = ws.carve(buf, o, (6,))
+    Ic, o = ws.carve(buf, o, (m.n, 10))
+    Sw, o = ws.carve(buf, o, (m.nv, 6))
+    F, o = ws.carve(buf, o, (m.nv, 6))
+    return Mw, M, tmp8, c, s, Ad, V, A, W, tmp, VJ, Ic, Sw, F
