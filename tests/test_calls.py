@@ -141,8 +141,9 @@ def test_outputs_are_fresh_arrays():
 def _unpacked(packed):
     m = unpack(packed)
     return (m.n, m.nq, m.nv, m.nl, m.parents.copy(), m.types.copy(), m.iq.copy(), m.iv.copy(),
-            m.dof_parent.copy(), m.dof_joint.copy(), m.link_joint.copy(), m.placements.copy(),
-            m.S.copy(), m.inertias.copy(), m.gravity.copy(), m.link_placements.copy())
+            m.dof_parent.copy(), m.dof_joint.copy(), m.subtree_end.copy(), m.link_joint.copy(),
+            m.placements.copy(), m.S.copy(), m.inertias.copy(), m.gravity.copy(),
+            m.link_placements.copy())
 
 
 def test_packed_model_unpacks_to_its_fields():
@@ -151,13 +152,14 @@ def test_packed_model_unpacks_to_its_fields():
         got = _unpacked(m.packed)
         assert got[:4] == (m.njoints, m.nq, m.nv, m.nlinks)
         for value, field in zip(got[4:], ("parents", "joint_types", "idx_q", "idx_v",
-                                          "dof_parent", "dof_joint", "link_joint", "placements",
-                                          "motion_subspace", "inertias"), strict=False):
+                                          "dof_parent", "dof_joint", "subtree_end", "link_joint",
+                                          "placements", "motion_subspace", "inertias"),
+                                strict=False):
             np.testing.assert_array_equal(value, getattr(m, field), err_msg=field)
-        np.testing.assert_array_equal(got[15], m.link_placements)
+        np.testing.assert_array_equal(got[16], m.link_placements)
         # V̇_0 = -g: the twist of an upward linear acceleration of 9.81
-        np.testing.assert_allclose(motion_from_twist(got[14]), [0, 0, 9.81, 0, 0, 0])
-        moon = _unpacked(with_gravity(m.packed, (0.0, 0.0, -1.62)))[14]
+        np.testing.assert_allclose(motion_from_twist(got[15]), [0, 0, 9.81, 0, 0, 0])
+        moon = _unpacked(with_gravity(m.packed, (0.0, 0.0, -1.62)))[15]
         np.testing.assert_allclose(motion_from_twist(moon), [0, 0, 1.62, 0, 0, 0])
 
 

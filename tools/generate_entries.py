@@ -59,8 +59,8 @@ def entries(alg) -> str:
     outputs = [f"o{i}" for i in range(len(alg.outputs))]
     forces = ["f"] if alg.forces else []
     args = inputs + forces + outputs
-    core = f"{alg.module}.{alg.core}"
-    ws = f"{alg.module}.workspace_size(m.n, m.nq, m.nv, m.nl)"
+    core = alg.core
+    ws = f"{alg.name}_workspace(m.n, m.nq, m.nv, m.nl)"
     lines = [
         "", "",
         "@serial",
@@ -137,7 +137,7 @@ from numba import carray, prange, types
 from .._jit import native, parallel, serial
 from .._views import as_int64
 from ..multibody.packed import HEADER, unpack
-from . import {modules}
+{imports}
 from ._workspace import STACK_FLOATS, chunks, stack_buffer
 from .status import OK, WRONG_SHAPE, at_sample
 
@@ -158,8 +158,10 @@ def generate() -> str:
     table = load_table()
     for alg in table.ALGORITHMS:
         assert len(alg.inputs) <= MAX_INPUTS and len(alg.outputs) <= MAX_OUTPUTS, alg.name
-    modules = ", ".join(sorted({alg.module for alg in table.ALGORITHMS}))
-    return HEADER.format(modules=modules) + "".join(
+    imports = "\n".join(
+        f"from .{alg.module} import {alg.core}\nfrom .{alg.module} import workspace_size as "
+        f"{alg.name}_workspace" for alg in sorted(table.ALGORITHMS, key=lambda a: a.module))
+    return HEADER.format(imports=imports) + "".join(
         entries(alg) + "\n" for alg in table.ALGORITHMS)
 
 

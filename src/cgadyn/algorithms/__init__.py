@@ -35,9 +35,13 @@ from .configuration import (
     normalize,
     random_configuration,
 )
+from .derivatives_api import aba_derivatives, minverse, rnea_derivatives
 
 __all__ = [
     "aba",
+    "aba_derivatives",
+    "minverse",
+    "rnea_derivatives",
     "center_of_mass",
     "centroidal_momentum",
     "centroidal_momentum_matrix",

@@ -9,7 +9,34 @@ from numba import carray, prange, types
 from .._jit import native, parallel, serial
 from .._views import as_int64
 from ..multibody.packed import HEADER, unpack
-from . import aba, centroidal, crba, energy, jacobian, kinematics, manifold, rnea
+from .aba import aba_core
+from .aba import workspace_size as aba_workspace
+from .aba_derivatives import aba_derivatives_core
+from .aba_derivatives import workspace_size as aba_derivatives_workspace
+from .centroidal import com_core
+from .centroidal import workspace_size as com_workspace
+from .centroidal import centroidal_core
+from .centroidal import workspace_size as centroidal_workspace
+from .crba import crba_core
+from .crba import workspace_size as crba_workspace
+from .energy import energy_core
+from .energy import workspace_size as energy_workspace
+from .jacobian import jacobian_core
+from .jacobian import workspace_size as jacobian_workspace
+from .kinematics import motors_core
+from .kinematics import workspace_size as motors_workspace
+from .kinematics import placements_core
+from .kinematics import workspace_size as placements_workspace
+from .manifold import integrate_core
+from .manifold import workspace_size as integrate_workspace
+from .manifold import difference_core
+from .manifold import workspace_size as difference_workspace
+from .minverse import minverse_core
+from .minverse import workspace_size as minverse_workspace
+from .rnea import rnea_core
+from .rnea import workspace_size as rnea_workspace
+from .rnea_derivatives import rnea_derivatives_core
+from .rnea_derivatives import workspace_size as rnea_derivatives_workspace
 from ._workspace import STACK_FLOATS, chunks, stack_buffer
 from .status import OK, WRONG_SHAPE, at_sample
 
@@ -29,10 +56,10 @@ def packed_array(pk):
 def rnea_single(packed, q, v, a, f, o0, option):
     """One sample of ``rnea_core``; its workspace on this call's stack."""
     m = unpack(packed)
-    size = rnea.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = rnea_workspace(m.n, m.nq, m.nv, m.nl)
     if size <= STACK_FLOATS:
-        return rnea.rnea_core(m, q, v, a, f, o0, option, stack_buffer(size))
-    return rnea.rnea_core(m, q, v, a, f, o0, option, np.empty(size))
+        return rnea_core(m, q, v, a, f, o0, option, stack_buffer(size))
+    return rnea_core(m, q, v, a, f, o0, option, np.empty(size))
 
 
 @native(SIGNATURE)
@@ -64,7 +91,7 @@ def rnea_batch(packed, q, v, a, f, o0, option, threads):
             or (f.shape[0] != 0 and f.shape[0] != batch)
             or f.shape[1] != m.n):
         return WRONG_SHAPE
-    size = rnea.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = rnea_workspace(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):
@@ -73,7 +100,7 @@ def rnea_batch(packed, q, v, a, f, o0, option, threads):
         none = np.empty((0, 6))
         for b in range(starts[c], stops[c]):
             fb = f[b] if f.shape[0] > 0 else none
-            s = rnea.rnea_core(mc, q[b], v[b], a[b], fb, o0[b], option, work)
+            s = rnea_core(mc, q[b], v[b], a[b], fb, o0[b], option, work)
             if s != OK:
                 status[c] = at_sample(s, b)
                 break
@@ -87,10 +114,10 @@ def rnea_batch(packed, q, v, a, f, o0, option, threads):
 def aba_single(packed, q, v, tau, f, o0, option):
     """One sample of ``aba_core``; its workspace on this call's stack."""
     m = unpack(packed)
-    size = aba.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = aba_workspace(m.n, m.nq, m.nv, m.nl)
     if size <= STACK_FLOATS:
-        return aba.aba_core(m, q, v, tau, f, o0, option, stack_buffer(size))
-    return aba.aba_core(m, q, v, tau, f, o0, option, np.empty(size))
+        return aba_core(m, q, v, tau, f, o0, option, stack_buffer(size))
+    return aba_core(m, q, v, tau, f, o0, option, np.empty(size))
 
 
 @native(SIGNATURE)
@@ -122,7 +149,7 @@ def aba_batch(packed, q, v, tau, f, o0, option, threads):
             or (f.shape[0] != 0 and f.shape[0] != batch)
             or f.shape[1] != m.n):
         return WRONG_SHAPE
-    size = aba.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = aba_workspace(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):
@@ -131,7 +158,7 @@ def aba_batch(packed, q, v, tau, f, o0, option, threads):
         none = np.empty((0, 6))
         for b in range(starts[c], stops[c]):
             fb = f[b] if f.shape[0] > 0 else none
-            s = aba.aba_core(mc, q[b], v[b], tau[b], fb, o0[b], option, work)
+            s = aba_core(mc, q[b], v[b], tau[b], fb, o0[b], option, work)
             if s != OK:
                 status[c] = at_sample(s, b)
                 break
@@ -145,10 +172,10 @@ def aba_batch(packed, q, v, tau, f, o0, option, threads):
 def crba_single(packed, q, o0, option):
     """One sample of ``crba_core``; its workspace on this call's stack."""
     m = unpack(packed)
-    size = crba.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = crba_workspace(m.n, m.nq, m.nv, m.nl)
     if size <= STACK_FLOATS:
-        return crba.crba_core(m, q, o0, option, stack_buffer(size))
-    return crba.crba_core(m, q, o0, option, np.empty(size))
+        return crba_core(m, q, o0, option, stack_buffer(size))
+    return crba_core(m, q, o0, option, np.empty(size))
 
 
 @native(SIGNATURE)
@@ -171,14 +198,185 @@ def crba_batch(packed, q, o0, option, threads):
     if (q.shape[1] != m.nq
             or o0.shape[0] != batch):
         return WRONG_SHAPE
-    size = crba.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = crba_workspace(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):
         mc = unpack(packed)
         work = np.empty(size)
         for b in range(starts[c], stops[c]):
-            s = crba.crba_core(mc, q[b], o0[b], option, work)
+            s = crba_core(mc, q[b], o0[b], option, work)
+            if s != OK:
+                status[c] = at_sample(s, b)
+                break
+    for c in range(starts.shape[0]):
+        if status[c] != OK:
+            return status[c]
+    return OK
+
+
+@serial
+def rnea_derivatives_single(packed, q, v, a, f, o0, o1, o2, option):
+    """One sample of ``rnea_derivatives_core``; its workspace on this call's stack."""
+    m = unpack(packed)
+    size = rnea_derivatives_workspace(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return rnea_derivatives_core(m, q, v, a, f, o0, o1, o2, option, stack_buffer(size))
+    return rnea_derivatives_core(m, q, v, a, f, o0, o1, o2, option, np.empty(size))
+
+
+@native(SIGNATURE)
+def rnea_derivatives_native(pk, x0, x1, x2, f, nf, o0, o1, o2, option):
+    """``rnea_derivatives_single`` on raw pointers, for ``cgadyn._native``."""
+    packed = packed_array(pk)
+    m = unpack(packed)
+    return rnea_derivatives_single(
+        packed,
+        carray(x0, (m.nq,)),
+        carray(x1, (m.nv,)),
+        carray(x2, (m.nv,)),
+        carray(f, (nf, 6)),
+        carray(o0, (m.nv, m.nv)),
+        carray(o1, (m.nv, m.nv)),
+        carray(o2, (m.nv, m.nv)),
+        option)
+
+
+@parallel
+def rnea_derivatives_batch(packed, q, v, a, f, o0, o1, o2, option, threads):
+    """(B, ...) samples of ``rnea_derivatives_core`` in parallel chunks; a status."""
+    m = unpack(packed)
+    batch = q.shape[0]
+    if (q.shape[1] != m.nq
+            or v.shape[1] != m.nv
+            or a.shape[1] != m.nv
+            or v.shape[0] != batch
+            or a.shape[0] != batch
+            or o0.shape[0] != batch
+            or o1.shape[0] != batch
+            or o2.shape[0] != batch
+            or (f.shape[0] != 0 and f.shape[0] != batch)
+            or f.shape[1] != m.n):
+        return WRONG_SHAPE
+    size = rnea_derivatives_workspace(m.n, m.nq, m.nv, m.nl)
+    starts, stops = chunks(batch, threads)
+    status = np.zeros(starts.shape[0], dtype=np.int64)
+    for c in prange(starts.shape[0]):
+        mc = unpack(packed)
+        work = np.empty(size)
+        none = np.empty((0, 6))
+        for b in range(starts[c], stops[c]):
+            fb = f[b] if f.shape[0] > 0 else none
+            s = rnea_derivatives_core(mc, q[b], v[b], a[b], fb, o0[b], o1[b], o2[b], option, work)
+            if s != OK:
+                status[c] = at_sample(s, b)
+                break
+    for c in range(starts.shape[0]):
+        if status[c] != OK:
+            return status[c]
+    return OK
+
+
+@serial
+def aba_derivatives_single(packed, q, v, tau, f, o0, o1, o2, option):
+    """One sample of ``aba_derivatives_core``; its workspace on this call's stack."""
+    m = unpack(packed)
+    size = aba_derivatives_workspace(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return aba_derivatives_core(m, q, v, tau, f, o0, o1, o2, option, stack_buffer(size))
+    return aba_derivatives_core(m, q, v, tau, f, o0, o1, o2, option, np.empty(size))
+
+
+@native(SIGNATURE)
+def aba_derivatives_native(pk, x0, x1, x2, f, nf, o0, o1, o2, option):
+    """``aba_derivatives_single`` on raw pointers, for ``cgadyn._native``."""
+    packed = packed_array(pk)
+    m = unpack(packed)
+    return aba_derivatives_single(
+        packed,
+        carray(x0, (m.nq,)),
+        carray(x1, (m.nv,)),
+        carray(x2, (m.nv,)),
+        carray(f, (nf, 6)),
+        carray(o0, (m.nv, m.nv)),
+        carray(o1, (m.nv, m.nv)),
+        carray(o2, (m.nv, m.nv)),
+        option)
+
+
+@parallel
+def aba_derivatives_batch(packed, q, v, tau, f, o0, o1, o2, option, threads):
+    """(B, ...) samples of ``aba_derivatives_core`` in parallel chunks; a status."""
+    m = unpack(packed)
+    batch = q.shape[0]
+    if (q.shape[1] != m.nq
+            or v.shape[1] != m.nv
+            or tau.shape[1] != m.nv
+            or v.shape[0] != batch
+            or tau.shape[0] != batch
+            or o0.shape[0] != batch
+            or o1.shape[0] != batch
+            or o2.shape[0] != batch
+            or (f.shape[0] != 0 and f.shape[0] != batch)
+            or f.shape[1] != m.n):
+        return WRONG_SHAPE
+    size = aba_derivatives_workspace(m.n, m.nq, m.nv, m.nl)
+    starts, stops = chunks(batch, threads)
+    status = np.zeros(starts.shape[0], dtype=np.int64)
+    for c in prange(starts.shape[0]):
+        mc = unpack(packed)
+        work = np.empty(size)
+        none = np.empty((0, 6))
+        for b in range(starts[c], stops[c]):
+            fb = f[b] if f.shape[0] > 0 else none
+            s = aba_derivatives_core(mc, q[b], v[b], tau[b], fb, o0[b], o1[b], o2[b], option, work)
+            if s != OK:
+                status[c] = at_sample(s, b)
+                break
+    for c in range(starts.shape[0]):
+        if status[c] != OK:
+            return status[c]
+    return OK
+
+
+@serial
+def minverse_single(packed, q, o0, option):
+    """One sample of ``minverse_core``; its workspace on this call's stack."""
+    m = unpack(packed)
+    size = minverse_workspace(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return minverse_core(m, q, o0, option, stack_buffer(size))
+    return minverse_core(m, q, o0, option, np.empty(size))
+
+
+@native(SIGNATURE)
+def minverse_native(pk, x0, x1, x2, f, nf, o0, o1, o2, option):
+    """``minverse_single`` on raw pointers, for ``cgadyn._native``."""
+    packed = packed_array(pk)
+    m = unpack(packed)
+    return minverse_single(
+        packed,
+        carray(x0, (m.nq,)),
+        carray(o0, (m.nv, m.nv)),
+        option)
+
+
+@parallel
+def minverse_batch(packed, q, o0, option, threads):
+    """(B, ...) samples of ``minverse_core`` in parallel chunks; a status."""
+    m = unpack(packed)
+    batch = q.shape[0]
+    if (q.shape[1] != m.nq
+            or o0.shape[0] != batch):
+        return WRONG_SHAPE
+    size = minverse_workspace(m.n, m.nq, m.nv, m.nl)
+    starts, stops = chunks(batch, threads)
+    status = np.zeros(starts.shape[0], dtype=np.int64)
+    for c in prange(starts.shape[0]):
+        mc = unpack(packed)
+        work = np.empty(size)
+        for b in range(starts[c], stops[c]):
+            s = minverse_core(mc, q[b], o0[b], option, work)
             if s != OK:
                 status[c] = at_sample(s, b)
                 break
@@ -192,10 +390,10 @@ def crba_batch(packed, q, o0, option, threads):
 def motors_single(packed, q, o0, o1, option):
     """One sample of ``motors_core``; its workspace on this call's stack."""
     m = unpack(packed)
-    size = kinematics.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = motors_workspace(m.n, m.nq, m.nv, m.nl)
     if size <= STACK_FLOATS:
-        return kinematics.motors_core(m, q, o0, o1, option, stack_buffer(size))
-    return kinematics.motors_core(m, q, o0, o1, option, np.empty(size))
+        return motors_core(m, q, o0, o1, option, stack_buffer(size))
+    return motors_core(m, q, o0, o1, option, np.empty(size))
 
 
 @native(SIGNATURE)
@@ -220,14 +418,14 @@ def motors_batch(packed, q, o0, o1, option, threads):
             or o0.shape[0] != batch
             or o1.shape[0] != batch):
         return WRONG_SHAPE
-    size = kinematics.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = motors_workspace(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):
         mc = unpack(packed)
         work = np.empty(size)
         for b in range(starts[c], stops[c]):
-            s = kinematics.motors_core(mc, q[b], o0[b], o1[b], option, work)
+            s = motors_core(mc, q[b], o0[b], o1[b], option, work)
             if s != OK:
                 status[c] = at_sample(s, b)
                 break
@@ -241,10 +439,10 @@ def motors_batch(packed, q, o0, o1, option, threads):
 def placements_single(packed, q, o0, option):
     """One sample of ``placements_core``; its workspace on this call's stack."""
     m = unpack(packed)
-    size = kinematics.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = placements_workspace(m.n, m.nq, m.nv, m.nl)
     if size <= STACK_FLOATS:
-        return kinematics.placements_core(m, q, o0, option, stack_buffer(size))
-    return kinematics.placements_core(m, q, o0, option, np.empty(size))
+        return placements_core(m, q, o0, option, stack_buffer(size))
+    return placements_core(m, q, o0, option, np.empty(size))
 
 
 @native(SIGNATURE)
@@ -267,14 +465,14 @@ def placements_batch(packed, q, o0, option, threads):
     if (q.shape[1] != m.nq
             or o0.shape[0] != batch):
         return WRONG_SHAPE
-    size = kinematics.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = placements_workspace(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):
         mc = unpack(packed)
         work = np.empty(size)
         for b in range(starts[c], stops[c]):
-            s = kinematics.placements_core(mc, q[b], o0[b], option, work)
+            s = placements_core(mc, q[b], o0[b], option, work)
             if s != OK:
                 status[c] = at_sample(s, b)
                 break
@@ -288,10 +486,10 @@ def placements_batch(packed, q, o0, option, threads):
 def jacobian_single(packed, q, o0, option):
     """One sample of ``jacobian_core``; its workspace on this call's stack."""
     m = unpack(packed)
-    size = jacobian.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = jacobian_workspace(m.n, m.nq, m.nv, m.nl)
     if size <= STACK_FLOATS:
-        return jacobian.jacobian_core(m, q, o0, option, stack_buffer(size))
-    return jacobian.jacobian_core(m, q, o0, option, np.empty(size))
+        return jacobian_core(m, q, o0, option, stack_buffer(size))
+    return jacobian_core(m, q, o0, option, np.empty(size))
 
 
 @native(SIGNATURE)
@@ -314,14 +512,14 @@ def jacobian_batch(packed, q, o0, option, threads):
     if (q.shape[1] != m.nq
             or o0.shape[0] != batch):
         return WRONG_SHAPE
-    size = jacobian.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = jacobian_workspace(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):
         mc = unpack(packed)
         work = np.empty(size)
         for b in range(starts[c], stops[c]):
-            s = jacobian.jacobian_core(mc, q[b], o0[b], option, work)
+            s = jacobian_core(mc, q[b], o0[b], option, work)
             if s != OK:
                 status[c] = at_sample(s, b)
                 break
@@ -335,10 +533,10 @@ def jacobian_batch(packed, q, o0, option, threads):
 def energy_single(packed, q, v, o0, option):
     """One sample of ``energy_core``; its workspace on this call's stack."""
     m = unpack(packed)
-    size = energy.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = energy_workspace(m.n, m.nq, m.nv, m.nl)
     if size <= STACK_FLOATS:
-        return energy.energy_core(m, q, v, o0, option, stack_buffer(size))
-    return energy.energy_core(m, q, v, o0, option, np.empty(size))
+        return energy_core(m, q, v, o0, option, stack_buffer(size))
+    return energy_core(m, q, v, o0, option, np.empty(size))
 
 
 @native(SIGNATURE)
@@ -364,14 +562,14 @@ def energy_batch(packed, q, v, o0, option, threads):
             or v.shape[0] != batch
             or o0.shape[0] != batch):
         return WRONG_SHAPE
-    size = energy.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = energy_workspace(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):
         mc = unpack(packed)
         work = np.empty(size)
         for b in range(starts[c], stops[c]):
-            s = energy.energy_core(mc, q[b], v[b], o0[b], option, work)
+            s = energy_core(mc, q[b], v[b], o0[b], option, work)
             if s != OK:
                 status[c] = at_sample(s, b)
                 break
@@ -385,10 +583,10 @@ def energy_batch(packed, q, v, o0, option, threads):
 def com_single(packed, q, v, a, o0, option):
     """One sample of ``com_core``; its workspace on this call's stack."""
     m = unpack(packed)
-    size = centroidal.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = com_workspace(m.n, m.nq, m.nv, m.nl)
     if size <= STACK_FLOATS:
-        return centroidal.com_core(m, q, v, a, o0, option, stack_buffer(size))
-    return centroidal.com_core(m, q, v, a, o0, option, np.empty(size))
+        return com_core(m, q, v, a, o0, option, stack_buffer(size))
+    return com_core(m, q, v, a, o0, option, np.empty(size))
 
 
 @native(SIGNATURE)
@@ -417,14 +615,14 @@ def com_batch(packed, q, v, a, o0, option, threads):
             or a.shape[0] != batch
             or o0.shape[0] != batch):
         return WRONG_SHAPE
-    size = centroidal.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = com_workspace(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):
         mc = unpack(packed)
         work = np.empty(size)
         for b in range(starts[c], stops[c]):
-            s = centroidal.com_core(mc, q[b], v[b], a[b], o0[b], option, work)
+            s = com_core(mc, q[b], v[b], a[b], o0[b], option, work)
             if s != OK:
                 status[c] = at_sample(s, b)
                 break
@@ -438,10 +636,10 @@ def com_batch(packed, q, v, a, o0, option, threads):
 def centroidal_single(packed, q, o0, o1, option):
     """One sample of ``centroidal_core``; its workspace on this call's stack."""
     m = unpack(packed)
-    size = centroidal.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = centroidal_workspace(m.n, m.nq, m.nv, m.nl)
     if size <= STACK_FLOATS:
-        return centroidal.centroidal_core(m, q, o0, o1, option, stack_buffer(size))
-    return centroidal.centroidal_core(m, q, o0, o1, option, np.empty(size))
+        return centroidal_core(m, q, o0, o1, option, stack_buffer(size))
+    return centroidal_core(m, q, o0, o1, option, np.empty(size))
 
 
 @native(SIGNATURE)
@@ -466,14 +664,14 @@ def centroidal_batch(packed, q, o0, o1, option, threads):
             or o0.shape[0] != batch
             or o1.shape[0] != batch):
         return WRONG_SHAPE
-    size = centroidal.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = centroidal_workspace(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):
         mc = unpack(packed)
         work = np.empty(size)
         for b in range(starts[c], stops[c]):
-            s = centroidal.centroidal_core(mc, q[b], o0[b], o1[b], option, work)
+            s = centroidal_core(mc, q[b], o0[b], o1[b], option, work)
             if s != OK:
                 status[c] = at_sample(s, b)
                 break
@@ -487,10 +685,10 @@ def centroidal_batch(packed, q, o0, o1, option, threads):
 def integrate_single(packed, q, v, o0, option):
     """One sample of ``integrate_core``; its workspace on this call's stack."""
     m = unpack(packed)
-    size = manifold.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = integrate_workspace(m.n, m.nq, m.nv, m.nl)
     if size <= STACK_FLOATS:
-        return manifold.integrate_core(m, q, v, o0, option, stack_buffer(size))
-    return manifold.integrate_core(m, q, v, o0, option, np.empty(size))
+        return integrate_core(m, q, v, o0, option, stack_buffer(size))
+    return integrate_core(m, q, v, o0, option, np.empty(size))
 
 
 @native(SIGNATURE)
@@ -516,14 +714,14 @@ def integrate_batch(packed, q, v, o0, option, threads):
             or v.shape[0] != batch
             or o0.shape[0] != batch):
         return WRONG_SHAPE
-    size = manifold.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = integrate_workspace(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):
         mc = unpack(packed)
         work = np.empty(size)
         for b in range(starts[c], stops[c]):
-            s = manifold.integrate_core(mc, q[b], v[b], o0[b], option, work)
+            s = integrate_core(mc, q[b], v[b], o0[b], option, work)
             if s != OK:
                 status[c] = at_sample(s, b)
                 break
@@ -537,10 +735,10 @@ def integrate_batch(packed, q, v, o0, option, threads):
 def difference_single(packed, q0, q1, o0, option):
     """One sample of ``difference_core``; its workspace on this call's stack."""
     m = unpack(packed)
-    size = manifold.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = difference_workspace(m.n, m.nq, m.nv, m.nl)
     if size <= STACK_FLOATS:
-        return manifold.difference_core(m, q0, q1, o0, option, stack_buffer(size))
-    return manifold.difference_core(m, q0, q1, o0, option, np.empty(size))
+        return difference_core(m, q0, q1, o0, option, stack_buffer(size))
+    return difference_core(m, q0, q1, o0, option, np.empty(size))
 
 
 @native(SIGNATURE)
@@ -566,14 +764,14 @@ def difference_batch(packed, q0, q1, o0, option, threads):
             or q1.shape[0] != batch
             or o0.shape[0] != batch):
         return WRONG_SHAPE
-    size = manifold.workspace_size(m.n, m.nq, m.nv, m.nl)
+    size = difference_workspace(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):
         mc = unpack(packed)
         work = np.empty(size)
         for b in range(starts[c], stops[c]):
-            s = manifold.difference_core(mc, q0[b], q1[b], o0[b], option, work)
+            s = difference_core(mc, q0[b], q1[b], o0[b], option, work)
             if s != OK:
                 status[c] = at_sample(s, b)
                 break

@@ -160,6 +160,41 @@ def rigid_axis_transform(m, axis, inertia, s, out):
 
 
 @inline
+def rigid_rate(par, v, out):
+    """The ten parameters ``out`` of ``İ = V ×* I - I V×``, the rate of change of a rigid
+    inertia (ten parameters ``par``) carried by the twist ``V``: with ``V = (ω, v)``,
+
+        ṁ = 0,   ḣ = m v + ω × h,   İ = [ω]× Ī - Ī [ω]× + 2 (h·v) 1 - (v hᵀ + h vᵀ).
+
+    A rigid inertia moved by motors stays one, so its rate has ten parameters too, and
+    ``rigid_apply`` applies it: ``İ[U] = V × I[U] - I[V × U]``."""
+    mass, h0, h1, h2 = par[0], par[1], par[2], par[3]
+    a00, a11, a22, a01, a02, a12 = par[4], par[5], par[6], par[7], par[8], par[9]
+    w0, w1, w2, v0, v1, v2 = physical(v)
+    # X = [ω]× Ī, rows of [[0, -w2, w1], [w2, 0, -w0], [-w1, w0, 0]] times Ī
+    x00 = -w2 * a01 + w1 * a02
+    x01 = -w2 * a11 + w1 * a12
+    x02 = -w2 * a12 + w1 * a22
+    x10 = w2 * a00 - w0 * a02
+    x11 = w2 * a01 - w0 * a12
+    x12 = w2 * a02 - w0 * a22
+    x20 = -w1 * a00 + w0 * a01
+    x21 = -w1 * a01 + w0 * a11
+    x22 = -w1 * a02 + w0 * a12
+    hv = 2.0 * (h0 * v0 + h1 * v1 + h2 * v2)
+    out[0] = 0.0
+    out[1] = mass * v0 + w1 * h2 - w2 * h1  # ḣ = m v + ω × h
+    out[2] = mass * v1 + w2 * h0 - w0 * h2
+    out[3] = mass * v2 + w0 * h1 - w1 * h0
+    out[4] = 2.0 * x00 + hv - 2.0 * v0 * h0  # İ = X + Xᵀ + 2 (h·v) 1 - (v hᵀ + h vᵀ)
+    out[5] = 2.0 * x11 + hv - 2.0 * v1 * h1
+    out[6] = 2.0 * x22 + hv - 2.0 * v2 * h2
+    out[7] = x01 + x10 - (v0 * h1 + h0 * v1)
+    out[8] = x02 + x20 - (v0 * h2 + h0 * v2)
+    out[9] = x12 + x21 - (v1 * h2 + h1 * v2)
+
+
+@inline
 def motor_matrix(m, out):
     """The 4x4 homogeneous matrix of a normalised motor into ``out``."""
     r, p = rigid_frame(m)

@@ -185,10 +185,18 @@ class Model:
             if KIND_TYPE.get(kind) != t:
                 raise ValueError(f"joint kind {kind!r} does not match joint type {t}; "
                                  f"expected one of {JOINT_KINDS}")
+        open_path = []  # the joints on the path from the root to the last one seen
         for j, p in enumerate(self.parents):
             if not -1 <= p < j:
                 raise ValueError(f"parents[{j}] = {p}: a parent must come before its child "
                                  f"(-1 <= parents[j] < j)")
+            while open_path and open_path[-1] != p:
+                open_path.pop()
+            if p >= 0 and not open_path:
+                raise ValueError(f"parents[{j}] = {p}: joints must be in depth-first order "
+                                 f"(every subtree contiguous, as Pinocchio orders them), but "
+                                 f"joint {p}'s subtree was already closed")
+            open_path.append(j)
         self._check_axes()
         if np.any((self.link_joint < -1) | (self.link_joint >= n)):
             raise ValueError("link_joint entries must lie in [-1, n)")
@@ -242,6 +250,19 @@ class Model:
         for j in range(self.njoints):
             p = int(self.parents[j])
             out[self.idx_v[j]] = -1 if p < 0 else self.idx_v[p + 1] - 1
+        out.flags.writeable = False
+        return out
+
+    @cached_property
+    def subtree_end(self) -> np.ndarray:
+        """int64 (n,): one past the last velocity coordinate of joint j's subtree, whose
+        coordinates are ``idx_v[j]:subtree_end[j]`` (joints in depth-first order)."""
+        last = np.arange(self.njoints)
+        for j in range(self.njoints - 1, -1, -1):
+            p = int(self.parents[j])
+            if p >= 0:
+                last[p] = max(last[p], last[j])
+        out = self.idx_v[last + 1].astype(np.int64)
         out.flags.writeable = False
         return out
 

@@ -1,0 +1,97 @@
+"""Analytic derivatives of forward dynamics: ∂q̈/∂q, ∂q̈/∂v and ∂q̈/∂τ = M(q)⁻¹.
+
+Forward dynamics inverts inverse dynamics: ``τ = ID(q, v, q̈(q, v, τ))`` for all q, v, τ, so
+differentiating at ``q̈ = aba(q, v, τ)`` gives (``docs/derivatives.md``, D12)
+
+    ∂q̈/∂q = -M⁻¹ ∂τ/∂q,   ∂q̈/∂v = -M⁻¹ ∂τ/∂v,   ∂q̈/∂τ = M⁻¹
+
+with ∂τ/∂q and ∂τ/∂v of ``rnea_derivatives`` at that q̈ and M⁻¹ of ``minverse``. ∂τ/∂q is
+sparse: its entry (k, l) is zero unless k and l lie on one branch, so the products run over
+the coordinates related to each column only.
+"""
+
+from __future__ import annotations
+
+from .._jit import core, inline
+from . import _workspace as ws
+from ._checks import check_configuration, check_result
+from .aba import aba_core
+from .aba import workspace_size as aba_workspace
+from .minverse import _workspace as minverse_workspace
+from .minverse import minverse_pass, mirror_upper
+from .minverse import workspace_size as minverse_size
+from .rnea_derivatives import _workspace as rnea_derivatives_workspace
+from .rnea_derivatives import rnea_derivatives_backward, rnea_derivatives_forward
+from .rnea_derivatives import workspace_size as rnea_derivatives_size
+from .status import OK
+
+
+@inline
+def times_minus_minv(m, Minv, D, T, out):
+    """``out = -M⁻¹ D`` for a ∂τ matrix D. Row l of ``T = outᵀ = -Dᵀ M⁻¹`` (M⁻¹ symmetric)
+    sums the rows of M⁻¹ over the coordinates k related to l only (D[k, l] is zero unless k
+    and l lie on one branch: those of l's joint's subtree and of the joints above it), each
+    a contiguous row; ``T`` (nv, nv) scratch."""
+    nv = m.nv
+    for l in range(nv):
+        for i in range(nv):
+            T[l, i] = 0.0
+        j = m.dof_joint[l]
+        for k in range(m.iv[j], m.subtree_end[j]):  # l's joint and below
+            x = D[k, l]
+            for i in range(nv):
+                T[l, i] -= x * Minv[k, i]
+        k = m.dof_parent[m.iv[j]]
+        while k >= 0:  # the joints above
+            x = D[k, l]
+            for i in range(nv):
+                T[l, i] -= x * Minv[k, i]
+            k = m.dof_parent[k]
+    for i in range(nv):
+        for l in range(nv):
+            out[i, l] = T[l, i]
+
+
+@core
+def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
+    """``dq = ∂q̈/∂q``, ``dv = ∂q̈/∂v``, ``dtau = ∂q̈/∂τ = M⁻¹`` (nv, nv) of one sample."""
+    status = check_configuration(m, q)
+    if status != OK:
+        return status
+    qdd, o = ws.carve(ws.data_pointer(work), 0, (m.nv,))
+    D, o = ws.carve(ws.data_pointer(work), o, (3, m.nv, m.nv))
+    rest, _ = ws.carve(ws.data_pointer(work), o, (work.shape[0] - o,))
+    status = aba_core(m, q, v, tau, f, qdd, option, rest)  # q̈
+    if status != OK:
+        return status
+    status = minverse_pass(m, q, dtau, minverse_workspace(ws.data_pointer(rest), m))
+    if status != OK:
+        return status
+    mirror_upper(dtau)  # M⁻¹
+    k_ = rnea_derivatives_workspace(ws.data_pointer(rest), m)
+    rnea_derivatives_forward(m, q, v, qdd, f, k_)
+    rnea_derivatives_backward(m, k_, D[0], D[1], D[2])  # ∂τ/∂q, ∂τ/∂v at q̈
+    times_minus_minv(m, dtau, D[0], D[2], dq)  # -M⁻¹ ∂τ/∂q (D12)
+    times_minus_minv(m, dtau, D[1], D[2], dv)  # -M⁻¹ ∂τ/∂v
+    status = check_result(dq)
+    if status == OK:
+        status = check_result(dv)
+    return status
+
+
+@inline
+def workspace_size(n, nq, nv, nl):
+    return nv + 3 * nv * nv + max(aba_workspace(n, nq, nv, nl), minverse_size(n, nq, nv, nl),
+                                  rnea_derivatives_size(n, nq, nv, nl))
+
+
+@inline
+def _workspace(buf, m):
+    """q̈ (nv), ∂τ/∂q, ∂τ/∂v, M (3, nv, nv) (M's place then serves the products), then the
+    space the three passes share."""
+    qdd, o = ws.carve(buf, 0, (m.nv,))
+    D, o = ws.carve(buf, o, (3, m.nv, m.nv))
+    size = max(aba_workspace(m.n, m.nq, m.nv, m.nl), minverse_size(m.n, m.nq, m.nv, m.nl),
+               rnea_derivatives_size(m.n, m.nq, m.nv, m.nl))
+    rest, o = ws.carve(buf, o, (size,))
+    return qdd, D, rest
