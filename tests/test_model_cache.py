@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import pytest
 
 from cgadyn.multibody import load_urdf, robot_path
 from cgadyn.multibody.model import Model
@@ -41,3 +42,48 @@ def test_corrupt_entry_is_rebuilt(tmp_path, monkeypatch):
     (entry,) = (tmp_path / "models").glob("*.npz")
     entry.write_bytes(b"garbage")
     assert load_urdf(path).nv == 2
+
+
+def _damage(entry, how: str) -> None:
+    data = entry.read_bytes()
+    if how == "emptied":
+        entry.write_bytes(b"")
+    elif how == "halved":
+        entry.write_bytes(data[: len(data) // 2])
+    else:  # bytes flipped in the middle
+        middle = len(data) // 2
+        entry.write_bytes(data[:middle] + bytes(b ^ 0xFF for b in data[middle:middle + 64])
+                          + data[middle + 64:])
+
+
+@pytest.mark.parametrize("how", ["emptied", "halved", "flipped"])
+def test_damaged_entries_heal(tmp_path, monkeypatch, how):
+    """An entry emptied, truncated or corrupted is rebuilt and rewritten, for good."""
+    monkeypatch.setenv("CGADYN_CACHE_DIR", str(tmp_path))
+    path = robot_path("gripper")
+    fresh = load_urdf(path)
+    (entry,) = (tmp_path / "models").glob("*.npz")
+    _damage(entry, how)
+    for _ in range(2):  # the first load rebuilds; the second reads the rewritten entry
+        again = load_urdf(path)
+        np.testing.assert_array_equal(again.inertias, fresh.inertias)
+        assert again.joint_names == fresh.joint_names
+    with np.load(entry, allow_pickle=False) as data:  # readable again
+        assert "inertias" in data.files
+
+
+def test_the_key_covers_the_package_sources():
+    """A model built by other code (generated kernels included) is never read back."""
+    from cgadyn import _sources
+    from cgadyn.multibody import cache
+
+    before = cache._key(b"<robot/>", None)
+    real = _sources.fingerprint
+    try:
+        _sources.fingerprint.cache_clear()
+        cache.fingerprint = lambda: "other code"
+        assert cache._key(b"<robot/>", None) != before
+    finally:
+        cache.fingerprint = real
+    sources = {p.name for p in _sources.PACKAGE.rglob("*.py")}
+    assert {"_generated.py", "_entries.py", "joints.py", "urdf.py"} <= sources

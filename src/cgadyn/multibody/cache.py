@@ -1,9 +1,12 @@
 """An on-disk cache of loaded models, so a second process need not parse the URDF again.
 
 Parsing a URDF imports yourdfpy (and trimesh), which costs most of a second; a model is a
-few kilobytes of arrays. ``cached(xml, name, build)`` returns the model stored under a
-hash of the URDF text, the name and the loader's own source, or builds and stores it.
-Files are ``.npz`` archives read with ``allow_pickle=False``. The directory is
+few kilobytes of arrays. ``cached(xml, key, build)`` returns the model stored under a
+hash of the URDF text, the loader's options (``key``) and the fingerprint of the package's
+code (its version and every source file, generated kernels included: ``cgadyn._sources``),
+or builds and stores it. Files are ``.npz`` archives read with ``allow_pickle=False``; an
+entry that cannot be read whole (emptied, truncated, corrupted, of another format) is
+rebuilt and rewritten, atomically, so the cache heals itself. The directory is
 ``$CGADYN_CACHE_DIR``, else ``$XDG_CACHE_HOME/cgadyn``, else ``~/.cache/cgadyn``; when it
 cannot be written the model is simply built every time.
 """
@@ -16,11 +19,11 @@ import json
 import os
 import tempfile
 from collections.abc import Callable
-from functools import cache
 from pathlib import Path
 
 import numpy as np
 
+from cgadyn._sources import fingerprint
 from cgadyn.multibody.model import Model
 
 FORMAT = 1
@@ -34,19 +37,8 @@ def cache_dir() -> Path:
     return Path(base) / "cgadyn"
 
 
-@cache
-def _code_hash() -> str:
-    """Hash of the loader's source: a changed loader never reads an old model."""
-    here = Path(__file__).parent
-    h = hashlib.sha256(str(FORMAT).encode())
-    for name in ("model.py", "urdf.py", "cache.py"):
-        h.update((here / name).read_bytes())
-    h.update((here.parent / "cga" / "conventions.py").read_bytes())
-    return h.hexdigest()
-
-
-def _key(xml: bytes, name: str | None) -> str:
-    h = hashlib.sha256(_code_hash().encode())
+def _key(xml: bytes, name) -> str:
+    h = hashlib.sha256(f"{FORMAT} {fingerprint()}".encode())
     h.update(repr(name).encode())
     h.update(xml)
     return h.hexdigest()[:32]
@@ -86,8 +78,8 @@ def cached(xml: bytes, name: str | None, build: Callable[[], Model]) -> Model:
     try:
         if path.is_file():
             return _read(path)
-    except (OSError, ValueError, KeyError, TypeError):
-        pass  # unreadable or stale entry: rebuild it
+    except Exception:  # noqa: BLE001 - any unreadable entry (EOFError, BadZipFile, ...)
+        pass  # is rebuilt and rewritten below
     model = build()
     try:
         _save(model, path)
