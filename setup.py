@@ -1,13 +1,33 @@
-"""Build steps that pyproject.toml cannot declare: the C extension ``cgadyn._native``.
+"""Build steps that pyproject.toml cannot declare (metadata lives there).
 
-Metadata lives in pyproject.toml. ``cgadyn._native`` (src/cgadyn/_native.c) calls the compiled
-algorithms with the data of numpy arrays, the fast path of a one-sample call; it is optional:
-where it cannot be built, cgadyn calls the same compiled code through numba's dispatcher.
+- The C extension ``cgadyn._native`` (src/cgadyn/_native.c) calls the compiled algorithms
+  with the data of numpy arrays, the fast path of a one-sample call. It is optional: where it
+  cannot be built, cgadyn calls the same compiled code through numba's dispatcher.
+- The project's own URDFs live in the top-level ``robots/``; a wheel ships them as
+  ``cgadyn/robots/`` (an editable install reads them from the checkout).
 """
+
+from pathlib import Path
 
 import numpy
 from setuptools import Extension, setup
+from setuptools.command.build_py import build_py
 
-setup(ext_modules=[Extension(
-    "cgadyn._native", ["src/cgadyn/_native.c"], include_dirs=[numpy.get_include()],
-    extra_compile_args=["-O2"], optional=True)])
+
+class BuildWithRobots(build_py):
+    """``build_py`` that also copies ``robots/*.urdf`` into the built package."""
+
+    def run(self):
+        super().run()
+        target = Path(self.build_lib) / "cgadyn" / "robots"
+        target.mkdir(parents=True, exist_ok=True)
+        for urdf in sorted(Path(__file__).parent.joinpath("robots").glob("*.urdf")):
+            self.copy_file(str(urdf), str(target / urdf.name))
+
+
+setup(
+    cmdclass={"build_py": BuildWithRobots},
+    ext_modules=[Extension("cgadyn._native", ["src/cgadyn/_native.c"],
+                           include_dirs=[numpy.get_include()], extra_compile_args=["-O2"],
+                           optional=True)],
+)

@@ -16,7 +16,16 @@ from pathlib import Path
 from cgadyn.multibody.model import Model
 from cgadyn.multibody.urdf import load_urdf
 
-OWN_ROBOTS_DIR = Path(__file__).resolve().parent.parent / "robots"
+
+def _own_robots_dir() -> Path:
+    """The project's own URDFs: ``robots/`` at the top of a source checkout (an editable
+    install), or ``cgadyn/robots/`` inside an installed wheel (``setup.py`` copies them)."""
+    package = Path(__file__).resolve().parent.parent
+    checkout = package.parent.parent / "robots"
+    return checkout if (checkout / "cart_pole.urdf").is_file() else package / "robots"
+
+
+OWN_ROBOTS_DIR = _own_robots_dir()
 
 _ERD_SUBDIR = Path("cmeel.prefix") / "share" / "example-robot-data" / "robots"
 
