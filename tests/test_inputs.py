@@ -105,3 +105,33 @@ def test_two_threads_share_a_model():
         t.join()
     for k in range(2):
         np.testing.assert_array_equal(results[k], expected)
+
+
+@pytest.mark.parametrize("bad, message", [
+    (None, "q is None; expected an array of shape"),
+    (1.5, r"shape \(9,\) or \(B, 9\).*got \(\)"),
+    (np.zeros(9, dtype=complex), "complex values; expected real numbers"),
+    (["a"] * 9, "real numbers"),
+])
+def test_states_that_are_not_real_arrays_are_refused(bad, message):
+    for call in (lambda: cgadyn.rnea(PANDA, bad, Z9, Z9), lambda: cgadyn.crba(PANDA, bad),
+                 lambda: cgadyn.aba(PANDA, bad, Z9, Z9)):
+        with pytest.raises(ValueError, match=message):
+            call()
+
+
+def test_jacobian_link_must_be_a_name_or_an_integer():
+    with pytest.raises(ValueError, match="link must be a link name or an integer index"):
+        cgadyn.jacobian(PANDA, Z9, 2.7)
+    with pytest.raises(ValueError, match="out of range"):
+        cgadyn.jacobian(PANDA, Z9, 99)
+    np.testing.assert_array_equal(cgadyn.jacobian(PANDA, Z9, np.int64(3)),
+                                  cgadyn.jacobian(PANDA, Z9, PANDA.link_names[3]))
+
+
+def test_f_ext_shape_message_names_both_forms():
+    with pytest.raises(ValueError, match=r"f_ext must have shape \(9, 6\) or \(2, 9, 6\)"):
+        cgadyn.rnea(PANDA, np.zeros((2, 9)), np.zeros((2, 9)), np.zeros((2, 9)),
+                    f_ext=np.zeros((3, 6)))
+    with pytest.raises(ValueError, match=r"f_ext must have shape \(9, 6\) \(one"):
+        cgadyn.rnea(PANDA, Z9, Z9, Z9, f_ext=np.zeros((3, 6)))

@@ -438,3 +438,32 @@ def test_random_trees_match_pinocchio(text):
     for j in range(m.nq):
         assert close(m.placement_matrices[j], pm.jointPlacements[j + 1].homogeneous)
         assert close(inertia_to_pinocchio(m.inertias[j]), pm.inertias[j + 1].matrix())
+
+
+@pytest.mark.parametrize("element, expected", [
+    ('<joint name="j1" type="revolute"><parent link="a"/><child link="b"/>'
+     '<origin xyz="0 nan 0"/><axis xyz="0 0 1"/>'
+     '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint>',
+     r"joint 'j1': <origin xyz='0 nan 0'> is not 3 finite numbers"),
+    ('<joint name="j1" type="revolute"><parent link="a"/><child link="b"/>'
+     '<axis xyz="1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>',
+     r"joint 'j1': <axis xyz='1 0'> is not 3 finite numbers, not all zero"),
+    ('<joint name="j1" type="revolute"><parent link="a"/><child link="b"/>'
+     '<axis xyz="a b c"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>',
+     r"joint 'j1': <axis xyz='a b c'>"),
+    ('<joint name="j1" type="revolute"><parent link="a"/><child link="b"/>'
+     '<axis xyz="0 0 1"/><limit lower="x" upper="1" effort="1" velocity="1"/></joint>',
+     r"joint 'j1': <limit lower='x'> is not a finite number"),
+    ('<joint name="j1" type="revolute"><parent link="a"/><child link="c"/>'
+     '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+     '<link name="c"><inertial><origin rpy="0 inf 0"/><mass value="1"/></inertial></link>',
+     r"link 'c': <inertial/origin rpy='0 inf 0'> is not 3 finite numbers"),
+    ('<joint name="j1" type="revolute"><parent link="a"/><child link="c"/>'
+     '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+     '<link name="c"><inertial><mass value="-2"/></inertial></link>',
+     r"link 'c': <inertial/mass value='-2'> is not a finite number >= 0"),
+])
+def test_bad_numbers_name_their_element(element, expected):
+    links = '<link name="a"/>' + ('' if 'link name="c"' in element else '<link name="b"/>')
+    with pytest.raises(ValueError, match=expected):
+        load_urdf(f'<robot name="r">{links}{element}</robot>')

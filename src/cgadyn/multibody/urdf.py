@@ -61,12 +61,58 @@ def _parse(xml: bytes, where: str):
             s = el.find(sub)
             if s is None or not s.get("link"):
                 raise ValueError(f"{where}: joint {el.get('name')!r} has no <{sub} link=...>")
+    _check_numbers(root, where)
     import yourdfpy
 
     try:
         return yourdfpy.URDF._parse_robot(xml_element=root)
     except (ValueError, TypeError, AttributeError, KeyError) as exc:
         raise ValueError(f"invalid URDF in {where}: {exc}") from None
+
+
+_NUMBERS = (  # (element path, attribute, count, what is expected)
+    ("origin", "xyz", 3, "3 finite numbers (metres)"),
+    ("origin", "rpy", 3, "3 finite numbers (radians)"),
+    ("axis", "xyz", 3, "3 finite numbers, not all zero"),
+    ("limit", "lower", 1, "a finite number"),
+    ("limit", "upper", 1, "a finite number"),
+    ("limit", "effort", 1, "a number"),
+    ("limit", "velocity", 1, "a number"),
+    ("inertial/origin", "xyz", 3, "3 finite numbers (metres)"),
+    ("inertial/origin", "rpy", 3, "3 finite numbers (radians)"),
+    ("inertial/mass", "value", 1, "a finite number >= 0"),
+    *(("inertial/inertia", a, 1, "a finite number")
+      for a in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")),
+)
+
+
+def _check_numbers(root, where: str) -> None:
+    """Every number of the joints and links that the model reads parses and is finite
+    (``effort`` and ``velocity`` may be infinite): a ``ValueError`` names the element, the
+    attribute, what it holds and what was expected."""
+    for tag in ("joint", "link"):
+        for el in root.findall(tag):
+            for path, attr, count, expected in _NUMBERS:
+                sub = el.find(path)
+                if sub is None or sub.get(attr) is None:
+                    continue
+                if (tag == "joint") == path.startswith("inertial"):
+                    continue
+                text = sub.get(attr)
+                try:
+                    values = [float(x) for x in text.split()]
+                except ValueError:
+                    values = []
+                ok = len(values) == count and (
+                    attr in ("effort", "velocity") and not any(v != v for v in values)
+                    or all(abs(v) < float("inf") for v in values))
+                if ok and attr == "xyz" and path == "axis":
+                    ok = any(v != 0.0 for v in values)
+                if ok and path == "inertial/mass":
+                    ok = values[0] >= 0.0
+                if not ok:
+                    raise ValueError(f"{where}: {tag} {el.get('name')!r}: <{path} {attr}="
+                                     f"{text!r}> is not {expected}")
 
 
 def _inertial(link):
