@@ -101,7 +101,7 @@ def test_axis_angle_and_joint_axes_match_pinocchio():
         assert np.allclose(C.matrix_from_motor(C.motor_from_axis_angle(axis, angle, t)),
                            pin.SE3(R, t).homogeneous)
         m = np.empty(8)
-        K.joint_motor(C.twist_from_axis("revolute", axis), False, angle, m)
+        K.twist_exp(angle * C.twist_from_axis("revolute", axis), m)  # exp(q B / 2)
         assert np.allclose(C.matrix_from_motor(m)[:3, :3], R)
 
 

@@ -9,7 +9,8 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from cgadyn.kernels.halfangle import LIBM_BEYOND, PIO2_1, PIO2_2, PIO2_3, joint_scalars
+from cgadyn.kernels.halfangle import LIBM_BEYOND, PIO2_1, PIO2_2, PIO2_3
+from cgadyn.multibody.joints import joint_scalars
 
 PI_50 = Fraction("3.14159265358979323846264338327950288419716939937510")
 
@@ -17,11 +18,10 @@ ULPS = 2.5
 """Ours are within 1.7 ulp of the exact values, libm's within 0.5."""
 
 
-def scalars(q, types=None):
+def scalars(q):
     q = np.asarray(q, dtype=np.float64)
-    types = np.zeros(len(q), dtype=np.int64) if types is None else np.asarray(types)
     c, s = np.empty(len(q)), np.empty(len(q))
-    joint_scalars(types, q, c, s)
+    joint_scalars(q, c, s)  # cos and sin of every half coordinate
     return c, s
 
 
@@ -66,14 +66,6 @@ def test_far_angles_take_libm_exactly():
     c, s = scalars(q)
     np.testing.assert_array_equal(c[1:], np.cos(0.5 * q[1:]))
     np.testing.assert_array_equal(s[1:], np.sin(0.5 * q[1:]))
-
-
-def test_prismatic_joints_get_one_and_half_the_displacement():
-    q = np.array([0.7, -0.2, 3e6, 1.1])
-    c, s = scalars(q, types=[1, 0, 1, 1])
-    np.testing.assert_array_equal(c[[0, 2, 3]], 1.0)
-    np.testing.assert_array_equal(s[[0, 2, 3]], 0.5 * q[[0, 2, 3]])
-    assert_close_to_libm(q[[1]], c[[1]], s[[1]])
 
 
 def test_scalars_are_on_the_unit_circle():

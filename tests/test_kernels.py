@@ -105,7 +105,10 @@ def test_batch_kernels_equal_the_single_ones(seed):
         args = [np.stack([r[name][0][i] for r in rows]) for i in range(len(rows[0][name][0]))]
         refs = np.stack([r[name][1] for r in rows])
         out = np.empty_like(refs)
-        assert getattr(KB, name + "_batch")(*args, out) is out
+        batch = getattr(KB, name + "_batch", None)
+        if batch is None:  # only the kernels numpy-level code calls have a batch form
+            continue
+        assert batch(*args, out) is out
         assert np.allclose(out, refs, atol=1e-10), name
 
 
@@ -123,7 +126,9 @@ def test_translator_rotor_and_translation():
     rng = np.random.default_rng(4)
     p, r = rng.normal(size=(B, 3)), rng.normal(size=(B, 4))
     r /= np.linalg.norm(r, axis=1, keepdims=True)
-    out = KB.translator_rotor_batch(p, r, np.empty((B, 8)))
+    out = np.empty((B, 8))
+    for b in range(B):
+        K.translator_rotor(*p[b], *r[b], out[b])
     T = motor_mv(np.concatenate([np.ones((B, 1)), np.zeros((B, 3)), -0.5 * p, np.zeros((B, 1))],
                                 axis=1))
     R = motor_mv(np.concatenate([r, np.zeros((B, 4))], axis=1))
@@ -187,15 +192,6 @@ def test_pure_translation_log_and_exp():
     assert np.allclose(KB.motor_log_batch(m[None], np.empty((1, 6)))[0], v)
 
 
-def test_joint_motor_batch_is_exp_of_q_axis():
-    rng = np.random.default_rng(6)
-    q = rng.normal(size=B)
-    for kind, prismatic in (("revolute", False), ("prismatic", True)):
-        axis = C.twist_from_axis(kind, rng.normal(size=3))
-        out = KB.joint_motor_batch(axis, prismatic, q, np.empty((B, 8)))
-        assert np.allclose(out, exp_ref(q[:, None] * axis), atol=1e-10)
-
-
 @settings(max_examples=25, deadline=None)
 @given(seed=seeds)
 def test_equivariance_eq17(seed):
@@ -212,24 +208,24 @@ def test_equivariance_eq17(seed):
     assert np.allclose(lhs, rhs, atol=1e-9)
 
 
-def test_adjoint_kernels_equal_the_sandwiches_single_and_batched():
+def test_adjoint_kernels_equal_the_sandwiches():
     rng = np.random.default_rng(7)
-    m = np.stack([rigid_motor(rng) for _ in range(B)])
-    I = np.stack([spd_inertia(rng) for _ in range(B)])
-    v, w = rng.normal(size=(B, 6)), rng.normal(size=(B, 6))
-    X = KB.wrench_adjoint_batch(m, np.empty((B, 6, 6)))
-    pairs = [
-        (KB.adjoint_apply_batch(X, w, np.empty((B, 6))),
-         KB.wrench_sandwich_batch(m, w, np.empty((B, 6)))),
-        (KB.adjoint_apply_transpose_batch(X, v, np.empty((B, 6))),
-         KB.twist_sandwich_rev_batch(m, v, np.empty((B, 6)))),
-        (KB.inertia_congruence_batch(X, I, np.empty((B, 6, 6))),
-         KB.inertia_transform_batch(m, I, np.empty((B, 6, 6)))),
-        (KB.inertia_congruence_add_batch(X, I, I[::-1].copy()),
-         I[::-1] + KB.inertia_transform_batch(m, I, np.empty((B, 6, 6)))),
-    ]
-    for got, want in pairs:
+    for _ in range(B):
+        m, I = rigid_motor(rng), spd_inertia(rng)
+        v, w = rng.normal(size=6), rng.normal(size=6)
+        X = np.empty((6, 6))
+        K.wrench_adjoint(m, X)
+        got, want = np.empty(6), np.empty(6)
+        K.adjoint_apply(X, w, got)
+        K.wrench_sandwich(m, w, want)
         assert np.allclose(got, want, atol=1e-10)
-    out = np.empty(6)
-    K.adjoint_apply(X[0], w[0], out)
-    assert np.allclose(out, pairs[0][1][0])
+        K.adjoint_apply_transpose(X, v, got)
+        K.twist_sandwich_rev(m, v, want)
+        assert np.allclose(got, want, atol=1e-10)
+        gotI, wantI = np.empty((6, 6)), np.empty((6, 6))
+        K.inertia_congruence(X, I, gotI)
+        K.inertia_transform(m, I, wantI)
+        assert np.allclose(gotI, wantI, atol=1e-10)
+        acc = I.copy()
+        K.inertia_congruence_add(X, I, acc)
+        assert np.allclose(acc, I + wantI, atol=1e-10)

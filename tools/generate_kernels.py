@@ -6,13 +6,19 @@ and printing one explicit formula per output coefficient. Sandwiches are printed
 stages (``T = M X``, then ``<T M~>``), which is how a person would compute them by hand and
 costs far fewer operations than the fully expanded quadratic form.
 
+Each kernel is described once, as data (``Kernel``: its arguments and a list of statements:
+loads, intermediate values, stores, returned values), derived once per run, and both forms
+are printed from that description: the single form, and for the kernels that ``batch`` marks
+the ``(B, k)`` form over samples. The script imports only the reference algebra and the
+null basis, never the kernels it writes, so it runs even when a generated file is broken.
+
 Usage::
 
     python tools/generate_kernels.py            # rewrite the file
     python tools/generate_kernels.py --check    # exit 1 if the committed file is stale
 
-``generate_batch()`` writes the same formulas as ``(B, k)`` loops over samples with
-``prange`` into ``_generated_batch.py``; ``--check`` covers both files.
+``_generated_batch.py`` holds the same formulas as ``(B, k)`` loops over samples with
+``prange``; ``--check`` covers both files.
 
 Never edit the generated files by hand: change this script and run it.
 """
@@ -87,12 +93,25 @@ def count_ops(exprs: list[sp.Expr]) -> tuple[int, int]:
     return mul, add
 
 
-def load(name: str, sym: list[sp.Symbol]) -> str:
-    return f"    {', '.join(map(str, sym))} = " + ", ".join(f"{name}[{i}]" for i in range(len(sym)))
+# Statements of a kernel's body, printed in either form by ``Kernel.lines``:
+#   ("load", names, array, indices)    names = array[index], ... (an index is a tuple)
+#   ("let", name, expr)                name = expr
+#   ("store", array, index, expr)      array[index] = expr
+#   ("add", array, index, name)        array[index] += name
+#   ("copy", array, index, source)     array[index] = array[source]
+#   ("comment", text)
 
 
-def assign_lines(target: str, exprs: list[sp.Expr]) -> list[str]:
-    return [f"    {target}[{i}] = {sp.sstr(as_float(e))}" for i, e in enumerate(exprs)]
+def load(name: str, sym: list[sp.Symbol]) -> tuple:
+    return ("load", [str(x) for x in sym], name, [(i,) for i in range(len(sym))])
+
+
+def assign_lines(target: str, exprs: list[sp.Expr]) -> list[tuple]:
+    return [("store", target, (i,), as_float(e)) for i, e in enumerate(exprs)]
+
+
+def text(e) -> str:
+    return e if isinstance(e, str) else sp.sstr(e)
 
 
 # --- kernels ------------------------------------------------------------------------------
@@ -103,22 +122,78 @@ v6, w6, u6 = symbols("v", 6), symbols("w", 6), symbols("u", 6)
 
 
 class Kernel:
-    def __init__(self, name, args, doc, body, exprs, returns=None, out_shape=None):
+    """A kernel described once: ``args`` (arrays, and scalars such as ``p1``, which the batch
+    form groups by letter into one array), ``body`` (statements), the ``exprs`` counted for
+    its docstring, and ``returns`` (expressions returned by the single form, written to
+    ``out`` by the batch form); ``batch`` when a ``(B, k)`` form is wanted."""
+
+    def __init__(self, name, args, doc, body, exprs, returns=None, batch=False):
         self.name, self.args, self.doc, self.body = name, args, doc, body
-        self.exprs, self.returns, self.out_shape = exprs, returns, out_shape
+        self.exprs, self.returns, self.batch = exprs, returns, batch
+
+    @property
+    def scalars(self) -> list[str]:
+        return [a for a in self.args if re.fullmatch(r"[a-z]\d", a)]
+
+    def lines(self, batched: bool) -> list[str]:
+        """The body in one form: single (``a[i]``) or batched (``a[n, i]``, indented)."""
+        pad = "        " if batched else "    "
+
+        def at(array, index):
+            index = ("n", *index) if batched else index
+            return f"{array}[{', '.join(map(str, index))}]"
+
+        out = []
+        if batched:
+            groups: dict[str, list[str]] = {}
+            for name in self.scalars:
+                groups.setdefault(name[0], []).append(name)
+            out += [f"{pad}{', '.join(g)} = " + ", ".join(at(k, (i,)) for i in range(len(g)))
+                    for k, g in groups.items()]
+        for st in self.body:
+            kind = st[0]
+            if kind == "load":
+                _, names, array, indices = st
+                out.append(f"{pad}{', '.join(names)} = " + ", ".join(at(array, i)
+                                                                     for i in indices))
+            elif kind == "let":
+                out.append(f"{pad}{st[1]} = {text(st[2])}")
+            elif kind == "store":
+                out.append(f"{pad}{at(st[1], st[2])} = {text(st[3])}")
+            elif kind == "copy":
+                out.append(f"{pad}{at(st[1], st[2])} = {at(st[1], st[3])}")
+            elif kind == "add":
+                out.append(f"{pad}{at(st[1], st[2])} += {st[3]}")
+            else:
+                out.append(f"{pad}# {st[1]}")
+        if self.returns is not None:
+            if not batched:
+                out.append(f"    return {', '.join(text(e) for e in self.returns)}")
+            elif len(self.returns) == 1:
+                out.append(f"{pad}out[n] = {text(self.returns[0])}")
+            else:
+                out += [f"{pad}out[n, {i}] = {text(e)}" for i, e in enumerate(self.returns)]
+        return out
 
     def source(self) -> str:
         mul, add = count_ops(self.exprs)
-        signature = f"def {self.name}({', '.join(self.args)}):"
-        lines = ["", "", "@inline", signature]
-        lines.append(f'    """{self.doc}')
-        lines.append("")
-        lines.append(f"    {mul} multiplications, {add} additions.")
-        lines.append('    """')
-        lines += self.body
-        if self.returns:
-            lines.append(f"    return {self.returns}")
-        return "\n".join(lines)
+        lines = ["", "", "@inline", f"def {self.name}({', '.join(self.args)}):",
+                 f'    """{self.doc}', "", f"    {mul} multiplications, {add} additions.",
+                 '    """']
+        return "\n".join(lines + self.lines(batched=False))
+
+    def batch_source(self) -> str:
+        """The ``(B, k)`` form: the body in a ``prange`` loop over rows ``n``."""
+        arrays = [a for a in self.args if a not in self.scalars]
+        groups = list(dict.fromkeys(a[0] for a in self.scalars))
+        args = [a for a in arrays if a != "out"] + groups + ["out"]
+        mul, add = count_ops(self.exprs)
+        lines = ["", "", "@parallel", f"def {self.name}_batch({', '.join(args)}):",
+                 f'    """Batch form of ``{self.name}``, one row per sample.', "",
+                 "    " + self.doc.split("\n\n")[0], "",
+                 f"    {mul} multiplications, {add} additions per sample.", '    """',
+                 f"    for n in prange({args[0]}.shape[0]):"]
+        return "\n".join(lines + self.lines(batched=True) + ["    return out"])
 
 
 def motor_mul() -> Kernel:
@@ -127,6 +202,7 @@ def motor_mul() -> Kernel:
     return Kernel(
         "motor_mul", ["a", "b", "out"],
         "Geometric product of two motors, ``out = a b`` (composition, eq. 5).", body, out,
+        batch=True,
     )
 
 
@@ -147,7 +223,7 @@ def motor_mul_translator() -> Kernel:
     """a b for a translator b = 1 + b4 e1∞ + b5 e2∞ + b6 e3∞."""
     b = [1, 0, 0, 0] + b8[4:7] + [0]
     out = coeffs(mv(a8, MOTOR_BLADES) * mv(b, MOTOR_BLADES), MOTOR_BLADES)
-    body = [load("a", a8), f"    {', '.join(map(str, b8[4:7]))} = b[4], b[5], b[6]"]
+    body = [load("a", a8), ("load", [str(x) for x in b8[4:7]], "b", [(4,), (5,), (6,)])]
     return Kernel(
         "motor_mul_translator", ["a", "b", "out"],
         "``out = a b`` for a translator ``b = 1 + b4 e1∞ + b5 e2∞ + b6 e3∞`` (only b4..b6\n"
@@ -159,10 +235,12 @@ def motor_mul_translator() -> Kernel:
 def motor_reverse() -> Kernel:
     out = coeffs(~mv(a8, MOTOR_BLADES), MOTOR_BLADES)
     body = [load("a", a8)] + assign_lines("out", out)
-    return Kernel("motor_reverse", ["a", "out"], "Reverse of a motor, ``out = ~a``.", body, out)
+    return Kernel("motor_reverse", ["a", "out"], "Reverse of a motor, ``out = ~a``.", body, out,
+                  batch=True)
 
 
-def sandwich(name: str, doc: str, blades_in, blades_out, reverse: bool) -> Kernel:
+def sandwich(name: str, doc: str, blades_in, blades_out, reverse: bool,
+             batch: bool = False) -> Kernel:
     """``out = <M X ~M>`` (or ``<~M X M>``) in two explicit stages."""
     m = mv(m8, MOTOR_BLADES)
     x = mv(v6, blades_in)
@@ -172,24 +250,24 @@ def sandwich(name: str, doc: str, blades_in, blades_out, reverse: bool) -> Kerne
     t_mv = NULL.multivector(np.array(t, dtype=object), list(stage))
     out = coeffs(t_mv * right, blades_out)
     body = [load("m", m8), load("x", v6)]
-    body.append(f"    # stage 1: T = {'~M' if reverse else 'M'} X on blades {', '.join(stage)}")
+    body.append(("comment", f"stage 1: T = {'~M' if reverse else 'M'} X on blades "
+                             f"{', '.join(stage)}"))
     used = set().union(*(e.free_symbols for e in out))
-    body += [
-        f"    {s} = {sp.sstr(as_float(e))}"
-        for s, e in zip(t, stage.values(), strict=True)
-        if s in used
-    ]
-    body.append(f"    # stage 2: out = <T {'M' if reverse else '~M'}> on the output blades")
+    body += [("let", str(s), as_float(e)) for s, e in zip(t, stage.values(), strict=True)
+             if s in used]
+    body.append(("comment", f"stage 2: out = <T {'M' if reverse else '~M'}> on the output "
+                             f"blades"))
     body += assign_lines("out", out)
     kept = [e for s, e in zip(t, stage.values(), strict=True) if s in used]
-    return Kernel(name, ["m", "x", "out"], doc, body, kept + out)
+    return Kernel(name, ["m", "x", "out"], doc, body, kept + out, batch=batch)
 
 
-def commutator(name, doc, blades_a, blades_b, blades_out, sym_a, sym_b) -> Kernel:
+def commutator(name, doc, blades_a, blades_b, blades_out, sym_a, sym_b,
+               batch: bool = True) -> Kernel:
     a, b = mv(sym_a, blades_a), mv(sym_b, blades_b)
     out = coeffs((a * b - b * a) * sp.Rational(1, 2), blades_out)
     body = [load("a", sym_a), load("b", sym_b)] + assign_lines("out", out)
-    return Kernel(name, ["a", "b", "out"], doc, body, out)
+    return Kernel(name, ["a", "b", "out"], doc, body, out, batch=batch)
 
 
 def twist_wrench_dot() -> Kernel:
@@ -200,7 +278,7 @@ def twist_wrench_dot() -> Kernel:
         ["v", "w"],
         "Inner product ``v · w`` of a twist and a wrench (a scalar).\n\n"
         "    The power of the motion is ``p = -v · w`` (eq. 9).",
-        body, [e], returns=sp.sstr(as_float(e)),
+        body, [e], returns=[as_float(e)], batch=True,
     )
 
 
@@ -214,14 +292,13 @@ def inertia_apply() -> Kernel:
         out.append(clean(-np.asarray(element.scalar_product(v)).item()))
     body = [load("v", v6)]
     for k in range(6):
-        body.append(f"    {', '.join(map(str, isym[k]))} = " +
-                    ", ".join(f"inertia[{k}, {j}]" for j in range(6)))
+        body.append(("load", [str(x) for x in isym[k]], "inertia", [(k, j) for j in range(6)]))
     body += assign_lines("out", out)
     return Kernel(
         "inertia_apply", ["inertia", "v", "out"],
         "Apply an inertia tensor to a twist: ``out = I[v] = -Σ_k (I^{e_k} · v) e_k`` (eq. 15).\n\n"
         "    ``inertia[k, j]`` is the coefficient of element I^{e_k} on wrench blade j.",
-        body, out,
+        body, out, batch=True,
     )
 
 
@@ -245,11 +322,11 @@ def wrench_adjoint() -> Kernel:
     entries = [(i, j, x[i][j]) for j in range(6) for i in range(6)]
     nonzero = [e for _, _, e in entries if e != 0]
     shared, reduced = sp.cse(nonzero, symbols=sp.numbered_symbols("c"), optimizations="basic")
-    body = [load("m", m8), "    # products shared by several entries"]
-    body += [f"    {s_} = {sp.sstr(as_float(e))}" for s_, e in shared]
+    body = [load("m", m8), ("comment", "products shared by several entries")]
+    body += [("let", str(s_), as_float(e)) for s_, e in shared]
     it = iter(reduced)
     for i, j, e in entries:
-        body.append(f"    out[{i}, {j}] = {sp.sstr(as_float(next(it))) if e != 0 else 0}")
+        body.append(("store", "out", (i, j), as_float(next(it)) if e != 0 else "0"))
     return Kernel(
         "wrench_adjoint", ["m", "out"],
         "Matrix of the projected wrench sandwich: ``<M W ~M>_wrench = out @ W``.",
@@ -261,35 +338,34 @@ def inertia_transform() -> Kernel:
     """Eq. (16): out^{e_j} = M (Σ_k <M I^{e_k} ~M>_{e_j} e_k) ~M, with X the wrench adjoint."""
     x = _adjoint_pattern()
     body = [load("m", m8)]
-    body.append("    # stage 1: X, the matrix of the wrench sandwich <M W ~M>_wrench")
+    body.append(("comment", "stage 1: X, the matrix of the wrench sandwich <M W ~M>_wrench"))
     xs = [[sp.Symbol(f"x{i}{j}") if x[i][j] != 0 else 0 for j in range(6)] for i in range(6)]
     exprs = []
     for i in range(6):
         for j in range(6):
             if x[i][j] != 0:
-                body.append(f"    x{i}{j} = {sp.sstr(as_float(x[i][j]))}")
+                body.append(("let", f"x{i}{j}", as_float(x[i][j])))
                 exprs.append(x[i][j])
     isym = [[sp.Symbol(f"i{k}{j}") for j in range(6)] for k in range(6)]
     for k in range(6):
-        body.append(f"    {', '.join(str(s) for s in isym[k])} = " +
-                    ", ".join(f"inertia[{k}, {j}]" for j in range(6)))
-    body.append("    # stage 2: A[k, j] = <M I^{e_k} ~M>_{e_j}")
+        body.append(("load", [str(s) for s in isym[k]], "inertia", [(k, j) for j in range(6)]))
+    body.append(("comment", "stage 2: A[k, j] = <M I^{e_k} ~M>_{e_j}"))
     for k in range(6):
         for j in range(6):
             e = sum(isym[k][l] * xs[j][l] for l in range(6))
             exprs.append(e)
-            body.append(f"    a{k}{j} = {sp.sstr(e)}")
-    body.append("    # stage 3: out^{e_j} = M (Σ_k A[k, j] e_k) ~M")
+            body.append(("let", f"a{k}{j}", e))
+    body.append(("comment", "stage 3: out^{e_j} = M (Σ_k A[k, j] e_k) ~M"))
     for j in range(6):
         for mm in range(6):
             e = sum(xs[mm][k] * sp.Symbol(f"a{k}{j}") for k in range(6))
             exprs.append(e)
-            body.append(f"    out[{j}, {mm}] = {sp.sstr(e)}")
+            body.append(("store", "out", (j, mm), e))
     return Kernel(
         "inertia_transform", ["m", "inertia", "out"],
         "Move an inertia tensor by a motor: ``out = M * I`` (eq. 16).\n\n"
         "    Satisfies eq. (17): ``M I[V] ~M = (M * I)[M V ~M]``.",
-        body, exprs,
+        body, exprs, batch=True,
     )
 
 
@@ -300,7 +376,7 @@ def adjoint_apply(transpose: bool) -> Kernel:
     v = v6
     body = [load("v", v)]
     used = sorted({str(e) for row in xs for e in row if e != 0})
-    body.append("    " + ", ".join(used) + " = " + ", ".join(f"x[{u[1]}, {u[2]}]" for u in used))
+    body.append(("load", used, "x", [(int(u[1]), int(u[2])) for u in used]))
     if transpose:
         exprs = [sum(xs[i][j] * v[i] for i in range(6)) for j in range(6)]
         name = "adjoint_apply_transpose"
@@ -322,11 +398,10 @@ def inertia_congruence(accumulate: bool = False) -> Kernel:
     xs = [[sp.Symbol(f"x{i}{j}") if x[i][j] != 0 else 0 for j in range(6)] for i in range(6)]
     isym = [[sp.Symbol(f"i{min(k, j)}{max(k, j)}") for j in range(6)] for k in range(6)]
     used = sorted({str(e) for row in xs for e in row if e != 0})
-    body = ["    " + ", ".join(used) + " = " + ", ".join(f"x[{u[1]}, {u[2]}]" for u in used)]
+    body = [("load", used, "x", [(int(u[1]), int(u[2])) for u in used])]
     for k in range(6):
         names = [f"i{k}{j}" for j in range(k, 6)]
-        body.append("    " + ", ".join(names) + " = " + ", ".join(f"inertia[{k}, {j}]"
-                                                            for j in range(k, 6)))
+        body.append(("load", names, "inertia", [(k, j) for j in range(k, 6)]))
     # X is block upper triangular, [[X11, X12], [0, X22]]; I = [[A, B], [Bᵀ, C]]:
     #   X I Xᵀ = [[X11 A X11ᵀ + Y X12ᵀ + X12 Zᵀ, Y X22ᵀ], [., X22 C X22ᵀ]]
     # with Z = X11 B and Y = Z + X12 C: 207 multiplications instead of 270.
@@ -341,30 +416,30 @@ def inertia_congruence(accumulate: bool = False) -> Kernel:
 
     def emit(name, e):
         exprs.append(e)
-        body.append(f"    {name} = {sp.sstr(e)}")
+        body.append(("let", name, e))
         return sp.Symbol(name.split("[")[0]) if "[" not in name else None
 
     r3 = range(3)
-    body.append("    # Z = X11 B, Y = Z + X12 C, T = A X11ᵀ, U = C X22ᵀ")
+    body.append(("comment", "Z = X11 B, Y = Z + X12 C, T = A X11ᵀ, U = C X22ᵀ"))
     Z = [[emit(f"z{i}{j}", sum(X11[i][k] * B[k][j] for k in r3)) for j in r3] for i in r3]
     Y = [[emit(f"y{i}{j}", Z[i][j] + sum(X12[i][k] * C[k][j] for k in r3)) for j in r3]
          for i in r3]
     T = [[emit(f"t{i}{j}", sum(A[i][k] * X11[j][k] for k in r3)) for j in r3] for i in r3]
     U = [[emit(f"u{i}{j}", sum(C[i][k] * X22[j][k] for k in r3)) for j in r3] for i in r3]
     op = "+=" if accumulate else "="
-    body.append(f"    # out {op} X I Xᵀ, upper triangle of the diagonal blocks, mirrored")
+    body.append(("comment", f"out {op} X I Xᵀ, upper triangle of the diagonal blocks, mirrored"))
 
     def store(i, j, e):
         exprs.append(e)
         if accumulate:  # one local, added to both mirrored entries
-            body.append(f"    o{i}{j} = {sp.sstr(e)}")
-            body.append(f"    out[{i}, {j}] += o{i}{j}")
+            body.append(("let", f"o{i}{j}", e))
+            body.append(("add", "out", (i, j), f"o{i}{j}"))
             if i != j:
-                body.append(f"    out[{j}, {i}] += o{i}{j}")
+                body.append(("add", "out", (j, i), f"o{i}{j}"))
         else:
-            body.append(f"    out[{i}, {j}] = {sp.sstr(e)}")
+            body.append(("store", "out", (i, j), e))
             if i != j:
-                body.append(f"    out[{j}, {i}] = out[{i}, {j}]")
+                body.append(("copy", "out", (j, i), (i, j)))
 
     for i in r3:
         for j in range(i, 3):
@@ -415,7 +490,7 @@ def motor_translation() -> Kernel:
     return Kernel(  # -2 factored out: 15 multiplications where the expanded form takes 24
         "motor_translation", ["m"],
         "Translation ``p`` of a normalised motor ``M = T R``: ``p = -2 <M ~R>_(e∞)``.",
-        [load("m", m8)], p, returns=", ".join(sp.sstr(e) for e in p),
+        [load("m", m8)], p, returns=p, batch=True,
     )
 
 
@@ -426,7 +501,7 @@ KERNELS = [
     motor_reverse,
     lambda: sandwich(
         "twist_sandwich", "Move a twist by a motor: ``out = M X ~M`` (eq. 4; twists are closed).",
-        TWIST_BLADES, TWIST_BLADES, reverse=False,
+        TWIST_BLADES, TWIST_BLADES, reverse=False, batch=True,
     ),
     lambda: sandwich(
         "twist_sandwich_rev", "Move a twist by the inverse motor: ``out = ~M X M``.",
@@ -437,7 +512,7 @@ KERNELS = [
         "Move a wrench by a motor: ``out = <M X ~M>_wrench`` (eq. 4, then projected).\n\n"
         "    A wrench is not closed under the CGA sandwich: translating ``e01`` adds ``e∞``\n"
         "    terms that pair to zero with every twist (eq. 9); the projection drops them.",
-        WRENCH_BLADES, WRENCH_BLADES, reverse=False,
+        WRENCH_BLADES, WRENCH_BLADES, reverse=False, batch=True,
     ),
     lambda: sandwich(
         "wrench_sandwich_rev",
@@ -484,27 +559,31 @@ from .._jit import inline
 '''
 
 
-def generate() -> str:
-    text = HEADER.format(
+def derive() -> list[Kernel]:
+    """Every kernel, derived once."""
+    return [make() for make in KERNELS]
+
+
+def generate(kernels: list[Kernel]) -> str:
+    """Text of ``_generated.py``."""
+    text_ = HEADER.format(
         motor=", ".join(MOTOR_BLADES), twist=", ".join(TWIST_BLADES),
         wrench=", ".join(WRENCH_BLADES),
     )
-    for make in KERNELS:
-        text += make().source() + "\n"
-    return text
+    return text_ + "".join(k.source() + "\n" for k in kernels)
 
 
 # --- batch forms -------------------------------------------------------------------------
 
-BATCH_HEADER = '''"""Batch forms of the kernels of ``_generated.py``, one sample per row.
+BATCH_HEADER = '''"""Batch forms of kernels of ``_generated.py``, one sample per row.
 
 GENERATED by tools/generate_kernels.py from the same formulas: do not edit by hand.
 
 Every argument gains a leading sample axis (motor (B, 8), twist/wrench (B, 6), inertia
-(B, 6, 6)); scalar arguments ``p1..p3``, ``r0..r3`` become the arrays ``p`` (B, 3) and ``r``
-(B, 4), and a returned value is written to ``out`` ((B,) or (B, 3)). Each kernel writes
+(B, 6, 6)), and a returned value is written to ``out`` ((B,) or (B, 3)). Each kernel writes
 into ``out`` and returns it; nothing checks shapes here (see ``cgadyn.kernels.batch``).
-Indexing is direct, ``a[n, i]``: row views cost several times the arithmetic.
+Indexing is direct, ``a[n, i]``: row views cost several times the arithmetic. Only the
+kernels that numpy-level code calls (``cgadyn.cga``) have a batch form.
 """
 
 # ruff: noqa: E501
@@ -514,58 +593,32 @@ from .._jit import parallel
 '''
 
 
-def batch_source(kernel: Kernel) -> str:
-    """The ``(B, k)`` form of ``kernel``: its body in a ``prange`` loop over rows ``n``."""
-    arrays = [a for a in kernel.args if not re.fullmatch(r"[a-z]\d", a)]
-    scalars = [a for a in kernel.args if re.fullmatch(r"[a-z]\d", a)]
-    groups: dict[str, list[str]] = {}
-    for name in scalars:
-        groups.setdefault(name[0], []).append(name)
-    args = [a for a in arrays if a != "out"] + list(groups) + ["out"]
-    body = [f"        {', '.join(g)} = " + ", ".join(f"{k}[n, {i}]" for i in range(len(g)))
-            for k, g in groups.items()]
-    for line in kernel.body:
-        for name in arrays:
-            line = re.sub(rf"\b{name}\[", f"{name}[n, ", line)
-        body.append("    " + line)
-    if kernel.returns:
-        if len(kernel.exprs) == 1:
-            body.append(f"        out[n] = {sp.sstr(as_float(kernel.exprs[0]))}")
-        else:
-            body += [f"        out[n, {i}] = {sp.sstr(as_float(e))}"
-                     for i, e in enumerate(kernel.exprs)]
-    first = args[0]
-    mul, add = count_ops(kernel.exprs)
-    lines = ["", "", "@parallel",
-             f"def {kernel.name}_batch({', '.join(args)}):",
-             f'    """Batch form of ``{kernel.name}``, one row per sample.', "",
-             "    " + kernel.doc.split("\n\n")[0], "",
-             f"    {mul} multiplications, {add} additions per sample.", '    """',
-             f"    for n in prange({first}.shape[0]):"]
-    return "\n".join(lines + body + ["    return out"])
-
-
-def generate_batch() -> str:
-    """Text of ``_generated_batch.py``: every kernel of ``KERNELS`` over ``(B, k)`` arrays."""
-    return BATCH_HEADER + "".join(batch_source(make()) + "\n" for make in KERNELS)
+def generate_batch(kernels: list[Kernel]) -> str:
+    """Text of ``_generated_batch.py``: the batch form of every kernel marked ``batch``."""
+    return BATCH_HEADER + "".join(k.batch_source() + "\n" for k in kernels if k.batch)
 
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--check", action="store_true", help="fail if the file is stale")
+    parser.add_argument("--out", type=Path, default=TARGET.parent,
+                        help="the directory to write into (default: the package's kernels)")
     args = parser.parse_args()
+    kernels = derive()
     stale = 0
-    for target, text in ((TARGET, generate()), (BATCH_TARGET, generate_batch())):
+    for name, text_ in (("_generated.py", generate(kernels)),
+                        ("_generated_batch.py", generate_batch(kernels))):
+        target = args.out / name
         if args.check:
             current = target.read_text() if target.exists() else ""
-            if current != text:
+            if current != text_:
                 print(f"{target} is stale: run python tools/generate_kernels.py", file=sys.stderr)
                 stale = 1
             else:
                 print(f"{target} is up to date")
             continue
         target.parent.mkdir(parents=True, exist_ok=True)
-        target.write_text(text)
+        target.write_text(text_)
         print(f"wrote {target}")
     return stale
 

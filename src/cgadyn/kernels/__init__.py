@@ -1,8 +1,9 @@
 """Compiled kernels for the typed subspaces of CGA: motors, twists, wrenches, inertias.
 
 ``_generated`` holds the explicit formulas produced by ``tools/generate_kernels.py``;
-``motors`` the closed forms (exp, log, joint motors, normalisation) built on them;
-``halfangle`` the scalars of all joint motors in one vectorised pass;
+``motors`` the closed forms (exp, log, normalisation) built on them; ``halfangle`` the
+half-angle sine and cosine of the joint motors; ``layout`` the signs and index maps of the
+coefficients; ``rigid`` rigid inertias as ten parameters;
 ``batch`` the ``(B, k)`` forms that run in parallel over samples.
 """
 
@@ -28,15 +29,7 @@ from ._generated import (
     wrench_sandwich,
     wrench_sandwich_rev,
 )
-from .halfangle import joint_scalars
-from .motors import (
-    joint_frame_motor,
-    joint_motor,
-    motor_log,
-    motor_normalize,
-    screw_motor,
-    twist_exp,
-)
+from .motors import motor_log, motor_normalize, twist_exp
 
 __all__ = [
     "adjoint_apply",
@@ -46,16 +39,12 @@ __all__ = [
     "inertia_congruence",
     "inertia_congruence_add",
     "inertia_transform",
-    "joint_frame_motor",
-    "joint_motor",
-    "joint_scalars",
     "motor_log",
     "motor_mul",
     "motor_mul_rotor",
     "motor_mul_translator",
     "motor_normalize",
     "motor_reverse",
-    "screw_motor",
     "motor_translation",
     "translator_rotor",
     "twist_cross",

@@ -1,8 +1,9 @@
 """Batch forms of every kernel over ``(B, k)`` arrays, run in parallel over samples.
 
 The polynomial kernels are generated (``_generated_batch.py``, same formulas as
-``_generated.py``, direct ``a[n, i]`` indexing); the closed forms of ``motors.py`` (exp, log,
-normalisation, joint motors) are wrapped here, one row per sample.
+``_generated.py``, direct ``a[n, i]`` indexing), for the kernels that numpy-level code calls;
+the closed forms of ``motors.py`` (exp, log, normalisation) are wrapped here, one row per
+sample.
 
 Contract (as for the single kernels): every argument has the sample axis first, ``out`` is
 given and written, and is also returned. Nothing checks shapes, so callers from Python
@@ -15,28 +16,18 @@ from numba import prange
 
 from .._jit import parallel
 from ._generated_batch import (
-    adjoint_apply_batch,
-    adjoint_apply_transpose_batch,
     dot_batch,
     inertia_apply_batch,
-    inertia_congruence_add_batch,
-    inertia_congruence_batch,
     inertia_transform_batch,
     motor_mul_batch,
-    motor_mul_rotor_batch,
-    motor_mul_translator_batch,
     motor_reverse_batch,
     motor_translation_batch,
-    translator_rotor_batch,
     twist_cross_batch,
     twist_cross_wrench_batch,
     twist_sandwich_batch,
-    twist_sandwich_rev_batch,
-    wrench_adjoint_batch,
     wrench_sandwich_batch,
-    wrench_sandwich_rev_batch,
 )
-from .motors import joint_motor, motor_log, motor_normalize, twist_exp
+from .motors import motor_log, motor_normalize, twist_exp
 
 
 @parallel
@@ -63,37 +54,18 @@ def motor_normalize_batch(m, out):
     return out
 
 
-@parallel
-def joint_motor_batch(axis, prismatic, q, out):
-    """Joint motors ``exp(q[n] B / 2)`` (eq. 6) of one unit screw axis ``B`` (6,), q (B,)."""
-    for n in prange(q.shape[0]):
-        joint_motor(axis, prismatic, q[n], out[n])
-    return out
-
-
 __all__ = [
-    "adjoint_apply_batch",
-    "adjoint_apply_transpose_batch",
     "dot_batch",
     "inertia_apply_batch",
-    "inertia_congruence_add_batch",
-    "inertia_congruence_batch",
     "inertia_transform_batch",
-    "joint_motor_batch",
     "motor_log_batch",
     "motor_mul_batch",
-    "motor_mul_rotor_batch",
-    "motor_mul_translator_batch",
     "motor_normalize_batch",
     "motor_reverse_batch",
     "motor_translation_batch",
-    "translator_rotor_batch",
     "twist_cross_batch",
     "twist_cross_wrench_batch",
     "twist_exp_batch",
     "twist_sandwich_batch",
-    "twist_sandwich_rev_batch",
-    "wrench_adjoint_batch",
     "wrench_sandwich_batch",
-    "wrench_sandwich_rev_batch",
 ]

@@ -3,8 +3,8 @@
 A revolute axis is a line (B² = -1): ``(c, s) = (cos q/2, sin q/2)``; a prismatic axis is
 a direction (B² = 0): ``(c, s) = (1, q/2)``. The recursions need one such pair per joint,
 and libm's ``sincos`` costs about 10 ns a call and runs one angle at a time: about 15% of
-the panda's mass matrix. ``joint_scalars`` computes all pairs in one branch-free loop that
-LLVM vectorises:
+the panda's mass matrix. ``multibody.joints.joint_scalars`` computes all pairs in one
+branch-free loop that LLVM vectorises, with ``half_angle_sincos``:
 
 - Cody-Waite reduction ``x = k π/2 + r``, ``|r| <= π/4``, with π/2 split in three parts;
   the first two carry 33 significant bits, so ``k P1`` and ``k P2`` are exact for
@@ -61,24 +61,3 @@ def half_angle_sincos(x):
     c_sign = 1.0 - ((quadrant + 1) & 2)  # cos is negative in quadrants 1 and 2
     s_sign = 1.0 - (quadrant & 2)  # sin in quadrants 2 and 3
     return c_sign * c, s_sign * s
-
-
-@inline
-def joint_scalars(types, q, c, s):
-    """``c[j], s[j]`` of every joint motor ``exp(q_j B_j / 2) = c_j + s_j B_j`` (eq. 6):
-    ``(cos q_j/2, sin q_j/2)`` for revolute joints (type 0), ``(1, q_j/2)`` for prismatic
-    joints (type 1). ``q`` finite."""
-    n = q.shape[0]
-    any_far = False
-    for j in range(n):  # branch-free: vectorised
-        far = abs(q[j]) > 2.0 * LIBM_BEYOND
-        any_far |= far
-        cj, sj = half_angle_sincos(0.0 if far else q[j])  # far ones: redone below
-        prismatic = types[j] == 1
-        c[j] = 1.0 if prismatic else cj
-        s[j] = 0.5 * q[j] if prismatic else sj
-    if any_far:
-        for j in range(n):
-            if types[j] != 1 and abs(q[j]) > 2.0 * LIBM_BEYOND:
-                c[j] = math.cos(0.5 * q[j])
-                s[j] = math.sin(0.5 * q[j])

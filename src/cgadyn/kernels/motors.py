@@ -1,4 +1,4 @@
-"""Closed forms on motors: exp of a twist, log of a motor, joint motors, normalisation.
+"""Closed forms on motors: exp of a twist, log of a motor, normalisation.
 
 Hand-written on top of the generated products of ``_generated.py``: these are not
 polynomials, so they are closed forms with explicit small-angle series, not expansions.
@@ -14,11 +14,9 @@ from __future__ import annotations
 
 import math
 
-from .._jit import inline, serial
+from .._jit import serial
 from ._generated import (
     motor_mul,
-    motor_mul_rotor,
-    motor_mul_translator,
     motor_translation,
     translator_rotor,
 )
@@ -95,47 +93,6 @@ def motor_log(m, out):
                    p3 - 0.5 * cx3 + d * cc3, out)
 
 
-@inline
-def joint_motor(axis, prismatic, q, out):
-    """Joint motor ``M_j(q_j) = exp(q_j B_j / 2)`` (eq. 6) of a unit screw axis ``B_j``.
-
-    A revolute axis is a line (B² = -1): ``cos(q/2) + sin(q/2) B``. A prismatic axis is a
-    direction (B² = 0): ``1 + (q/2) B``.
-    """
-    if prismatic:
-        screw_motor(axis, 1.0, 0.5 * q, out)
-    else:
-        screw_motor(axis, math.cos(0.5 * q), math.sin(0.5 * q), out)
-
-
-@inline
-def screw_motor(axis, c, s, out):
-    """The motor ``c + s B`` of a unit screw axis ``B``: eq. (6)'s ``exp(q B / 2)`` from
-    its two scalars (``halfangle.joint_scalars`` computes them for every joint at once)."""
-    out[0] = c
-    out[1] = s * axis[2]
-    out[2] = s * axis[1]
-    out[3] = s * axis[0]
-    out[4] = s * axis[3]
-    out[5] = s * axis[4]
-    out[6] = s * axis[5]
-    out[7] = 0.0
-
-
-@inline
-def joint_frame_motor(placement, joint, prismatic, out):
-    """``M_j = X_j exp(q_j B_j / 2)`` (eq. 5) by the product the joint motor allows.
-
-    Joint axes pass through the joint frame's origin (URDF's convention, checked by
-    ``Model``), so a revolute joint's motor is a rotor (32 multiplications) and a prismatic
-    joint's a translator (12), where the general motor product takes 48.
-    """
-    if prismatic:
-        motor_mul_translator(placement, joint, out)
-    else:
-        motor_mul_rotor(placement, joint, out)
-
-
 @serial
 def motor_normalize(m, out):
     """Project a motor back onto the manifold ``M ~M = 1``.
@@ -149,5 +106,4 @@ def motor_normalize(m, out):
     translator_rotor(p1 * s, p2 * s, p3 * s, m[0] / n, m[1] / n, m[2] / n, m[3] / n, out)
 
 
-__all__ = ["joint_frame_motor", "joint_motor", "motor_log", "motor_mul", "motor_normalize",
-           "screw_motor", "twist_exp"]
+__all__ = ["motor_log", "motor_mul", "motor_normalize", "twist_exp"]
