@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-import argparse
 import json
 
 import pytest
 
 from cgadyn import bench
+from cgadyn.cli import main
 
-OPS = ("rnea", "aba", "crba")
+OPS = bench.OPS
 
 
 @pytest.fixture(scope="module")
@@ -29,7 +29,7 @@ def test_keys_and_positive_times(result: dict) -> None:
         for b in ("1", "8"):
             t = result["batch_us_per_sample"][b][op]
             assert t["cgadyn"] > 0 and t["pinocchio_loop"] > 0
-            assert (t.get("pinocchio_parallel", 1.0) > 0) and (op != "crba") == (
+            assert (t.get("pinocchio_parallel", 1.0) > 0) and (op in ("rnea", "aba")) == (
                 "pinocchio_parallel" in t)
         assert result["compute_us_per_sample"][op]["cgadyn"] > 0
     assert result["single_us"]["aba"].get("pygafro") is None  # pygafro only for panda
@@ -44,12 +44,11 @@ def test_report_files_and_json(result: dict, tmp_path) -> None:
     assert json.loads((tmp_path / "benchmark.json").read_text())["robot"] == "double_pendulum"
 
 
-def test_cli_parser_and_bad_arguments(capsys) -> None:
-    parser = argparse.ArgumentParser(prog="cgadyn")
-    bench.add_parser(parser.add_subparsers(dest="command"))
-    args = parser.parse_args(["bench", "double_pendulum", "--batch", "2", "--threads", "999"])
-    assert args.robot == "double_pendulum" and args.batch == [2] and args.func is bench.run
-    assert bench.run(args) == 2
-    assert "threads" in capsys.readouterr().err
+def test_floating_base_and_bad_arguments(capsys) -> None:
+    res = bench.benchmark("solo", batches=(4,), repeats=1, quick=True)
+    assert (res["base"], res["nq"], res["nv"]) == ("free flyer", 15, 14)
+    assert all(res["single_us"][op]["pinocchio"] > 0 for op in OPS)
+    assert main(["bench", "double_pendulum", "--batch", "2", "--threads", "999"]) == 2
+    assert "threads must be in 1.." in capsys.readouterr().err
     with pytest.raises(ValueError, match="batch"):
         bench.benchmark("double_pendulum", batches=(0,))

@@ -1,4 +1,5 @@
-"""The ``cgadyn`` command in-process (``main([...])``) and once as a subprocess."""
+"""The ``cgadyn`` command in-process (``main([...])``), and every user error in a subprocess:
+``cgadyn: error: ...`` on stderr, exit status 2, never a traceback."""
 
 from __future__ import annotations
 
@@ -10,8 +11,10 @@ import sys
 import numpy as np
 import pytest
 
-from cgadyn import cli
-from cgadyn.validate import ALGORITHMS, compare, leaf_links, sample_states, validate_robot
+from cgadyn import cli, oracle
+from cgadyn.commands import validate as validate_command
+from cgadyn.multibody import robot_path
+from cgadyn.validate import leaf_links, validate_robot
 
 
 def run(capsys, *argv: str) -> tuple[int, str, str]:
@@ -20,77 +23,111 @@ def run(capsys, *argv: str) -> tuple[int, str, str]:
     return code, out, err
 
 
+def strict_json(text: str):
+    """Parse as standard JSON: ``NaN`` and ``Infinity`` are refused."""
+    def refuse(name):
+        raise ValueError(f"non-standard JSON constant {name}")
+
+    return json.loads(text, parse_constant=refuse)
+
+
 def test_validate_panda_table(capsys):
-    code, out, _ = run(capsys, "validate", "panda", "--samples", "5")
+    code, out, _ = run(capsys, "validate", "panda", "--samples", "3")
     assert code == 0
-    assert "panda, 9 dof, 5 samples, seed 0" in out and "pinocchio" in out
-    assert "max(1, max|pinocchio|)" in out
-    for label in ALGORITHMS.values():
-        assert label in out
-    assert "FAIL" not in out and out.count("pass") == len(ALGORITHMS)
+    assert out.startswith("cgadyn validate: panda, fixed base, nq 9, nv 9, 3 samples, seed 0")
+    assert oracle.RELATIVE in out
+    for check in oracle.CHECKS:
+        assert check.label in out
+    assert "FAIL" not in out and out.count("  pass") == len(oracle.CHECKS)
 
 
-def test_validate_json(capsys):
-    code, out, _ = run(capsys, "validate", "ur5", "--samples", "4", "--seed", "3", "--json")
+def test_validate_json_floating_base(capsys):
+    code, out, _ = run(capsys, "validate", "solo12", "--samples", "3", "--seed", "3", "--json")
     assert code == 0
-    result = json.loads(out)
-    assert {"robot", "dof", "samples", "seed", "tolerance", "versions", "relative_error",
-            "jacobian_links", "algorithms", "pass"} <= set(result)
-    assert (result["robot"], result["dof"], result["samples"], result["seed"]) == ("ur5", 6, 4, 3)
-    assert set(result["algorithms"]) == set(ALGORITHMS)
-    for row in result["algorithms"].values():
-        assert row["pass"] and row["max_rel"] < 1e-10 and row["mean_norm"] < 1e-10
+    result = strict_json(out)
+    assert (result["robot"], result["base"], result["nq"], result["nv"]) == \
+        ("solo12", "free flyer", 19, 18)
+    assert set(result["checks"]) == {c.key for c in oracle.CHECKS}
+    for row in result["checks"].values():
+        assert row["pass"] and row["max_rel"] < 1e-10
+
+
+def test_validate_fixed_base_override(capsys):
+    code, out, _ = run(capsys, "validate", "solo12", "--fixed-base", "--samples", "2")
+    assert code == 0 and "solo12, fixed base, nq 12, nv 12" in out
 
 
 def test_validate_own_robot_with_continuous_and_prismatic_joints(capsys):
-    code, out, _ = run(capsys, "validate", "prismatic_tree", "--samples", "5", "--json")
-    result = json.loads(out)
-    assert code == 0 and result["pass"] and result["dof"] == 7
+    code, out, _ = run(capsys, "validate", "prismatic_tree", "--samples", "3", "--json")
+    result = strict_json(out)
+    assert code == 0 and result["pass"] and result["nv"] == 7
     assert len(result["jacobian_links"]) >= 2  # a tree: one Jacobian per branch
 
 
-def test_validate_defaults_to_panda(capsys):
-    code, out, _ = run(capsys, "validate", "--samples", "2")
-    assert code == 0 and out.startswith("cgadyn validate: panda, 9 dof, 2 samples")
-
-
-def test_unknown_robot_exits_2_and_lists_robots(capsys):
-    code, out, err = run(capsys, "validate", "no_such_robot")
-    assert code == 2 and out == ""
-    assert "unknown robot 'no_such_robot'" in err
-    assert "panda" in err and "skew_arm" in err and "Traceback" not in err
-
-
-def test_tiny_tolerance_fails(capsys):
+def test_tiny_tolerance_fails_with_status_1(capsys):
     code, out, _ = run(capsys, "validate", "double_pendulum", "--samples", "3",
                        "--tolerance", "1e-30")
     assert code == 1 and "FAIL" in out
 
 
-@pytest.mark.parametrize("argv", [["validate", "--samples", "0"], ["validate", "panda", "--all"],
-                                  ["bogus"], []])
-def test_bad_usage_exits_2(capsys, argv):
-    assert cli.main(argv) == 2
+MASSLESS_TIP = """<robot name="massless_tip">
+  <link name="base"/>
+  <link name="upper"><inertial><mass value="1"/><origin xyz="0 0 -0.5"/>
+    <inertia ixx="0.1" iyy="0.1" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="tip"/>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="upper"/>
+    <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+  <joint name="elbow" type="revolute"><parent link="upper"/><child link="tip"/>
+    <origin xyz="0 0 -1"/><axis xyz="0 1 0"/>
+    <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+</robot>
+"""
 
 
-def test_robots(capsys):
+def test_validate_nan_says_why_and_json_is_standard(tmp_path, capsys):
+    """A massless movable subtree makes M singular: the checks that need M⁻¹ say why, and as
+    Pinocchio's results are NaN too, report the quantity undefined rather than a mismatch;
+    the JSON holds null where a number could not be computed."""
+    path = tmp_path / "massless_tip.urdf"
+    path.write_text(MASSLESS_TIP)
+    code, out, _ = run(capsys, "validate", str(path), "--samples", "2")
+    assert code == 0 and "why: sample 0: singular articulated-body inertia at joint 'elbow'" in out
+    assert "has no mass" in out
+    assert "undefined for this robot: aba, aba_derivatives, minverse" in out
+    code, out, _ = run(capsys, "validate", str(path), "--samples", "2", "--json")
+    aba = strict_json(out)["checks"]["aba"]
+    assert aba["max_rel"] is None and "no mass" in aba["error"] and "not_applicable" in aba
+    assert strict_json(out)["checks"]["rnea"]["pass"]
+
+
+def test_robots_lists_bases_and_refusals(capsys):
     code, out, _ = run(capsys, "robots")
+    assert code == 0
+    rows = {line.split()[0]: line for line in out.splitlines()[1:-1]}
+    assert rows["talos"].split()[1:5] == ["free", "flyer", "39", "38"]
+    assert rows["panda"].split()[1:4] == ["fixed", "9", "9"]
+    assert "refused" in rows["cassie"] and "loops" in rows["cassie"]
+    assert "refused" in rows["romeo_laas_small"]
+    code, out, _ = run(capsys, "robots", "--names")
     names = out.split()
-    assert code == 0 and {"panda", "skew_arm", "gripper", "prismatic_tree"} <= set(names)
-    assert names == sorted(names)
+    assert {"panda", "skew_arm", "talos", "solo12"} <= set(names) and names == sorted(names)
 
 
-def test_info_panda(capsys):
-    code, out, _ = run(capsys, "info", "panda")
-    assert code == 0 and "panda: 9 dof" in out
-    assert "panda_joint1" in out and "prismatic" in out and "panda_hand" in out and "kg" in out
-
-
-def test_info_json(capsys):
+def test_info_floating_base(capsys):
+    code, out, _ = run(capsys, "info", "talos")
+    assert code == 0 and out.startswith("talos: free flyer base, nq = 39, nv = 38")
+    assert "root_joint" in out and "free_flyer" in out
     code, out, _ = run(capsys, "info", "skew_arm", "--json")
-    info = json.loads(out)
-    assert code == 0 and info["dof"] == len(info["joints"]) == 6
+    info = strict_json(out)
+    assert code == 0 and info["nv"] == len(info["joints"]) == 6 and info["base"] == "fixed"
     assert "continuous" in {j["kind"] for j in info["joints"]}
+
+
+def test_info_accepts_a_path_with_any_extension(tmp_path, capsys):
+    path = tmp_path / "arm.description"
+    path.write_text(robot_path("ur5").read_text())
+    code, out, _ = run(capsys, "info", str(path))
+    assert code == 0 and "nv = 6" in out
 
 
 def test_version(capsys):
@@ -98,36 +135,25 @@ def test_version(capsys):
     assert code == 0 and out.strip().startswith("cgadyn ")
 
 
-def test_all_summary(capsys, monkeypatch):
-    monkeypatch.setattr(cli, "_known_robots", lambda: ["double_pendulum", "gripper"])
-    code, out, err = run(capsys, "validate", "--all", "--samples", "2")
-    assert code == 0 and "2/2 robots pass" in out
-    assert "double_pendulum" in out and "gripper" in out
-    assert "] 2/2" in err  # the progress bar
+def test_all_summary_and_refused(capsys, monkeypatch):
+    from cgadyn.multibody import registry
+
+    monkeypatch.setattr(registry, "robots", lambda: ["double_pendulum", "romeo_laas_small",
+                                                     "solo"])
+    code, out, _ = run(capsys, "validate", "--all", "--samples", "2")
+    assert code == 0 and "2/2 robots pass; 1 refused" in out
+    assert "romeo_laas_small" in out and "solo" in out
 
 
 def test_all_reports_a_robot_that_fails_to_run(capsys, monkeypatch):
-    monkeypatch.setattr(cli, "_known_robots", lambda: ["double_pendulum", "not_a_robot"])
-    code, out, _ = run(capsys, "validate", "--all", "--samples", "2")
-    assert code == 1 and "1/2 robots pass" in out and "unknown robot" in out
+    from cgadyn.multibody import registry
 
-
-def test_sampling_respects_limits():
-    import cgadyn
-
-    model = cgadyn.load("skew_arm")
-    q = sample_states(model, 200, 1).q
-    bounded = np.isfinite(model.lower) & np.isfinite(model.upper)
-    assert np.all(q[:, bounded] >= model.lower[bounded])
-    assert np.all(q[:, bounded] <= model.upper[bounded])
-    assert np.all(np.abs(q[:, ~bounded]) <= math.pi) and (~bounded).any()
-
-
-def test_compare_detects_error_and_nan():
-    ref = np.array([[2.0, 0.0], [0.5, 0.5]])
-    row = compare(ref + [[0.2, 0.0], [0.0, 0.0]], ref)
-    assert row["max_rel"] == pytest.approx(0.1) and row["worst_sample"] == 0
-    assert math.isnan(compare(ref * np.nan, ref)["max_rel"])
+    monkeypatch.setattr(registry, "robots", lambda: ["double_pendulum", "not_a_robot"])
+    code, out, _ = run(capsys, "validate", "--all", "--samples", "2", "--json")
+    result = strict_json(out)
+    assert code == 1 and not result["pass"]
+    assert "unknown robot" in result["results"][1]["error"]
+    assert validate_command.SHORT.keys() == {c.key for c in oracle.CHECKS}
 
 
 def test_validate_robot_api_and_leaves():
@@ -140,8 +166,62 @@ def test_validate_robot_api_and_leaves():
         validate_robot("not_a_robot", samples=1)
 
 
+def test_sampling_respects_limits():
+    import cgadyn
+
+    model = cgadyn.load("skew_arm")
+    q = oracle.sample(model, 200, 1).q
+    bounded = np.isfinite(model.lower) & np.isfinite(model.upper)
+    assert np.all(q[:, bounded] >= model.lower[bounded])
+    assert np.all(q[:, bounded] <= model.upper[bounded])
+    assert np.all(np.abs(q[:, ~bounded]) <= math.pi) and (~bounded).any()
+
+
+ZERO_DOF = '<robot name="statue"><link name="base"/></robot>'
+NEGATIVE_MASS = MASSLESS_TIP.replace('<mass value="1"/>', '<mass value="-1"/>')
+
+
+def _user_errors(tmp) -> list[tuple[list[str], str]]:
+    (tmp / "statue.urdf").write_text(ZERO_DOF)
+    (tmp / "negative.urdf").write_text(NEGATIVE_MASS)
+    return [
+        (["validate", "--seed", "-1"], "--seed: must be an integer >= 0"),
+        (["validate", "--tolerance", "0"], "--tolerance: must be a positive finite number"),
+        (["validate", "--tolerance", "nan"], "--tolerance: must be a positive finite number"),
+        (["validate", "--tolerance", "inf"], "--tolerance: must be a positive finite number"),
+        (["validate", "--samples", "0"], "--samples: must be an integer >= 1"),
+        (["validate", "panda", "--all"], "give a ROBOT or --all, not both"),
+        (["validate", str(tmp / "statue.urdf")], "no degree of freedom"),
+        (["validate", str(tmp / "negative.urdf")], "mass"),
+        (["validate", "romeo_laas_small"], "not positive semi-definite"),
+        (["validate", str(tmp / "missing.urdf")], "file not found"),
+        (["info", str(tmp / "missing.xml")], "file not found"),
+        (["bench", str(tmp / "missing")], "file not found"),
+        (["bench", str(tmp / "statue.urdf")], "no degree of freedom"),
+        (["validate", "no_such_robot"], "unknown robot 'no_such_robot'"),
+        (["simulate-body", "--plot", str(tmp / "no_dir" / "x.png")], "does not exist"),
+        (["simulate-body", "--plot", str(tmp / "x.unknown")], "not a format matplotlib"),
+        (["bogus"], "invalid choice"),
+    ]
+
+
+def test_every_user_error_in_a_subprocess(tmp_path):
+    """Each error: status 2, one ``cgadyn: error:`` line naming the problem, no traceback.
+    The subprocesses run side by side."""
+    cases = _user_errors(tmp_path)
+    procs = [subprocess.Popen([sys.executable, "-m", "cgadyn.cli", *argv], text=True,
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+             for argv, _ in cases]
+    for (argv, message), proc in zip(cases, procs, strict=True):
+        out, err = proc.communicate(timeout=600)
+        assert proc.returncode == 2, (argv, out, err)
+        assert "Traceback" not in out + err, argv
+        assert "cgadyn: error: " in err and message in err, (argv, err)
+
+
 def test_console_entry_point_subprocess():
     proc = subprocess.run([sys.executable, "-m", "cgadyn.cli", "validate", "double_pendulum",
-                           "--samples", "3"], capture_output=True, text=True, timeout=120)
+                           "--samples", "3"], capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr
-    assert "double_pendulum, 2 dof, 3 samples" in proc.stdout and "PASS" in proc.stdout
+    assert "double_pendulum, fixed base, nq 2, nv 2, 3 samples" in proc.stdout
+    assert "PASS" in proc.stdout

@@ -5,9 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from pinocchio_oracle import forces, pin_model, pin_q, random_state, rel
 
 import cgadyn
+from cgadyn import oracle
+from cgadyn.oracle import forces
 
 ROBOTS = [
     "panda",  # 9 dof, a tree (two fingers, prismatic)
@@ -22,6 +23,21 @@ ROBOTS = [
     "cart_pole",
 ]
 TOL = 1e-10
+
+
+def pin_model(name: str):
+    pm = oracle.models(name)[1]
+    return pm, pm.createData()
+
+
+def rel(x, y) -> float:
+    """``oracle.relative_error`` of one sample."""
+    return float(oracle.relative_error(np.asarray(x)[None], np.asarray(y)[None])[0])
+
+
+def random_state(model, rng, batch=None):
+    s = oracle.sample(model, 1 if batch is None else batch, rng)
+    return (s.q[0], s.v[0], s.a[0]) if batch is None else (s.q, s.v, s.a)
 
 
 @pytest.fixture(scope="module", params=ROBOTS)
@@ -39,7 +55,7 @@ def samples(model, n=4, seed=0):
 def test_rnea_aba_crba_match_pinocchio(robot):
     model, pm, pd = robot
     for q, v, a in samples(model):
-        qp = pin_q(pm, q)
+        qp = oracle.pin_configuration(model, q)
         assert rel(cgadyn.rnea(model, q, v, a), pin.rnea(pm, pd, qp, v, a)) < TOL
         assert rel(cgadyn.aba(model, q, v, a), pin.aba(pm, pd, qp, v, a)) < TOL
         H = pin.crba(pm, pd, qp)
@@ -54,7 +70,7 @@ def test_external_wrenches_match_pinocchio(robot):
     model, pm, pd = robot
     rng = np.random.default_rng(7)
     for q, v, a in samples(model, 2):
-        qp = pin_q(pm, q)
+        qp = oracle.pin_configuration(model, q)
         fe = rng.normal(size=(model.nv, 6))
         tau = pin.rnea(pm, pd, qp, v, a, forces(fe))
         qdd = pin.aba(pm, pd, qp, v, a, forces(fe))
@@ -70,7 +86,7 @@ def test_kinematics_jacobians_energy_match_pinocchio(robot):
         ("local_world_aligned", pin.LOCAL_WORLD_ALIGNED),
     ]
     for q, v, _ in samples(model, 2):
-        qp = pin_q(pm, q)
+        qp = oracle.pin_configuration(model, q)
         pin.forwardKinematics(pm, pd, qp)
         pin.updateFramePlacements(pm, pd)
         pin.computeJointJacobians(pm, pd, qp)
@@ -123,7 +139,7 @@ def test_gravity_is_settable():
     z = np.zeros(2)
     pm.gravity.linear = np.array([1.0, -2.0, 3.0])
     try:
-        expected = pin.rnea(pm, pd, pin_q(pm, q), z, z)
+        expected = pin.rnea(pm, pd, oracle.pin_configuration(model, q), z, z)
     finally:
         pm.gravity.linear = np.array([0.0, 0.0, -9.81])
     assert rel(cgadyn.rnea(model, q, z, z, gravity=(1.0, -2.0, 3.0)), expected) < TOL

@@ -55,6 +55,17 @@ def test_integrate_difference_interpolate_match_pinocchio(robot):
                                    0.5 * v, atol=1e-10)
 
 
+def test_integrate_picks_pinocchio_quaternion_sign(robot):
+    """Rotations beyond π: of ±quaternion, the one nearer q's (as Pinocchio picks it), so
+    that configurations move between the libraries unchanged."""
+    m, pm, _ = robot
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        q, v = cgadyn.random_configuration(m, rng), 3.0 * rng.normal(size=m.nv)
+        np.testing.assert_allclose(cgadyn.integrate(m, q, v), pin.integrate(pm, q, v),
+                                   atol=1e-11)
+
+
 def test_neutral_normalize_and_batches(robot):
     m, pm, _ = robot
     np.testing.assert_array_equal(cgadyn.neutral(m), pin.neutral(pm))

@@ -5,6 +5,7 @@ import json
 
 import pytest
 
+from cgadyn.cli import main
 from cgadyn.pga import cli
 
 
@@ -42,10 +43,19 @@ def test_text_summary_and_plot(tmp_path, capsys):
     ],
 )
 def test_bad_arguments_exit_2(argv, message, capsys):
-    assert cli.run(parse([*argv, "--steps", "1"])) == 2
-    assert message in capsys.readouterr().err
+    assert main(["simulate-body", *argv, "--steps", "1"]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.startswith("cgadyn: error:")
+
+
+@pytest.mark.parametrize("plot, message", [("no_such_dir/x.png", "does not exist"),
+                                            ("x.notaformat", "not a format matplotlib")])
+def test_bad_plot_path_exit_2_before_simulating(plot, message, tmp_path, capsys):
+    assert main(["simulate-body", "--steps", "1", "--plot", str(tmp_path / plot)]) == 2
+    captured = capsys.readouterr()
+    assert message in captured.err and captured.out == ""
 
 
 def test_main_entry_point(capsys):
-    assert cli.main(["simulate-body", "--dim", "1", "--steps", "5"]) == 0
+    assert main(["simulate-body", "--dim", "1", "--steps", "5"]) == 0
     assert "1D PGA" in capsys.readouterr().out

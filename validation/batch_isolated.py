@@ -22,10 +22,11 @@ RESULTS = Path(__file__).resolve().parent / "results"
 
 CGADYN = """
 import json, timeit, numpy as np, numba, cgadyn
+from cgadyn import oracle
 numba.set_num_threads({threads})
 m = cgadyn.load("{robot}")
-rng = np.random.default_rng(0)
-q, v, t = (rng.uniform(-1, 1, ({batch}, m.nv)) for _ in range(3))
+s = oracle.sample(m, {batch}, 0)
+q, v, t = s.q, s.v, s.tau
 out = {{}}
 for op, f in (("rnea", cgadyn.rnea), ("aba", cgadyn.aba)):
     f(m, q, v, t)
@@ -35,13 +36,13 @@ print(json.dumps(out))
 
 PINOCCHIO = """
 import json, timeit, numpy as np, pinocchio as pin
-from cgadyn.bench import _loop3
-from cgadyn.multibody import robot_path
-pm = pin.buildModelFromUrdf(str(robot_path("{robot}")))
+from cgadyn import oracle
+from cgadyn.bench.measure import _loop
+m, pm = oracle.models("{robot}")
 pool = pin.ModelPool(pm, {threads})
-rng = np.random.default_rng(0)
-q = np.asfortranarray(np.stack([pin.randomConfiguration(pm) for _ in range({batch})], axis=1))
-v, t = (np.asfortranarray(rng.uniform(-1, 1, (pm.nv, {batch}))) for _ in range(2))
+s = oracle.sample(m, {batch}, 0)
+q = np.asfortranarray(oracle.pin_configuration(m, s.q).T)
+v, t = np.asfortranarray(s.v.T), np.asfortranarray(s.tau.T)
 res = np.asfortranarray(np.zeros((pm.nv, {batch})))
 data = pm.createData()
 out = {{}}
@@ -51,7 +52,7 @@ for op, par, single in cases:
     timer = timeit.repeat(lambda: par({threads}, pool, q, v, t, res), number=10, repeat=9)
     out[op + "_parallel"] = min(timer) / 10 / {batch} * 1e6
     qr, vr, tr = (np.ascontiguousarray(x.T) for x in (q, v, t))
-    out[op + "_loop"] = min(timeit.repeat(lambda: _loop3(single, pm, data, qr, vr, tr),
+    out[op + "_loop"] = min(timeit.repeat(lambda: _loop(single, pm, data, qr, vr, tr),
                                           number=1, repeat=5)) / {batch} * 1e6
 print(json.dumps(out))
 """

@@ -1,19 +1,19 @@
-"""Benchmark cgadyn against Pinocchio (and pygafro) on panda and ur5, full repeats.
+"""Benchmark cgadyn against Pinocchio (and pygafro): panda, ur5, anymal, solo12, talos.
 
 Writes validation/results/benchmark_<robot>.{md,json,png} per robot and a summary
 validation/results/benchmark.{md,json} with both robots' tables, the machine, the git
 commit and what the numbers say about where the time goes. Timing on a shared machine is
 noisy: the libraries alternate case by case and every figure is a median over repeats.
 
-    /work/main/.venv/bin/python validation/benchmark.py [--repeats R] [--robots panda ur5]
+    python validation/benchmark.py [--repeats R] [--robots panda ur5 anymal solo12 talos]
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
+from cgadyn._json import dumps
 from cgadyn.bench import benchmark, format_tables, write_report
 
 OUT = Path(__file__).parent / "results"
@@ -55,7 +55,7 @@ def notes(res: dict) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--robots", nargs="+", default=["panda", "ur5"])
+    p.add_argument("--robots", nargs="+", default=["panda", "ur5", "anymal", "solo12", "talos"])
     p.add_argument("--repeats", type=int, default=11)
     p.add_argument("--output", type=Path, default=OUT)
     args = p.parse_args(argv)
@@ -66,8 +66,9 @@ def main(argv: list[str] | None = None) -> int:
         res = benchmark(robot, repeats=args.repeats)
         results[robot] = res
         write_report(res, args.output, stem=f"benchmark_{robot}")
-        md += [f"## {robot} ({res['nv']} dof)", "", format_tables(res), "#### Where the time goes",
-               "", *notes(res), "", f"![{robot}](benchmark_{robot}.png)", ""]
+        md += [f"## {robot} ({res['base']} base, nv = {res['nv']})", "", format_tables(res),
+               "#### Where the time goes", "", *notes(res), "",
+               f"![{robot}](benchmark_{robot}.png)", ""]
         print(f"{robot}:\n{format_tables(res)}", flush=True)
     m = results[args.robots[0]]["machine"]
     md += ["## Machine", "", f"- CPU: {m['cpu']}, {m['cores']} cores; {m['threads']} threads "
@@ -80,7 +81,7 @@ def main(argv: list[str] | None = None) -> int:
            "jobs shared the machine", ""]
     args.output.mkdir(parents=True, exist_ok=True)
     (args.output / "benchmark.md").write_text("\n".join(md))
-    (args.output / "benchmark.json").write_text(json.dumps(results, indent=1) + "\n")
+    (args.output / "benchmark.json").write_text(dumps(results, indent=1) + "\n")
     print(f"wrote {args.output}/benchmark.md")
     return 0
 

@@ -18,12 +18,12 @@ algorithms report as a status) instead of raising, since compiled code must not 
 Machine code is cached on disk (``__pycache__`` beside the sources, or ``NUMBA_CACHE_DIR``,
 or numba's user cache directory) so that a second process starts in about a second. numba
 keys a cached function on its own file only, not on the kernels it inlines from other
-files, so this module first compares the package's fingerprint (``_sources.py``) with the
-one its cache was built from and, when the code has changed, deletes the package's cached
-machine code: a cache never outlives the code it was compiled from. Where numba finds no
-writable cache location at all, decorating with ``cache=True`` raises ``RuntimeError`` at
-import; here the package then compiles in memory instead, with one warning, and works the
-same (only slower to start).
+files, so this module first compares the fingerprint of the package's compiled code
+(``_sources.compiled_fingerprint``) with the one its cache was built from and, when that
+code has changed, deletes the package's cached machine code: a cache never outlives the
+code it was compiled from. Where numba finds no writable cache location at all, decorating
+with ``cache=True`` raises ``RuntimeError`` at import; here the package then compiles in
+memory instead, with one warning, and works the same (only slower to start).
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numba
 
-from ._sources import PACKAGE, fingerprint
+from ._sources import PACKAGE, compiled_fingerprint
 
 __all__ = ["caching", "core", "inline", "native", "parallel", "serial"]
 
@@ -60,7 +60,7 @@ def _heal() -> None:
     """Delete the package's cached machine code if it was compiled from other sources."""
     stamp = PACKAGE / "__pycache__" / "numba-sources.txt"
     try:
-        if stamp.read_text() == fingerprint():
+        if stamp.read_text() == compiled_fingerprint():
             return
     except OSError:
         pass
@@ -72,7 +72,7 @@ def _heal() -> None:
                 pass
     try:
         stamp.parent.mkdir(exist_ok=True)
-        stamp.write_text(fingerprint())
+        stamp.write_text(compiled_fingerprint())
     except OSError:
         pass  # read-only: numba will not cache here either
 

@@ -2,8 +2,11 @@
 
 numba's disk cache keys compiled code on the modification time of the function's own file,
 not on the files of the kernels it inlines; the model cache keys models on the code that
-built them. Both use ``fingerprint()``: the version and the bytes of every ``.py`` file of
-the installed package (generated kernels included), read once per process.
+built them. The model cache uses ``fingerprint()``: the version and the bytes of every
+``.py`` file of the installed package (generated kernels included). numba's cache uses
+``compiled_fingerprint()``, the same over the files that hold compiled code (those that
+import ``_jit`` or use numba's decorators), so that editing the command line or the
+documentation does not throw away minutes of compiled code. Each is read once per process.
 """
 
 from __future__ import annotations
@@ -15,13 +18,30 @@ from pathlib import Path
 PACKAGE = Path(__file__).resolve().parent
 
 
-@cache
-def fingerprint() -> str:
-    """A hex digest of the package's version and sources."""
+_COMPILED = (b"_jit import", b"njit", b"cfunc")
+"""What marks a file that holds compiled code."""
+
+
+def _digest(only_compiled: bool) -> str:
     from . import __version__
 
     h = hashlib.sha256(__version__.encode())
     for path in sorted(PACKAGE.rglob("*.py")):
+        text = path.read_bytes()
+        if only_compiled and path.name != "_jit.py" and not any(m in text for m in _COMPILED):
+            continue
         h.update(str(path.relative_to(PACKAGE)).encode())
-        h.update(path.read_bytes())
+        h.update(text)
     return h.hexdigest()
+
+
+@cache
+def fingerprint() -> str:
+    """A hex digest of the package's version and all its sources."""
+    return _digest(only_compiled=False)
+
+
+@cache
+def compiled_fingerprint() -> str:
+    """A hex digest of the package's version and the sources that hold compiled code."""
+    return _digest(only_compiled=True)

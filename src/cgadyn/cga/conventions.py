@@ -205,8 +205,11 @@ def _rotation(w, x, y, z) -> np.ndarray:
 # --- inertia --------------------------------------------------------------------------------
 
 
-def inertia_at_com(mass: float, rotational_inertia) -> np.ndarray:
-    """The six inertia elements of eq. (18): rotational part and mass, about the com."""
+def inertia_at_com(mass: float, rotational_inertia, check: bool = True) -> np.ndarray:
+    """The six inertia elements of eq. (18): rotational part and mass, about the com.
+
+    ``check=False`` accepts a rotational inertia that is not positive semi-definite (not a
+    physical body), as Pinocchio does."""
     m = float(mass)
     if not np.isfinite(m) or m < 0:
         raise ValueError(f"mass must be finite and non-negative, got {mass}")
@@ -217,7 +220,7 @@ def inertia_at_com(mass: float, rotational_inertia) -> np.ndarray:
         raise ValueError("rotational inertia contains NaN or inf")
     if not np.allclose(I3, I3.T, atol=1e-12 * max(1.0, np.abs(I3).max())):
         raise ValueError("rotational inertia must be symmetric")
-    if np.linalg.eigvalsh(I3).min() < -1e-12 * max(1.0, np.abs(I3).max()):
+    if check and np.linalg.eigvalsh(I3).min() < -1e-12 * max(1.0, np.abs(I3).max()):
         raise ValueError("rotational inertia must be positive semi-definite")
     d = SIGN[:3]
     out = np.zeros((6, 6))
@@ -226,14 +229,16 @@ def inertia_at_com(mass: float, rotational_inertia) -> np.ndarray:
     return out
 
 
-def inertia_from_parameters(mass: float, com, rotational_inertia) -> np.ndarray:
+def inertia_from_parameters(mass: float, com, rotational_inertia,
+                            check: bool = True) -> np.ndarray:
     """Spatial inertia ``I^CoM = M^CoM * I`` (eq. 19) of a body about the frame origin.
 
     ``rotational_inertia`` is about the centre of mass ``com``, in the frame's axes.
     """
     c = _vec(com, 3, "centre of mass")
     out = np.empty((6, 6))
-    K.inertia_transform(motor_from_rt(np.eye(3), c), inertia_at_com(mass, rotational_inertia), out)
+    K.inertia_transform(motor_from_rt(np.eye(3), c),
+                        inertia_at_com(mass, rotational_inertia, check), out)
     return out
 
 

@@ -187,6 +187,12 @@ def joint_integrate(m, j, q, v, tmp, out):
     free_flyer_motor(q, i, tmp[0])  # M
     motor_mul(tmp[0], tmp[1], tmp[2])  # M exp(V / 2)
     free_flyer_configuration(tmp[2], out, i)
+    dot = 0.0
+    for c in range(3, 7):
+        dot += out[i + c] * q[i + c]
+    if dot < 0.0:
+        for c in range(3, 7):
+            out[i + c] = -out[i + c]
 
 
 @inline

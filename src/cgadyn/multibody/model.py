@@ -416,6 +416,7 @@ def build_model(
     link_placement_matrices=None,
     root_link="world",
     mimic=None,
+    check_inertia=True,
 ) -> Model:
     """Build a :class:`Model` from raw physical data; computes the CGA fields.
 
@@ -479,7 +480,7 @@ def build_model(
     axes = np.array([np.zeros(6) if t == FREE_FLYER else
                      twist_from_axis("prismatic" if t == PRISMATIC else "revolute", a)
                      for t, a in zip(joint_types, axis_vectors, strict=True)]).reshape(n, 6)
-    inertias = np.array([inertia_from_parameters(m, c, i)
+    inertias = np.array([inertia_from_parameters(m, c, i, check_inertia)
                          for m, c, i in zip(body_mass, body_com, body_rot, strict=True)]
                          ).reshape(n, 6, 6)
     link_placements = np.array([motor_from_matrix(T)

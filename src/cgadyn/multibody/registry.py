@@ -29,31 +29,98 @@ OWN_ROBOTS_DIR = _own_robots_dir()
 
 _ERD_SUBDIR = Path("cmeel.prefix") / "share" / "example-robot-data" / "robots"
 
-# name -> path relative to example-robot-data's robots/ directory. Fixed-base arms, hands
-# and benches only: mobile and legged robots (whose base should float) are left out.
+FIXED, FREE = "fixed", "free"
+"""A robot's natural base: fixed to the world, or a free-flyer root."""
+
+# name -> (path under example-robot-data's robots/ directory, natural base). The names are
+# those of example-robot-data's own loader (``example_robot_data.load(name)``) where it has
+# one; arms, hands and benches stand on a fixed base, legged, humanoid and flying robots
+# float, as that loader builds them.
 EXAMPLE_ROBOT_DATA = {
-    "panda": "panda_description/urdf/panda.urdf",
-    "ur3": "ur_description/urdf/ur3_robot.urdf",
-    "ur3_gripper": "ur_description/urdf/ur3_gripper.urdf",
-    "ur5": "ur_description/urdf/ur5_robot.urdf",
-    "ur5_gripper": "ur_description/urdf/ur5_gripper.urdf",
-    "ur10": "ur_description/urdf/ur10_robot.urdf",
-    "kinova": "kinova_description/robots/kinova.urdf",
-    "z1": "z1_description/urdf/z1.urdf",
-    "xarm7": "xarm_description/urdf/xarm7.urdf",
-    "so100": "so_arm_description/urdf/so100.urdf",
-    "so101": "so_arm_description/urdf/so101.urdf",
-    "talos_left_arm": "talos_data/robots/talos_left_arm.urdf",
-    "baxter": "baxter_description/urdf/baxter.urdf",
-    "allegro_left_hand": "allegro_hand_description/urdf/allegro_left_hand.urdf",
-    "allegro_right_hand": "allegro_hand_description/urdf/allegro_right_hand.urdf",
-    "finger_edu": "finger_edu_description/robots/finger_edu.urdf",
-    "double_pendulum": "double_pendulum_description/urdf/double_pendulum.urdf",
+    "a1": ("a1_description/urdf/a1.urdf", FREE),
+    "alex": ("alex_description/urdf/alex_nub_hands.urdf", FREE),
+    "alex_psyonic_hands": ("alex_description/urdf/alex_psyonic_hands.urdf", FREE),
+    "alex_sake_hands": ("alex_description/urdf/alex_sake_hands.urdf", FREE),
+    "alexander": ("alexander_description/urdf/alexander_v1.lowerBodyOnly.urdf", FREE),
+    "allegro_left_hand": ("allegro_hand_description/urdf/allegro_left_hand.urdf", FIXED),
+    "allegro_right_hand": ("allegro_hand_description/urdf/allegro_right_hand.urdf", FIXED),
+    "anymal": ("anymal_b_simple_description/robots/anymal.urdf", FREE),
+    "anymal_c": ("anymal_c_simple_description/urdf/anymal.urdf", FREE),
+    "anymal_kinova": ("anymal_b_simple_description/robots/anymal-kinova.urdf", FREE),
+    "asr_twodof": ("asr_twodof_description/urdf/TwoDofs.urdf", FIXED),
+    "b1": ("b1_description/urdf/b1.urdf", FREE),
+    "b1_z1": ("b1_description/urdf/b1-z1.urdf", FREE),
+    "baxter": ("baxter_description/urdf/baxter.urdf", FIXED),
+    "bolt": ("bolt_description/robots/bolt.urdf", FREE),
+    "borinot": ("borinot_description/urdf/borinot_flying_arm_2.urdf", FREE),
+    "centauro": ("centauro_description/urdf/centauro.urdf", FREE),
+    "double_pendulum": ("double_pendulum_description/urdf/double_pendulum.urdf", FIXED),
     "double_pendulum_continuous":
-        "double_pendulum_description/urdf/double_pendulum_continuous.urdf",
-    "double_pendulum_simple": "double_pendulum_description/urdf/double_pendulum_simple.urdf",
-    "asr_twodof": "asr_twodof_description/urdf/TwoDofs.urdf",
+        ("double_pendulum_description/urdf/double_pendulum_continuous.urdf", FIXED),
+    "double_pendulum_simple":
+        ("double_pendulum_description/urdf/double_pendulum_simple.urdf", FIXED),
+    "finger_edu": ("finger_edu_description/robots/finger_edu.urdf", FIXED),
+    "g1": ("g1_description/urdf/g1_29dof_rev_1_0.urdf", FREE),
+    "g1_with_hands": ("g1_description/urdf/g1_29dof_with_hand_rev_1_0.urdf", FREE),
+    "go1": ("go1_description/urdf/go1.urdf", FREE),
+    "go2": ("go2_description/urdf/go2.urdf", FREE),
+    "hector": ("hector_description/robots/quadrotor_base.urdf", FREE),
+    "hextilt": ("hextilt_description/urdf/hextilt_flying_arm_5.urdf", FREE),
+    "human": ("human_description/robots/human.urdf", FREE),
+    "hyq": ("hyq_description/robots/hyq_no_sensors.urdf", FREE),
+    "icub": ("icub_description/robots/icub.urdf", FREE),
+    "icub_reduced": ("icub_description/robots/icub_reduced.urdf", FREE),
+    "iris": ("iris_description/robots/iris_simple.urdf", FREE),
+    "iris_full": ("iris_description/robots/iris.urdf", FREE),
+    "kinova": ("kinova_description/robots/kinova.urdf", FIXED),
+    "laikago": ("laikago_description/urdf/laikago.urdf", FREE),
+    "panda": ("panda_description/urdf/panda.urdf", FIXED),
+    "panda_collision": ("panda_description/urdf/panda_collision.urdf", FIXED),
+    "pr2": ("pr2_description/urdf/pr2.urdf", FIXED),
+    "quadruped": ("quadruped_description/urdf/quadruped.urdf", FREE),
+    "romeo": ("romeo_description/urdf/romeo.urdf", FREE),
+    "romeo_laas_small": ("romeo_description/urdf/romeo_laas_small.urdf", FREE),
+    "romeo_small": ("romeo_description/urdf/romeo_small.urdf", FREE),
+    "simple_humanoid": ("simple_humanoid_description/urdf/simple_humanoid.urdf", FREE),
+    "simple_humanoid_classical":
+        ("simple_humanoid_description/urdf/simple_humanoid_classical.urdf", FREE),
+    "so100": ("so_arm_description/urdf/so100.urdf", FIXED),
+    "so101": ("so_arm_description/urdf/so101.urdf", FIXED),
+    "solo": ("solo_description/robots/solo.urdf", FREE),
+    "solo12": ("solo_description/robots/solo12.urdf", FREE),
+    "talos": ("talos_data/robots/talos_reduced.urdf", FREE),
+    "talos_box": ("talos_data/robots/talos_reduced_box.urdf", FREE),
+    "talos_corrected": ("talos_data/robots/talos_reduced_corrected.urdf", FREE),
+    "talos_full": ("talos_data/robots/talos_full_v2.urdf", FREE),
+    "talos_full_box": ("talos_data/robots/talos_full_v2_box.urdf", FREE),
+    "talos_left_arm": ("talos_data/robots/talos_left_arm.urdf", FIXED),
+    "tiago": ("tiago_description/robots/tiago.urdf", FIXED),
+    "tiago_dual": ("tiago_description/robots/tiago_dual.urdf", FIXED),
+    "tiago_no_hand": ("tiago_description/robots/tiago_no_hand.urdf", FIXED),
+    "tiago_pro": ("tiago_pro_description/robots/tiago_pro.urdf", FIXED),
+    "ur10": ("ur_description/urdf/ur10_robot.urdf", FIXED),
+    "ur10_limited": ("ur_description/urdf/ur10_joint_limited_robot.urdf", FIXED),
+    "ur3": ("ur_description/urdf/ur3_robot.urdf", FIXED),
+    "ur3_gripper": ("ur_description/urdf/ur3_gripper.urdf", FIXED),
+    "ur3_limited": ("ur_description/urdf/ur3_joint_limited_robot.urdf", FIXED),
+    "ur5": ("ur_description/urdf/ur5_robot.urdf", FIXED),
+    "ur5_gripper": ("ur_description/urdf/ur5_gripper.urdf", FIXED),
+    "ur5_limited": ("ur_description/urdf/ur5_joint_limited_robot.urdf", FIXED),
+    "xarm7": ("xarm_description/urdf/xarm7.urdf", FIXED),
+    "z1": ("z1_description/urdf/z1.urdf", FIXED),
 }
+ALIASES = {"talos_reduced": "talos", "solo8": "solo"}
+"""Other names of the same robots."""
+
+REFUSED = {
+    "cassie": ("cassie_description/robots/cassie.sdf",
+               "SDF only, with closed kinematic loops (the legs' four-bar linkages); cgadyn "
+               "models URDF kinematic trees"),
+    "romeo_laas_small": ("romeo_description/urdf/romeo_laas_small.urdf",
+                         "link 'body' has an inertia that is not positive semi-definite; "
+                         "loads with check_inertia=False, as Pinocchio does"),
+}
+"""Robots of example-robot-data that do not load by default: name -> (file, why)."""
 
 DEFAULT_ROBOT = "panda"
 
@@ -95,47 +162,104 @@ def _own_robots() -> dict:
 
 @functools.lru_cache(maxsize=1)
 def _table() -> dict:
+    """name -> (URDF path, natural base) of every installed robot."""
     table = {}
     erd = example_robot_data_dir()
     if erd is not None:
-        for name, rel in EXAMPLE_ROBOT_DATA.items():
-            path = erd / rel
-            if path.is_file():
-                table[name] = path
-    table.update(_own_robots())
+        for name, (rel, base) in EXAMPLE_ROBOT_DATA.items():
+            if (erd / rel).is_file():
+                table[name] = (erd / rel, base)
+    table.update({name: (path, FIXED) for name, path in _own_robots().items()})
     return table
 
 
 def robots() -> list[str]:
-    """Names that :func:`load` accepts: the project's own robots and example-robot-data's
-    fixed-base arms and hands (those installed)."""
+    """Names that :func:`load` accepts: the project's own robots and every robot of
+    example-robot-data (those installed), whatever their base (``natural_base``)."""
     return sorted(_table())
+
+
+def refused() -> dict[str, str]:
+    """name -> why, for the installed robots of example-robot-data that cgadyn refuses by
+    default (``REFUSED``); those that load with an option stay in :func:`robots`."""
+    erd = example_robot_data_dir()
+    if erd is None:
+        return {}
+    return {name: why for name, (rel, why) in REFUSED.items() if (erd / rel).is_file()}
+
+
+def source(name: str) -> str:
+    """Where robot ``name`` comes from: ``"cgadyn"`` (the project's robots/) or
+    ``"example-robot-data"``."""
+    return "cgadyn" if name in _own_robots() else "example-robot-data"
+
+
+def _known(name: str) -> str:
+    name = ALIASES.get(name, name)
+    if name not in _table():
+        raise ValueError(f"unknown robot {name!r}; known robots: {', '.join(robots())} "
+                         f"(or give a URDF file path or URDF text)")
+    return name
 
 
 def robot_path(name: str) -> Path:
     """The URDF file of the robot called ``name``."""
-    table = _table()
-    if name not in table:
-        raise ValueError(f"unknown robot {name!r}; known robots: {', '.join(sorted(table))} "
-                         f"(or give a URDF path or URDF text)")
-    return table[name]
+    return _table()[_known(name)][0]
+
+
+def natural_base(name: str) -> str:
+    """``FIXED`` or ``FREE``: how example-robot-data's loader builds robot ``name``."""
+    return _table()[_known(name)][1]
+
+
+def resolve(robot) -> tuple[str, object, str | None]:
+    """What ``robot`` names, by one rule for ``load`` and every command:
+    ``("name", name, base)`` for a registered robot, ``("path", Path, None)`` for an existing
+    file (any extension), ``("text", str, None)`` for URDF text. A path that does not exist
+    raises ``FileNotFoundError`` ("file not found"); anything else ``ValueError``."""
+    if isinstance(robot, os.PathLike):
+        path = Path(robot)
+        if not path.is_file():
+            raise FileNotFoundError(f"file not found: {str(path)!r}")
+        return "path", path, None
+    if not isinstance(robot, str):
+        raise ValueError(f"a robot is a name, a file path or URDF text, got "
+                         f"{type(robot).__name__}")
+    if "<" in robot:
+        return "text", robot, None
+    if ALIASES.get(robot, robot) in _table():
+        name = _known(robot)
+        return "name", name, natural_base(name)
+    path = Path(robot)
+    if path.is_file():
+        return "path", path, None
+    if os.sep in robot or "/" in robot or path.suffix:
+        raise FileNotFoundError(f"file not found: {robot!r} (no such file; expected a robot "
+                                f"name, a URDF file path or URDF text)")
+    _known(robot)  # raises the "unknown robot" ValueError
+    raise AssertionError
 
 
 @functools.cache
-def _load_named(name: str) -> Model:
-    return load_urdf(robot_path(name), name=name)
+def _load_named(name: str, floating: bool, check_inertia: bool) -> Model:
+    return load_urdf(robot_path(name), name=name, floating_base=floating,
+                     check_inertia=check_inertia)
 
 
-def load(robot: str | os.PathLike = DEFAULT_ROBOT) -> Model:
+def load(robot: str | os.PathLike = DEFAULT_ROBOT, floating_base: bool | None = None,
+         check_inertia: bool = True) -> Model:
     """Load a robot: a name from :func:`robots`, a URDF file path, or URDF XML text.
 
-    Models loaded by name are cached (models are immutable).
+    ``floating_base``: ``None`` gives the robot its natural base (a free-flyer root
+    ``root_joint`` for example-robot-data's legged, humanoid and flying robots; fixed for
+    arms, hands, and any path or text); ``True`` or ``False`` overrides it.
+    ``check_inertia=False`` accepts inertias that are not physically valid, as Pinocchio
+    does. Models loaded by name are cached (models are immutable).
     """
     if isinstance(robot, Model):
         return robot
-    if isinstance(robot, str) and "<" not in robot:
-        if robot in _table():
-            return _load_named(robot)
-        if not (os.sep in robot or robot.endswith(".urdf") or Path(robot).is_file()):
-            robot_path(robot)  # raises the "unknown robot" ValueError
-    return load_urdf(robot)
+    kind, value, base = resolve(robot)
+    if kind == "name":
+        floating = base == FREE if floating_base is None else bool(floating_base)
+        return _load_named(value, floating, bool(check_inertia))
+    return load_urdf(value, floating_base=bool(floating_base), check_inertia=check_inertia)

@@ -106,8 +106,8 @@ def _check_numbers(root, where: str) -> None:
                 ok = len(values) == count and (
                     attr in ("effort", "velocity") and not any(v != v for v in values)
                     or all(abs(v) < float("inf") for v in values))
-                if ok and attr == "xyz" and path == "axis":
-                    ok = any(v != 0.0 for v in values)
+                if ok and attr == "xyz" and path == "axis" and el.get("type") != "fixed":
+                    ok = any(v != 0.0 for v in values)  # a fixed joint's axis is unread
                 if ok and path == "inertial/mass":
                     ok = values[0] >= 0.0
                 if not ok:
@@ -115,8 +115,9 @@ def _check_numbers(root, where: str) -> None:
                                      f"{text!r}> is not {expected}")
 
 
-def _inertial(link):
-    """(mass, com, rotational inertia about com) of one link in its own frame."""
+def _inertial(link, check: bool = True):
+    """(mass, com, rotational inertia about com) of one link in its own frame; ``check``:
+    refuse a rotational inertia that is not positive semi-definite."""
     inertial = link.inertial
     if inertial is None or inertial.mass is None:
         return 0.0, np.zeros(3), np.zeros((3, 3))
@@ -127,10 +128,13 @@ def _inertial(link):
     scale = max(1.0, float(np.abs(inertia).max()))
     if not np.isfinite(mass) or mass < 0:
         raise ValueError(f"link {link.name!r} has mass {mass}; expected a finite mass >= 0")
-    if not np.all(np.isfinite(inertia)) or np.linalg.eigvalsh(inertia).min() < -1e-12 * scale:
+    if not np.all(np.isfinite(inertia)):
+        raise ValueError(f"link {link.name!r} has a rotational inertia that is not finite")
+    if check and np.linalg.eigvalsh(inertia).min() < -1e-12 * scale:
         raise ValueError(
             f"link {link.name!r} has a rotational inertia that is not positive semi-definite "
-            f"(eigenvalues {np.linalg.eigvalsh(inertia).tolist()}); expected a physical inertia")
+            f"(eigenvalues {np.linalg.eigvalsh(inertia).tolist()}); expected a physical inertia "
+            f"(load with check_inertia=False to accept it, as Pinocchio does)")
     rot = origin[:3, :3]
     return mass, origin[:3, 3].copy(), rot @ inertia @ rot.T
 
@@ -141,7 +145,7 @@ def _limit(joint, attr, default):
 
 
 def load_urdf(source: str | os.PathLike, name: str | None = None,
-              floating_base: bool = False) -> Model:
+              floating_base: bool = False, check_inertia: bool = True) -> Model:
     """Build a :class:`Model` from a URDF file path or URDF XML text.
 
     The root link is fixed to the world, or with ``floating_base`` moved by a free-flyer
@@ -156,15 +160,16 @@ def load_urdf(source: str | os.PathLike, name: str | None = None,
     a moving link whose rotational inertia is not positive semi-definite.
     """
     xml, path = _read_source(source)
-    floating_base = bool(floating_base)
-    return cached(xml, (name, floating_base), lambda: _build(xml, path, name, floating_base))
+    options = (name, bool(floating_base), bool(check_inertia))
+    return cached(xml, options, lambda: _build(xml, path, *options))
 
 
 ROOT_JOINT = "root_joint"
 """The name of a free-flyer root joint, as Pinocchio names it."""
 
 
-def _build(xml: bytes, path: str | None, name: str | None, floating_base: bool) -> Model:
+def _build(xml: bytes, path: str | None, name: str | None, floating_base: bool,
+           check_inertia: bool) -> Model:
     where = repr(path) if path is not None else "the URDF text"
     robot = _parse(xml, where)
 
@@ -292,7 +297,7 @@ def _build(xml: bytes, path: str | None, name: str | None, floating_base: bool) 
         if j < 0:
             continue
         try:
-            mass, com, rot = _inertial(links[lk])
+            mass, com, rot = _inertial(links[lk], check_inertia)
         except ValueError as exc:
             raise ValueError(f"{where}: {exc}") from None
         pose = link_pose[lk]
@@ -325,4 +330,5 @@ def _build(xml: bytes, path: str | None, name: str | None, floating_base: bool) 
         link_placement_matrices=np.array([link_pose[lk] for lk in link_names]),
         root_link=root,
         mimic=mimic,
+        check_inertia=check_inertia,
     )

@@ -1,14 +1,13 @@
 """``cgadyn simulate-body``: the hypercube on a spring of figs. 2.4/2.5 in d = 1..4.
 
-The lead wires ``add_parser``/``run`` into the main CLI; ``python -m cgadyn.pga.cli ...``
-runs it standalone.
+``cgadyn.cli`` registers ``add_parser``/``run`` with the other subcommands.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
-import sys
+
+from .._json import dumps
 
 __all__ = ["add_parser", "run"]
 
@@ -38,27 +37,26 @@ def _add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the simulation; returns the exit code (2 for bad arguments)."""
+    """Run the simulation; returns the exit code. Bad arguments raise ``ValueError`` or
+    ``UsageError``, which ``cgadyn.cli.main`` reports (exit status 2)."""
+    from ..commands.common import check_plot_path
     from .simulate import hypercube_on_spring
 
-    try:
-        result = hypercube_on_spring(
-            d=args.dim,
-            steps=args.steps,
-            dt=args.dt,
-            integrator=args.integrator,
-            contact=not args.no_contact,
-            damping=not args.no_damping,
-        )
-    except ValueError as exc:
-        print(f"simulate-body: error: {exc}", file=sys.stderr)
-        return 2
+    check_plot_path(args.plot)  # before the work: a bad path is a usage error
+    result = hypercube_on_spring(
+        d=args.dim,
+        steps=args.steps,
+        dt=args.dt,
+        integrator=args.integrator,
+        contact=not args.no_contact,
+        damping=not args.no_damping,
+    )
     summary = result["summary"]
     if args.plot:
         _plot(result, args.plot)
         summary["plot"] = args.plot
     if args.json:
-        print(json.dumps(summary, indent=2))
+        print(dumps(summary, indent=2))
     else:
         _print_summary(summary)
     return 0
@@ -118,15 +116,3 @@ def _plot(result: dict, path: str) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=100)
     plt.close(fig)
-
-
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="cgadyn")
-    sub = parser.add_subparsers(dest="command", required=True)
-    add_parser(sub)
-    args = parser.parse_args(argv)
-    return args.func(args)
-
-
-if __name__ == "__main__":
-    sys.exit(main())

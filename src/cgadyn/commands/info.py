@@ -1,0 +1,79 @@
+"""``cgadyn info``: a robot's joints (kind, coordinates, limits, body mass), links and mass,
+its base and the sizes nq and nv, as text or JSON."""
+
+from __future__ import annotations
+
+import argparse
+
+from .common import DEFAULT_ROBOT, add_base_options, floating_base, print_json
+
+__all__ = ["add_parser", "format_info", "model_info", "run"]
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("info", help="joints, limits, links, base and mass of a robot")
+    p.add_argument("robot", nargs="?", default=DEFAULT_ROBOT, metavar="ROBOT",
+                   help=f"robot name or URDF file (default {DEFAULT_ROBOT})")
+    p.add_argument("--json", action="store_true", help="print as JSON")
+    add_base_options(p)
+    p.set_defaults(func=run)
+
+
+def _limits(values, j: int, idx) -> list[float]:
+    return [float(x) for x in values[idx[j]:idx[j + 1]]]
+
+
+def model_info(model) -> dict:
+    """Base, sizes, joints (kind, parent, coordinates, limits, body mass), links (with the
+    joint they move with) and total mass of a model."""
+    def joint(j: int) -> dict:
+        parent = int(model.parents[j])
+        return {"name": model.joint_names[j], "kind": model.joint_kinds[j],
+                "parent": None if parent < 0 else model.joint_names[parent],
+                "q": [int(model.idx_q[j]), int(model.idx_q[j + 1])],
+                "v": [int(model.idx_v[j]), int(model.idx_v[j + 1])],
+                "lower": _limits(model.lower, j, model.idx_q),
+                "upper": _limits(model.upper, j, model.idx_q),
+                "velocity_limit": _limits(model.velocity_limit, j, model.idx_v),
+                "effort_limit": _limits(model.effort_limit, j, model.idx_v),
+                "body_mass": float(model.body_mass[j])}
+
+    return {"robot": model.name, "base": "free flyer" if model.floating_base else "fixed",
+            "nq": model.nq, "nv": model.nv, "njoints": model.njoints,
+            "root_link": model.root_link, "total_mass": model.total_mass,
+            "joints": [joint(j) for j in range(model.njoints)],
+            "links": [{"name": n, "joint": None if model.link_joint[i] < 0
+                       else model.joint_names[model.link_joint[i]]}
+                      for i, n in enumerate(model.link_names)]}
+
+
+def _range(lo: list[float], hi: list[float]) -> str:
+    if len(lo) != 1:
+        return f"{len(lo)} coordinates"
+    return f"[{lo[0]:.4g}, {hi[0]:.4g}]"
+
+
+def format_info(info: dict) -> str:
+    """A readable listing of :func:`model_info`."""
+    lines = [f"{info['robot']}: {info['base']} base, nq = {info['nq']}, nv = {info['nv']}, "
+             f"{info['njoints']} joints, {len(info['links'])} links, root link "
+             f"{info['root_link']}, moving mass {info['total_mass']:.4g} kg", "",
+             f"{'#':>3}  {'joint':<28}{'kind':<12}{'q':>8}{'v':>8}  {'limits':<22}"
+             f"{'mass':>9}  parent"]
+    for j, jt in enumerate(info["joints"]):
+        q = f"{jt['q'][0]}:{jt['q'][1]}"
+        v = f"{jt['v'][0]}:{jt['v'][1]}"
+        lines.append(f"{j:>3}  {jt['name']:<28}{jt['kind']:<12}{q:>8}{v:>8}  "
+                     f"{_range(jt['lower'], jt['upper']):<22}{jt['body_mass']:>9.4g}  "
+                     f"{jt['parent'] or 'world'}")
+    lines += ["", f"{'link':<36}moves with joint"]
+    lines += [f"{lk['name']:<36}{lk['joint'] or '(fixed to world)'}" for lk in info["links"]]
+    return "\n".join(lines)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..multibody import registry
+
+    info = model_info(registry.load(args.robot, floating_base=floating_base(args)))
+    print_json(info) if args.json else print(format_info(info))
+    return 0

@@ -1,0 +1,220 @@
+"""Pinocchio, the oracle: the same robot in both libraries, states in both layouts, the
+measure of their difference, and every check as a record.
+
+One place for the Pinocchio side, used by ``cgadyn validate``, ``cgadyn bench``, the
+validation scripts and the tests:
+
+- ``models(robot)``: the cgadyn model and the Pinocchio model of one robot name, path or
+  URDF text, built alike (a free-flyer root where cgadyn gives one);
+- ``pin_configuration``: cgadyn's q in Pinocchio's layout (a continuous joint is one angle
+  in cgadyn and (cos, sin) in Pinocchio; a free flyer is the same 7 numbers in both);
+- ``sample``: random states;
+- ``relative_error``: the measure, ``RELATIVE``;
+- ``CHECKS``: what ``validate`` compares, each with its cgadyn call, its Pinocchio call and
+  whether its tolerance scales with the conditioning of M (``SCALED``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+TINY = 1e-300
+
+RELATIVE = "rel = max|cgadyn - pinocchio| / max|pinocchio|, per sample"
+SCALED = ("forward dynamics and M⁻¹ are judged against tolerance × cond(M): both libraries "
+          "solve with M, and an error of the result of that order is the rounding of M itself")
+
+
+def models(robot, floating_base=None, check_inertia: bool = True):
+    """``(cgadyn model, pinocchio model)`` of a robot name, a URDF path or URDF text."""
+    import pinocchio as pin
+
+    from .multibody import registry
+
+    model = registry.load(robot, floating_base=floating_base, check_inertia=check_inertia)
+    kind, value, _ = registry.resolve(robot)
+    root = pin.JointModelFreeFlyer() if model.floating_base else None
+    if kind == "text":
+        pm = (pin.buildModelFromXML(value, root) if root is not None
+              else pin.buildModelFromXML(value))
+    else:
+        path = str(registry.robot_path(value) if kind == "name" else value)
+        pm = pin.buildModelFromUrdf(path, root) if root is not None else \
+            pin.buildModelFromUrdf(path)
+    if tuple(pm.names[1:]) != model.joint_names:
+        raise RuntimeError(f"joint order differs from Pinocchio's: {list(pm.names[1:])} vs "
+                           f"{list(model.joint_names)}")
+    return model, pm
+
+
+def pin_configuration(model, q: np.ndarray) -> np.ndarray:
+    """cgadyn's configuration(s) (..., nq) in Pinocchio's layout: a continuous joint's angle
+    becomes (cos, sin); every other coordinate passes through."""
+    q = np.asarray(q, dtype=float)
+    parts = []
+    for j, kind in enumerate(model.joint_kinds):
+        block = q[..., model.idx_q[j]:model.idx_q[j + 1]]
+        parts += [np.cos(block), np.sin(block)] if kind == "continuous" else [block]
+    return np.concatenate(parts, axis=-1) if parts else q
+
+
+def forces(f_ext: np.ndarray):
+    """Pinocchio's list of forces (the universe's first) from cgadyn's (n, 6) ``f_ext``."""
+    import pinocchio as pin
+
+    return [pin.Force.Zero()] + [pin.Force(np.asarray(f, dtype=float)) for f in f_ext]
+
+
+@dataclass(frozen=True)
+class States:
+    """A batch of random states, ``(B, nq)`` and ``(B, nv)`` each."""
+
+    q: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    tau: np.ndarray
+
+
+def sample(model, samples: int, seed) -> States:
+    """Random states: q by ``random_configuration`` (joints uniform in their limits, [-π, π]
+    where unbounded; free flyers in the unit box with a uniformly random rotation), v, a,
+    τ standard normal."""
+    from .algorithms.configuration import random_configuration
+
+    rng = np.random.default_rng(seed)
+    q = np.array([random_configuration(model, rng) for _ in range(samples)]).reshape(
+        samples, model.nq)
+    shape = (samples, model.nv)
+    return States(q, rng.standard_normal(shape), rng.standard_normal(shape),
+                  rng.standard_normal(shape))
+
+
+def relative_error(mine, reference) -> np.ndarray:
+    """Per sample, ``max|mine - reference| / max|reference|`` (``RELATIVE``): a relative
+    error of the largest entry, whatever the scale of the quantity."""
+    ref = np.asarray(reference, dtype=float)
+    samples = ref.shape[0]
+    diff = np.abs(np.asarray(mine, dtype=float) - ref).reshape(samples, -1)
+    scale = np.abs(ref).reshape(samples, -1).max(axis=1, initial=0.0)
+    return diff.max(axis=1, initial=0.0) / np.maximum(scale, TINY)
+
+
+def symmetric(H: np.ndarray) -> np.ndarray:
+    """The full symmetric matrix of one whose upper triangle Pinocchio filled."""
+    return np.triu(H) + np.triu(H, 1).T
+
+
+@dataclass(frozen=True)
+class Check:
+    """One quantity compared: ``mine(model, states, links)`` returns the batch in cgadyn;
+    ``theirs(pm, data, qp, states, i, frames)`` one sample in Pinocchio (None: see
+    ``fk_reference``). ``scaled``: judged against tolerance × cond(M)."""
+
+    key: str
+    label: str
+    mine: Callable
+    theirs: Callable
+    scaled: bool = False
+
+
+def _pin():
+    import pinocchio
+
+    return pinocchio
+
+
+def _frames(pm, names):
+    pin = _pin()
+    return [pm.getFrameId(n, pin.BODY) for n in names]
+
+
+def _jacobians(pm, d, qp, frames, reference):
+    pin = _pin()
+    pin.computeJointJacobians(pm, d, qp)
+    pin.updateFramePlacements(pm, d)
+    return np.stack([pin.getFrameJacobian(pm, d, f, reference) for f in frames])
+
+
+def _cg():
+    import cgadyn
+
+    return cgadyn
+
+
+CHECKS = (
+    Check("rnea", "inverse dynamics (rnea)",
+          lambda m, s, L: _cg().rnea(m, s.q, s.v, s.a),
+          lambda pm, d, qp, s, i, F: _pin().rnea(pm, d, qp, s.v[i], s.a[i]).copy()),
+    Check("aba", "forward dynamics (aba)",
+          lambda m, s, L: _cg().aba(m, s.q, s.v, s.tau),
+          lambda pm, d, qp, s, i, F: _pin().aba(pm, d, qp, s.v[i], s.tau[i]).copy(),
+          scaled=True),
+    Check("crba", "mass matrix (crba)",
+          lambda m, s, L: _cg().crba(m, s.q),
+          lambda pm, d, qp, s, i, F: symmetric(_pin().crba(pm, d, qp))),
+    Check("gravity", "gravity torques g(q)",
+          lambda m, s, L: _cg().gravity_torques(m, s.q),
+          lambda pm, d, qp, s, i, F: _pin().computeGeneralizedGravity(pm, d, qp).copy()),
+    Check("jacobian_world", "Jacobians, world frame",
+          lambda m, s, L: np.stack([_cg().jacobian(m, s.q, link) for link in L], 1),
+          lambda pm, d, qp, s, i, F: _jacobians(pm, d, qp, F, _pin().WORLD)),
+    Check("jacobian_local", "Jacobians, local frame",
+          lambda m, s, L: np.stack([_cg().jacobian(m, s.q, link, "local") for link in L], 1),
+          lambda pm, d, qp, s, i, F: _jacobians(pm, d, qp, F, _pin().LOCAL)),
+    Check("fk", "forward kinematics (all links)",
+          lambda m, s, L: _cg().link_placements(m, s.q),
+          None),
+    Check("rnea_derivatives", "∂τ/∂q, ∂τ/∂v (rnea derivatives)",
+          lambda m, s, L: np.stack(_cg().rnea_derivatives(m, s.q, s.v, s.a)[:2], 1),
+          lambda pm, d, qp, s, i, F: np.stack(
+              [x.copy() for x in _pin().computeRNEADerivatives(pm, d, qp, s.v[i], s.a[i])[:2]])),
+    Check("aba_derivatives", "∂q̈/∂q, ∂q̈/∂v (aba derivatives)",
+          lambda m, s, L: np.stack(_cg().aba_derivatives(m, s.q, s.v, s.tau)[:2], 1),
+          lambda pm, d, qp, s, i, F: np.stack(
+              [x.copy() for x in _pin().computeABADerivatives(pm, d, qp, s.v[i], s.tau[i])[:2]]),
+          scaled=True),
+    Check("minverse", "inverse mass matrix M⁻¹",
+          lambda m, s, L: _cg().minverse(m, s.q),
+          lambda pm, d, qp, s, i, F: symmetric(_pin().computeMinverse(pm, d, qp)),
+          scaled=True),
+    Check("centroidal", "centroidal momentum matrix (ccrba)",
+          lambda m, s, L: _cg().centroidal_momentum_matrix(m, s.q),
+          lambda pm, d, qp, s, i, F: _pin().ccrba(pm, d, qp, s.v[i]).copy()),
+    Check("com", "centre of mass, velocity, acceleration",
+          lambda m, s, L: np.stack(_cg().center_of_mass(m, s.q, s.v, s.a), 1),
+          lambda pm, d, qp, s, i, F: (_pin().centerOfMass(pm, d, qp, s.v[i], s.a[i]),
+                                      np.stack([d.com[0], d.vcom[0], d.acom[0]]))[1]),
+    Check("manifold", "integrate, difference (manifold)",
+          lambda m, s, L: np.concatenate(
+              [pin_configuration(m, _cg().integrate(m, s.q, s.v)),
+               _cg().difference(m, s.q, _cg().integrate(m, s.q, 0.3 * s.v))], 1),
+          lambda pm, d, qp, s, i, F: np.concatenate(
+              [_pin().integrate(pm, qp, s.v[i]), _pin().difference(
+                  pm, qp, _pin().integrate(pm, qp, 0.3 * s.v[i]))])),
+)
+
+BY_KEY = {c.key: c for c in CHECKS}
+
+
+def fk_reference(pm, d, qp, link_names) -> np.ndarray:
+    """Pinocchio's world placements of the named links."""
+    pin = _pin()
+    pin.forwardKinematics(pm, d, qp)
+    pin.updateFramePlacements(pm, d)
+    return np.stack([d.oMf[f].homogeneous for f in _frames(pm, link_names)])
+
+
+def conditioning(model, q: np.ndarray) -> np.ndarray:
+    """cond(M(q)) per sample (2-norm)."""
+    from .algorithms.api import crba
+
+    return np.linalg.cond(crba(model, q))
+
+
+def finite_or_none(x: float):
+    """A number for standard JSON: ``None`` for NaN and inf."""
+    return float(x) if math.isfinite(x) else None
