@@ -1,0 +1,21 @@
+"""The README's Python examples run as written (the README stays true)."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+README = Path(__file__).resolve().parents[1] / "README.md"
+
+
+def test_readme_examples_run():
+    blocks = re.findall(r"```python\n(.*?)```", README.read_text(), re.S)
+    assert len(blocks) >= 2
+    namespace: dict = {}
+    exec("\n".join(blocks), namespace)  # noqa: S102 - our own README
+    solo, q, v = namespace["solo"], namespace["q"], namespace["v"]
+    assert (solo.nq, solo.nv) == (19, 18)
+    np.testing.assert_allclose(
+        namespace["cgadyn"].difference(solo, q, namespace["q_next"]), 0.01 * v, atol=1e-14)
