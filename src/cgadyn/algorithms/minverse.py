@@ -84,7 +84,7 @@ def minverse_pass(m, q, Minv, k_):
             for col in range(k1, end):  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
                 Minv[k0, col] = omega * dot(Sw[k0], F[j, col])
             if parent >= 0:
-                for col in range(k0, end):  # F_λ[c] += F_j[c] + U_j M⁻¹[j, c]
+                for col in range(k0, end):  # F_λ[c] += F_j[c] + U_j M⁻¹[j, c] (M2)
                     x = Minv[k0, col]
                     for i in range(6):
                         F[parent, col, i] += F[j, col, i] + U[k0, i] * x
@@ -98,17 +98,17 @@ def minverse_pass(m, q, Minv, k_):
                         x += Dinv[a - k0, b - k0] * t1[b - k0]
                     Minv[a, col] = x
             if parent >= 0:
-                for col in range(k0, end):  # F_λ[c] += F_j[c] + U_j M⁻¹[j, c]
+                for col in range(k0, end):  # F_λ[c] += F_j[c] + U_j M⁻¹[j, c] (M2)
                     for i in range(6):
                         x = F[j, col, i]
                         for a in range(k0, k1):
                             x += U[a, i] * Minv[a, col]
                         F[parent, col, i] += x
         if parent >= 0:
-            _articulated(Ih[j], U, G, k0, k1, It)  # Î_j - U_j D_j⁻¹ U_jᵀ
+            _articulated(Ih[j], U, G, k0, k1, It)  # Ĩ_j = Î_j - U_j D_j⁻¹ U_jᵀ
             for i in range(6):
                 for k in range(6):
-                    Ih[parent, i, k] += It[i, k]  # Î_λ += Ĩ_j (one frame: a sum)
+                    Ih[parent, i, k] += It[i, k]  # Î_λ += Ĩ_j, one frame: a sum (M2)
     for j in range(m.n):
         k0, k1 = m.iv[j], m.iv[j + 1]
         parent = m.parents[j]

@@ -87,7 +87,7 @@ def rnea_derivatives_forward(m, q, v, a, f, k_):
         for i in range(6):  # V_j = V_λ + S_j q̇_j (D2)
             V[j, i] = t1[i] if parent < 0 else V[parent, i] + t1[i]
         twist_cross(V[j], t1, A[j])  # V_j × S_j q̇_j: Ṡ_j = V_j × S_j
-        for i in range(6):  # A_j = A_λ + V_j × S_j q̇_j + S_j q̈_j, A_0 = -g
+        for i in range(6):  # A_j = A_λ + V_j × S_j q̇_j + S_j q̈_j, A_0 = -g (D2)
             A[j, i] += t2[i] + (m.gravity[i] if parent < 0 else A[parent, i])
         for k in range(k0, k1):
             if parent < 0:  # the world does not move: u = 0, ψ = A_0 × S
