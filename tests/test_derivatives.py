@@ -1,0 +1,128 @@
+"""Analytic derivatives against Pinocchio (computeRNEADerivatives, computeABADerivatives,
+computeMinverse) and against central differences through ``integrate``, on fixed and
+floating bases, with gravity and f_ext; the identities that tie them together; batches."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+import cgadyn
+from cgadyn import oracle
+
+ROBOTS = ["panda", "ur5", "double_pendulum_continuous", "prismatic_tree", "solo12", "talos"]
+GRAVITY = (0.3, -1.0, -9.0)
+
+
+def rel(x, y) -> float:
+    return float(oracle.relative_error(np.asarray(x)[None], np.asarray(y)[None])[0])
+
+
+@pytest.fixture(scope="module", params=ROBOTS)
+def robot(request):
+    model, pm = oracle.models(request.param)
+    pm.gravity.linear = np.array(GRAVITY)
+    return model, pm, pm.createData()
+
+
+def states(model, n=2, seed=0):
+    s = oracle.sample(model, n, seed)
+    f = np.random.default_rng(seed + 1).normal(size=(n, model.njoints, 6))
+    return [(s.q[i], s.v[i], s.a[i], s.tau[i], f[i]) for i in range(n)]
+
+
+def test_rnea_derivatives_match_pinocchio(robot):
+    model, pm, d = robot
+    for q, v, a, _, f in states(model):
+        qp = oracle.pin_configuration(model, q)
+        for fe in (None, f):
+            mine = cgadyn.rnea_derivatives(model, q, v, a, gravity=GRAVITY, f_ext=fe)
+            args = (pm, d, qp, v, a) if fe is None else (pm, d, qp, v, a, oracle.forces(fe))
+            theirs = [x.copy() for x in pin.computeRNEADerivatives(*args)]
+            assert rel(mine[0], theirs[0]) < 1e-10
+            assert rel(mine[1], theirs[1]) < 1e-10
+            assert rel(mine[2], oracle.symmetric(theirs[2])) < 1e-10
+
+
+def test_aba_derivatives_and_minverse_match_pinocchio(robot):
+    model, pm, d = robot
+    for q, v, _, tau, f in states(model):
+        qp = oracle.pin_configuration(model, q)
+        cond = np.linalg.cond(cgadyn.crba(model, q))
+        for fe in (None, f):
+            mine = cgadyn.aba_derivatives(model, q, v, tau, gravity=GRAVITY, f_ext=fe)
+            args = (pm, d, qp, v, tau) if fe is None else (pm, d, qp, v, tau, oracle.forces(fe))
+            theirs = [x.copy() for x in pin.computeABADerivatives(*args)]
+            for k in range(3):
+                ref = theirs[k] if k < 2 else oracle.symmetric(theirs[k])
+                assert rel(mine[k], ref) < 1e-10 * cond, k
+        Minv = cgadyn.minverse(model, q)
+        assert rel(Minv, oracle.symmetric(pin.computeMinverse(pm, d, qp))) < 1e-10 * cond
+
+
+def _central(f, model, q, eps=1e-6):
+    """Columns (f(q ⊕ eps e_k) - f(q ⊕ -eps e_k)) / 2 eps over the tangent space."""
+    cols = []
+    for k in range(model.nv):
+        dq = np.zeros(model.nv)
+        dq[k] = eps
+        cols.append((f(cgadyn.integrate(model, q, dq)) - f(cgadyn.integrate(model, q, -dq)))
+                    / (2 * eps))
+    return np.stack(cols, axis=-1)
+
+
+def _central_v(f, v, eps=1e-6):
+    return np.stack([(f(v + eps * e) - f(v - eps * e)) / (2 * eps) for e in np.eye(v.size)],
+                    axis=-1)
+
+
+def test_against_central_differences(robot):
+    """Derivatives with respect to the tangent space at q (the base's six columns
+    included), as the direction dq of integrate(q, dq)."""
+    model, _, _ = robot
+    q, v, a, tau, f = states(model, 1, seed=4)[0]
+    kw = {"gravity": GRAVITY, "f_ext": f}
+    dtau_dq, dtau_dv, _ = cgadyn.rnea_derivatives(model, q, v, a, **kw)
+    assert rel(dtau_dq, _central(lambda x: cgadyn.rnea(model, x, v, a, **kw), model, q)) < 1e-6
+    assert rel(dtau_dv, _central_v(lambda x: cgadyn.rnea(model, q, x, a, **kw), v)) < 1e-6
+    dqdd_dq, dqdd_dv, _ = cgadyn.aba_derivatives(model, q, v, tau, **kw)
+    assert rel(dqdd_dq, _central(lambda x: cgadyn.aba(model, x, v, tau, **kw), model, q)) < 1e-6
+    assert rel(dqdd_dv, _central_v(lambda x: cgadyn.aba(model, q, x, tau, **kw), v)) < 1e-6
+
+
+def test_identities(robot):
+    """dqdd_dtau = M⁻¹, and dqdd_dq = -M⁻¹ dtau_dq at a = aba(q, v, τ)."""
+    model, _, _ = robot
+    q, v, _, tau, _ = states(model, 1, seed=7)[0]
+    M = cgadyn.crba(model, q)
+    dqdd_dq, dqdd_dv, Minv = cgadyn.aba_derivatives(model, q, v, tau)
+    assert rel(Minv @ M, np.eye(model.nv)) < 1e-9
+    a = cgadyn.aba(model, q, v, tau)
+    dtau_dq, dtau_dv, M2 = cgadyn.rnea_derivatives(model, q, v, a)
+    assert rel(M2, M) < 1e-12
+    assert rel(dqdd_dq, -Minv @ dtau_dq) < 1e-9
+    assert rel(dqdd_dv, -Minv @ dtau_dv) < 1e-9
+
+
+def test_batches_equal_single_calls(robot):
+    model, _, _ = robot
+    s = oracle.sample(model, 9, 3)
+    batch = (cgadyn.rnea_derivatives(model, s.q, s.v, s.a),
+             cgadyn.aba_derivatives(model, s.q, s.v, s.tau), (cgadyn.minverse(model, s.q),))
+    assert batch[0][0].shape == (9, model.nv, model.nv)
+    for b in (0, 4, 8):
+        single = (cgadyn.rnea_derivatives(model, s.q[b], s.v[b], s.a[b]),
+                  cgadyn.aba_derivatives(model, s.q[b], s.v[b], s.tau[b]),
+                  (cgadyn.minverse(model, s.q[b]),))
+        for many, one in zip(batch, single, strict=True):
+            for x, y in zip(many, one, strict=True):
+                assert rel(x[b], y) < 1e-12
+
+
+def test_bad_input_is_named():
+    model = cgadyn.load("ur5")
+    with pytest.raises(ValueError, match="q"):
+        cgadyn.rnea_derivatives(model, np.zeros(5), np.zeros(6), np.zeros(6))
+    with pytest.raises(ValueError, match="NaN|nan|finite"):
+        cgadyn.aba_derivatives(model, np.full(6, np.nan), np.zeros(6), np.zeros(6))
