@@ -1,0 +1,93 @@
+"""Load a :class:`~cgadyn.multibody.model.Model` from MuJoCo's MJCF, through Pinocchio.
+
+An XML document whose root element is ``<mujoco>`` is MJCF (``is_mjcf``, the one test
+``cgadyn.load`` and the oracle use). Pinocchio parses it (``pinocchio_model``, the one
+place that calls ``pinocchio.buildModelFromMJCF``) and ``from_pinocchio`` converts the
+result, so the model is Pinocchio's reading of the file: its joints (hinge: revolute,
+slide: prismatic, free: free flyer; ball joints are refused by name), the bodies without
+a joint welded to their parent, the masses and inertias of the ``<inertial>`` elements.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from io import BytesIO
+from pathlib import Path
+
+from cgadyn.multibody.cache import cached
+from cgadyn.multibody.model import Model
+from cgadyn.multibody.urdf import ROOT_JOINT, _read_source
+
+
+def is_mjcf(xml: bytes) -> bool:
+    """True when ``xml`` is an XML document whose root element is ``<mujoco>``."""
+    from lxml import etree
+
+    try:
+        for _, element in etree.iterparse(BytesIO(xml.strip()), events=("start",)):
+            return element.tag == "mujoco"
+    except etree.XMLSyntaxError:
+        return False
+    return False
+
+
+def file_is_mjcf(path: os.PathLike | str) -> bool:
+    """True when the file at ``path`` is MJCF (see ``is_mjcf``)."""
+    return is_mjcf(Path(path).read_bytes())
+
+
+def _has_free_root(pm) -> bool:
+    return pm.njoints > 1 and pm.joints[1].shortname() == "JointModelFreeFlyer"
+
+
+def pinocchio_model(source, floating_base: bool | None = None):
+    """Pinocchio's model of an MJCF file path or MJCF text (text goes through a temporary
+    file, so relative ``<include>`` paths are not found).
+
+    ``floating_base``: ``None`` keeps the file's own base (a ``<freejoint/>`` on the root
+    body gives a free flyer); ``True`` adds a free-flyer root ``root_joint`` when the file
+    has none; ``False`` refuses a file whose root body has a free joint.
+    """
+    import pinocchio as pin
+
+    xml, path = _read_source(source)
+    where = repr(path) if path is not None else "the MJCF text"
+    if not is_mjcf(xml):
+        raise ValueError(f"{where} is not MJCF: expected an XML document whose root element "
+                         f"is <mujoco>")
+    with tempfile.TemporaryDirectory() as tmp:
+        if path is None:
+            path = os.path.join(tmp, "model.xml")
+            Path(path).write_bytes(xml)
+        try:
+            pm = pin.buildModelFromMJCF(str(path))
+            if floating_base and not _has_free_root(pm):
+                pm = pin.buildModelFromMJCFAndRootJoint(str(path), pin.JointModelFreeFlyer(),
+                                                        ROOT_JOINT)
+        except (RuntimeError, ValueError) as exc:
+            raise ValueError(f"Pinocchio cannot parse the MJCF in {where}: {exc}") from None
+    if floating_base is False and _has_free_root(pm):
+        raise ValueError(f"{where}: the root body has a free joint {pm.names[1]!r}, so the "
+                         f"model floats; expected floating_base=None or True for this file")
+    return pm
+
+
+def load_mjcf(source, name: str | None = None, floating_base: bool | None = None,
+              check_inertia: bool = True) -> Model:
+    """The model of an MJCF file path or MJCF text (see ``pinocchio_model`` for
+    ``floating_base``), converted by ``from_pinocchio``; ``name`` defaults to the
+    ``<mujoco model="...">`` name. Cached on disk like URDF models (keyed by the file's
+    text, so a file that ``<include>``s others is rebuilt every time)."""
+    from cgadyn.multibody.pinocchio_model import from_pinocchio
+
+    xml, _ = _read_source(source)
+
+    def build() -> Model:
+        return from_pinocchio(pinocchio_model(source, floating_base), name=name,
+                              check_inertia=check_inertia)
+
+    if b"<include" in xml:
+        return build()
+    options = ("mjcf", name, floating_base, bool(check_inertia))
+    return cached(xml, options, build)
