@@ -82,8 +82,8 @@ def cgadyn_configuration(model, qp: np.ndarray) -> np.ndarray:
             parts.append(qp[..., i:i + size])
             i += size
     if i != qp.shape[-1]:
-        raise ValueError(f"a Pinocchio configuration of {model.name!r} has {i} entries, got "
-                         f"{qp.shape[-1]}")
+        raise ValueError(f"a Pinocchio configuration of {model.name!r} has {i} entries "
+                         f"(Pinocchio's nq), got {qp.shape[-1]}")
     return np.concatenate(parts, axis=-1) if parts else qp
 
 
