@@ -198,12 +198,18 @@ def test_cli_validates_an_mjcf_file(capsys):
     assert "PASS: 13/13" in out
 
 
-def test_unsupported_joint_refused_by_name():
+@pytest.mark.parametrize("make, shortname", [
+    (lambda pm: pin.JointModelSpherical(), "JointModelSpherical"),
+    (lambda pm: pin.JointModelPlanar(), "JointModelPlanar"),
+    (lambda pm: pin.JointModelTranslation(), "JointModelTranslation"),
+    (lambda pm: pin.JointModelMimic(pm.joints[1], 2.0, 0.1), "JointModelMimic"),
+])
+def test_unsupported_joint_refused_by_name(make, shortname):
     pm = pin.Model()
     pm.addJoint(0, pin.JointModelRX(), pin.SE3.Identity(), "elbow")
-    pm.addJoint(1, pin.JointModelSpherical(), pin.SE3.Identity(), "wrist_ball")
-    with pytest.raises(ValueError, match=r"joint 'wrist_ball' is a JointModelSpherical, which "
-                                         r"cgadyn does not support; supported joints: revolute"):
+    pm.addJoint(1, make(pm), pin.SE3.Identity(), "wrist")
+    with pytest.raises(ValueError, match=rf"joint 'wrist' is a {shortname}, which cgadyn does "
+                                         rf"not support; supported joints: revolute"):
         cgadyn.from_pinocchio(pm)
 
 
