@@ -173,6 +173,19 @@ def test_mjcf_file_loads_as_pinocchio_parses_it():
     assert oracle_pm.nq == pm.nq and oracle_pm.name == "slide_arm"
 
 
+@pytest.mark.parametrize("xml, mjcf", [
+    (b'<mujoco model="a"/>', True),
+    (b'\xef\xbb\xbf<?xml version="1.0"?>\n<!-- a <robot> -->\n<mujoco>', True),
+    (b'<robot name="x"><mujoco/></robot>', False),
+    (b"<mujocox/>", False),
+    (b"not xml", False),
+])
+def test_mjcf_is_decided_by_the_root_element(xml, mjcf):
+    from cgadyn.multibody.mjcf import is_mjcf
+
+    assert is_mjcf(xml) is mjcf
+
+
 def test_mjcf_floating_base(tmp_path):
     floating = cgadyn.load(ARM, floating_base=True)
     assert floating.floating_base and floating.joint_names[0] == "root_joint"

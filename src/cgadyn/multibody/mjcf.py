@@ -11,25 +11,25 @@ a joint welded to their parent, the masses and inertias of the ``<inertial>`` el
 from __future__ import annotations
 
 import os
+import re
 import tempfile
-from io import BytesIO
 from pathlib import Path
 
 from cgadyn.multibody.cache import cached
 from cgadyn.multibody.model import Model
 from cgadyn.multibody.urdf import ROOT_JOINT, _read_source
 
+_PROLOG = re.compile(
+    rb"\A(?:\xef\xbb\xbf)?(?:\s+|<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>)*<([^\s/>]+)", re.DOTALL)
+"""What comes before an XML document's root element (a byte-order mark, the declaration,
+comments, a doctype, white space), then the root element's tag."""
+
 
 def is_mjcf(xml: bytes) -> bool:
-    """True when ``xml`` is an XML document whose root element is ``<mujoco>``."""
-    from lxml import etree
-
-    try:
-        for _, element in etree.iterparse(BytesIO(xml.strip()), events=("start",)):
-            return element.tag == "mujoco"
-    except etree.XMLSyntaxError:
-        return False
-    return False
+    """True when ``xml`` is an XML document whose root element is ``<mujoco>`` (read from
+    the prolog only, without parsing the document: ``load`` asks it of every file)."""
+    match = _PROLOG.match(xml)
+    return match is not None and match.group(1) == b"mujoco"
 
 
 def file_is_mjcf(path: os.PathLike | str) -> bool:
