@@ -259,3 +259,16 @@ def test_what_the_model_cannot_hold_is_refused():
     with pytest.raises(ValueError, match="the body of joint 'j2'.*check_inertia=False"):
         cgadyn.from_pinocchio(pm)
     assert cgadyn.from_pinocchio(pm, check_inertia=False).body_mass[2] == 1.0
+
+
+def test_mjcf_models_are_cached_on_disk(tmp_path, monkeypatch):
+    from cgadyn.multibody.mjcf import load_mjcf
+
+    monkeypatch.setenv("CGADYN_CACHE_DIR", str(tmp_path))
+    built = load_mjcf(ARM)
+    assert len(list(tmp_path.rglob("*.npz"))) == 1
+    read = load_mjcf(ARM)
+    assert read is not built and read.link_names == built.link_names
+    assert np.array_equal(read.inertias, built.inertias) and read.root_link == "stand"
+    assert load_mjcf(ARM, floating_base=True).floating_base  # its own entry
+    assert len(list(tmp_path.rglob("*.npz"))) == 2
