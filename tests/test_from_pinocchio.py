@@ -202,6 +202,48 @@ def test_mjcf_floating_base(tmp_path):
         cgadyn.load(free, floating_base=False)
 
 
+def test_mjcf_model_agrees_with_mujoco():
+    """The file means to cgadyn what it means to MuJoCo itself: mass matrix, bias forces
+    (C(q, v) v + g(q)) and every body's pose, on random states."""
+    mujoco = pytest.importorskip("mujoco")
+    mm = mujoco.MjModel.from_xml_path(str(ARM))
+    md = mujoco.MjData(mm)
+    model = cgadyn.load(ARM)
+    rng = np.random.default_rng(7)
+    M = np.zeros((mm.nv, mm.nv))
+    for _ in range(3):
+        q, v = cgadyn.random_configuration(model, rng), rng.standard_normal(model.nv)
+        md.qpos[:], md.qvel[:] = q, v
+        mujoco.mj_forward(mm, md)
+        mujoco.mj_fullM(mm, md, M)
+        assert _rel(cgadyn.crba(model, q), M) < TOL
+        assert _rel(cgadyn.nonlinear_effects(model, q, v), md.qfrc_bias) < TOL
+        T = cgadyn.link_placements(model, q)
+        for k, link in enumerate(model.link_names):
+            b = mujoco.mj_name2id(mm, mujoco.mjtObj.mjOBJ_BODY, link)
+            np.testing.assert_allclose(T[k, :3, 3], md.xpos[b], atol=1e-14)
+            np.testing.assert_allclose(T[k, :3, :3], md.xmat[b].reshape(3, 3), atol=1e-14)
+
+
+@pytest.mark.parametrize("attrs", ['pos="0 0 0.1"', 'euler="0.4 0 0"', 'quat="0 1 0 0"'])
+def test_mjcf_world_body_away_from_the_origin_refused(tmp_path, attrs):
+    """Pinocchio's MJCF parser puts a jointless child of <worldbody> at the origin; such a
+    file is refused rather than loaded as another robot, and wrapping it loads."""
+    moved = tmp_path / "moved.xml"
+    moved.write_text(ARM.read_text().replace('<body name="stand">',
+                                             f'<body name="stand" {attrs}>'))
+    with pytest.raises(ValueError, match=r"body 'stand' is welded to the world with "
+                                         r"\w+=.*which Pinocchio's MJCF parser ignores"):
+        cgadyn.load(moved)
+    wrapped = tmp_path / "wrapped.xml"
+    wrapped.write_text(moved.read_text().replace('<body name="stand"', '<body name="base">'
+                                                 '<body name="stand"').replace(
+        "</worldbody>", "</body></worldbody>"))
+    assert cgadyn.load(wrapped).link_names[:2] == ("base", "stand")
+    assert cgadyn.load(ARM.read_text().replace('<body name="stand">',  # identity: accepted
+                                               '<body name="stand" quat="-1 0 0 0">')).nv == 4
+
+
 def test_cli_validates_an_mjcf_file(capsys):
     from cgadyn.cli import main
 

@@ -37,6 +37,49 @@ def file_is_mjcf(path: os.PathLike | str) -> bool:
     return is_mjcf(Path(path).read_bytes())
 
 
+_IDENTITY = {"pos": (0.0, 0.0, 0.0), "quat": (1.0, 0.0, 0.0, 0.0), "euler": (0.0, 0.0, 0.0),
+             "xyaxes": (1.0, 0.0, 0.0, 0.0, 1.0, 0.0), "zaxis": (0.0, 0.0, 1.0)}
+"""A body's placement attributes in MJCF, and the values that leave it at its parent's frame
+(``axisangle`` is the identity when its angle, the fourth number, is zero)."""
+
+
+def _dropped_root_pose(xml: bytes, where: str) -> None:
+    """Refuse a body welded to the world (a child of ``<worldbody>`` without a joint) that
+    is placed away from the world's origin: Pinocchio's MJCF parser (4.1) puts such a body
+    at the origin, so its model would not be the file's robot. Its children's placements,
+    and those of top-level bodies with a joint, are read correctly."""
+    from lxml import etree
+
+    try:
+        root = etree.fromstring(xml.strip())
+    except etree.XMLSyntaxError as exc:
+        raise ValueError(f"malformed XML in {where}: {exc}") from None
+    for body in root.iterfind("worldbody/body"):
+        if body.find("joint") is not None or body.find("freejoint") is not None:
+            continue
+        for attr, identity in (*_IDENTITY.items(), ("axisangle", None)):
+            text = body.get(attr)
+            if text is None:
+                continue
+            try:
+                values = tuple(float(x) for x in text.split())
+            except ValueError:
+                values = ()
+            if attr == "axisangle":
+                moved = values[3:] != (0.0,)
+            elif attr == "quat":  # q and -q are the same rotation
+                moved = values not in (identity, tuple(-x for x in identity))
+            else:
+                moved = values != identity
+            if moved:
+                raise ValueError(
+                    f"{where}: body {body.get('name')!r} is welded to the world with "
+                    f"{attr}=\"{text}\", which Pinocchio's MJCF parser ignores (it places a "
+                    f"jointless child of <worldbody> at the origin), so the model would not be "
+                    f"the file's; expected it at the origin: wrap it in a <body> without "
+                    f"{attr} (nested placements are read)")
+
+
 def _has_free_root(pm) -> bool:
     return pm.njoints > 1 and pm.joints[1].shortname() == "JointModelFreeFlyer"
 
@@ -56,6 +99,7 @@ def pinocchio_model(source, floating_base: bool | None = None):
     if not is_mjcf(xml):
         raise ValueError(f"{where} is not MJCF: expected an XML document whose root element "
                          f"is <mujoco>")
+    _dropped_root_pose(xml, where)
     with tempfile.TemporaryDirectory() as tmp:
         if path is None:
             path = os.path.join(tmp, "model.xml")
