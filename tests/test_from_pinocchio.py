@@ -12,7 +12,7 @@ import pytest
 pin = pytest.importorskip("pinocchio")
 
 import cgadyn  # noqa: E402
-from cgadyn.multibody import registry  # noqa: E402
+from cgadyn.multibody import mjcf, registry  # noqa: E402
 from cgadyn.oracle import cgadyn_configuration, models, pin_configuration, symmetric  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -193,36 +193,57 @@ def test_mjcf_floating_base(tmp_path):
     _agree(floating, pin.buildModelFromMJCFAndRootJoint(str(ARM), pin.JointModelFreeFlyer()),
            samples=1)
     free = tmp_path / "free_arm.xml"
-    free.write_text(ARM.read_text().replace('<body name="stand">',
-                                            '<body name="stand" pos="0 0 1"><freejoint/>'))
+    free.write_text(ARM.read_text().replace('<body name="stand">', FREE_BODY))
     model = cgadyn.load(free)
-    assert model.floating_base and model.nv == 10
-    _agree(model, pin.buildModelFromMJCF(str(free)), samples=1)
+    assert model.floating_base and model.nv == 10 and model.joint_names[0] == "float"
+    pm = mjcf.pinocchio_model(free)  # the free joint's placement the identity, as in MuJoCo
+    assert pm.jointPlacements[1].isIdentity()
+    _agree(model, pm, samples=1)
+    assert models(free)[1].jointPlacements[1].isIdentity()  # the oracle reads it alike
     with pytest.raises(ValueError, match="the root body has a free joint"):
         cgadyn.load(free, floating_base=False)
 
 
-def test_mjcf_model_agrees_with_mujoco():
+FREE_BODY = '<body name="stand" pos="0.3 0 1" euler="0.2 0.1 0"><freejoint name="float"/>'
+"""slide_arm's stand made a free body, placed and turned in the world."""
+
+
+@pytest.mark.parametrize("free", [False, True])
+def test_mjcf_model_agrees_with_mujoco(tmp_path, free):
     """The file means to cgadyn what it means to MuJoCo itself: mass matrix, bias forces
-    (C(q, v) v + g(q)) and every body's pose, on random states."""
+    (C(q, v) v + g(q)) and every body's pose, on random states. A free joint's q and v are
+    Pinocchio's (quaternion w last, linear velocity in the body frame); MuJoCo puts w first
+    and the linear velocity in the world frame: v_cgadyn = T v_mujoco, M_mujoco = Tᵀ M T."""
     mujoco = pytest.importorskip("mujoco")
-    mm = mujoco.MjModel.from_xml_path(str(ARM))
+    path = ARM
+    if free:
+        path = tmp_path / "free_arm.xml"
+        path.write_text(ARM.read_text().replace('<body name="stand">', FREE_BODY))
+    mm = mujoco.MjModel.from_xml_path(str(path))
     md = mujoco.MjData(mm)
-    model = cgadyn.load(ARM)
+    model = cgadyn.load(path)
+    assert model.floating_base == free
     rng = np.random.default_rng(7)
     M = np.zeros((mm.nv, mm.nv))
     for _ in range(3):
         q, v = cgadyn.random_configuration(model, rng), rng.standard_normal(model.nv)
-        md.qpos[:], md.qvel[:] = q, v
+        md.qpos[:] = np.concatenate([q[:3], q[6:7], q[3:6], q[7:]]) if free else q
         mujoco.mj_forward(mm, md)
         mujoco.mj_fullM(mm, md, M)
-        assert _rel(cgadyn.crba(model, q), M) < TOL
-        assert _rel(cgadyn.nonlinear_effects(model, q, v), md.qfrc_bias) < TOL
-        T = cgadyn.link_placements(model, q)
+        T = np.eye(model.nv)
+        if free:
+            T[:3, :3] = md.xmat[1].reshape(3, 3).T
+        assert _rel(T.T @ cgadyn.crba(model, q) @ T, M) < TOL
+        if not free:
+            md.qvel[:] = v
+            mujoco.mj_forward(mm, md)
+            assert _rel(cgadyn.nonlinear_effects(model, q, v), md.qfrc_bias) < TOL
+        placements = cgadyn.link_placements(model, q)
         for k, link in enumerate(model.link_names):
             b = mujoco.mj_name2id(mm, mujoco.mjtObj.mjOBJ_BODY, link)
-            np.testing.assert_allclose(T[k, :3, 3], md.xpos[b], atol=1e-14)
-            np.testing.assert_allclose(T[k, :3, :3], md.xmat[b].reshape(3, 3), atol=1e-14)
+            np.testing.assert_allclose(placements[k, :3, 3], md.xpos[b], atol=1e-14)
+            np.testing.assert_allclose(placements[k, :3, :3], md.xmat[b].reshape(3, 3),
+                                       atol=1e-14)
 
 
 @pytest.mark.parametrize("attrs", ['pos="0 0 0.1"', 'euler="0.4 0 0"', 'quat="0 1 0 0"'])

@@ -106,7 +106,8 @@ def pinocchio_model(source, floating_base: bool | None = None):
             Path(path).write_bytes(xml)
         try:
             pm = pin.buildModelFromMJCF(str(path))
-            if floating_base and not _has_free_root(pm):
+            added = bool(floating_base) and not _has_free_root(pm)
+            if added:
                 pm = pin.buildModelFromMJCFAndRootJoint(str(path), pin.JointModelFreeFlyer(),
                                                         ROOT_JOINT)
         except (RuntimeError, ValueError) as exc:
@@ -114,7 +115,20 @@ def pinocchio_model(source, floating_base: bool | None = None):
     if floating_base is False and _has_free_root(pm):
         raise ValueError(f"{where}: the root body has a free joint {pm.names[1]!r}, so the "
                          f"model floats; expected floating_base=None or True for this file")
+    if _has_free_root(pm) and not added:
+        _free_joint_at_world(pm)
     return pm
+
+
+def _free_joint_at_world(pm) -> None:
+    """A free joint's configuration is its body's pose in the world (MuJoCo's meaning): its
+    placement is the identity. Pinocchio's parser (4.1) gives a free body placed at ``p``
+    with rotation ``R`` the placement ``(I, p - R p)``, every position off by that constant
+    (the dynamics unchanged); corrected here, in Pinocchio's model, for cgadyn and the
+    oracle alike."""
+    import pinocchio as pin
+
+    pm.jointPlacements[1] = pin.SE3.Identity()
 
 
 def load_mjcf(source, name: str | None = None, floating_base: bool | None = None,
