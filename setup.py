@@ -3,8 +3,8 @@
 - The C extension ``cgadyn._native`` (src/cgadyn/_native.c) calls the compiled algorithms
   with the data of numpy arrays, the fast path of a one-sample call. It is optional: where it
   cannot be built, cgadyn calls the same compiled code through numba's dispatcher.
-- The project's own URDFs live in the top-level ``robots/``; a wheel ships them as
-  ``cgadyn/robots/`` (an editable install reads them from the checkout).
+- The project's own URDFs (and MJCF files, ``*.xml``) live in the top-level ``robots/``; a
+  wheel ships them as ``cgadyn/robots/`` (an editable install reads them from the checkout).
 """
 
 from pathlib import Path
@@ -15,14 +15,16 @@ from setuptools.command.build_py import build_py
 
 
 class BuildWithRobots(build_py):
-    """``build_py`` that also copies ``robots/*.urdf`` into the built package."""
+    """``build_py`` that also copies ``robots/*.urdf`` and ``robots/*.xml`` (MJCF) into the
+    built package."""
 
     def run(self):
         super().run()
         target = Path(self.build_lib) / "cgadyn" / "robots"
         target.mkdir(parents=True, exist_ok=True)
-        for urdf in sorted(Path(__file__).parent.joinpath("robots").glob("*.urdf")):
-            self.copy_file(str(urdf), str(target / urdf.name))
+        robots = Path(__file__).parent.joinpath("robots")
+        for robot in sorted([*robots.glob("*.urdf"), *robots.glob("*.xml")]):
+            self.copy_file(str(robot), str(target / robot.name))
 
 
 setup(

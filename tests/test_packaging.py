@@ -12,8 +12,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_robots_are_real_files_shipped_in_the_wheel(tmp_path):
-    robots = sorted(p.name for p in (ROOT / "robots").glob("*.urdf"))
-    assert robots == ["cart_pole.urdf", "gripper.urdf", "prismatic_tree.urdf", "skew_arm.urdf"]
+    robots = sorted(p.name for p in (ROOT / "robots").iterdir() if p.suffix in (".urdf", ".xml"))
+    assert robots == ["cart_pole.urdf", "gripper.urdf", "prismatic_tree.urdf", "skew_arm.urdf",
+                      "slide_arm.xml"]
     assert not any(p.is_symlink() for p in (ROOT / "robots").iterdir())
     subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation",
                     "-q", "-w", str(tmp_path), str(ROOT)], check=True, timeout=600,

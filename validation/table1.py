@@ -4,7 +4,9 @@ The paper compares gafro's CGA forward and inverse dynamics with Pinocchio on th
 Emika Panda: the norm of the difference of the accelerations (torques), averaged over 1000
 random states, is 6.74e-14 (1.28e-14). This script computes the same measure for cgadyn on
 every robot that loads by name (panda first; legged robots and humanoids with their free-flyer
-root), with all the other checks' worst relative errors, and writes
+root) and the project's MJCF robots (``robots/*.xml``, through Pinocchio's MJCF parser), with
+the worst relative errors of the centroidal quantities, of the configuration manifold and of
+all the checks, and writes
 
     validation/results/table1.md   markdown table, with the paper's numbers for comparison
     validation/results/table1.png  log-scale bar chart of the ID and FD errors
@@ -31,9 +33,20 @@ PAPER_TABLE = {"Pinocchio": (1.28015e-14, 6.73759e-14), "RBDL": (1.27072e-14, 7.
 
 
 def robot_order(requested: list[str] | None) -> list[str]:
-    """The robots to run: those requested, or every robot that loads, panda first."""
-    names = requested or [n for n in registry.robots() if n not in registry.refused()]
-    return sorted(names, key=lambda n: (n != "panda", n))
+    """The robots to run: those requested, or every robot that loads, panda first, then the
+    project's MJCF files (paths)."""
+    if requested:
+        return sorted(requested, key=lambda n: (n != "panda", n))
+    names = [n for n in registry.robots() if n not in registry.refused()]
+    mjcf = [str(p) for p in sorted(registry.OWN_ROBOTS_DIR.glob("*.xml"))]
+    return sorted(names, key=lambda n: (n != "panda", n)) + mjcf
+
+
+CENTROIDAL = ("centroidal", "com")
+"""The checks of the centroidal quantities (ccrba's Ag; centre of mass, its velocity and
+acceleration)."""
+MANIFOLD = ("manifold",)
+"""The check of the configuration manifold (integrate, difference)."""
 
 
 def run_all(names: list[str], samples: int, seed: int) -> list[dict]:
@@ -73,11 +86,12 @@ def eigen_random_panda(samples: int, seeds: range = range(5)) -> dict:
             "fd": (float(np.mean(fd_means)), float(np.max(fd_means)))}
 
 
-def worst_rel(result: dict) -> float:
-    """The largest relative error over the checks of one result that are defined for it
-    (nan if none; see ``validate_robot``'s ``not_applicable``)."""
-    values = [row["max_rel"] for row in result["checks"].values()
-              if "not_applicable" not in row]
+def worst_rel(result: dict, keys=None) -> float:
+    """The largest relative error over the checks of one result that are defined for it,
+    all of them or those of ``keys`` (nan if none; see ``validate_robot``'s
+    ``not_applicable``)."""
+    values = [row["max_rel"] for key, row in result["checks"].items()
+              if "not_applicable" not in row and (keys is None or key in keys)]
     return max(values, default=float("nan"))
 
 
@@ -97,25 +111,30 @@ def markdown(results: list[dict], samples: int, seed: int, eigen: dict | None = 
         f"{len(oracle.CHECKS)} checks ({', '.join(c.key for c in oracle.CHECKS)}), "
         f"{oracle.RELATIVE}; pass = below 1e-10, or 1e-10 × cond(M) for aba, its derivatives "
         "and M⁻¹ (" + oracle.SCALED + "). romeo's hands are massless: M is singular there, "
-        "so forward dynamics is undefined for it, in Pinocchio as in cgadyn (n/a).",
+        "so forward dynamics is undefined for it, in Pinocchio as in cgadyn (n/a). "
+        "*Centroidal*: the worst relative error of ccrba's Ag and of the centre of mass, its "
+        "velocity and acceleration; *manifold*: of integrate and difference (the free "
+        "flyer's quaternion on the configuration manifold). slide_arm is robots/slide_arm.xml, "
+        "MJCF read by Pinocchio's parser.",
         "",
         "| robot | base | nv | ID mean-norm error | FD mean-norm error | FD max rel. "
-        "| worst rel. | pass |",
-        "|---|---|---:|---:|---:|---:|---:|:---:|",
+        "| centroidal rel. | manifold rel. | worst rel. | pass |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|:---:|",
         f"| panda, **paper** (gafro vs Pinocchio, {PAPER_SAMPLES} samples) | fixed | 7 "
-        f"| {PAPER_PANDA['rnea']:.2e} | {PAPER_PANDA['aba']:.2e} | | | |",
+        f"| {PAPER_PANDA['rnea']:.2e} | {PAPER_PANDA['aba']:.2e} | | | | | |",
     ]
     if eigen is not None:
         lines.append(
             f"| panda, states U[-1, 1] like Eigen's Random() (mean of {eigen['seeds']} seeds; "
             f"worst seed) | fixed | 9 | {eigen['id'][0]:.2e} ({eigen['id'][1]:.2e}) "
-            f"| {eigen['fd'][0]:.2e} ({eigen['fd'][1]:.2e}) | | | |")
+            f"| {eigen['fd'][0]:.2e} ({eigen['fd'][1]:.2e}) | | | | | |")
     for r in results:
         a = r["checks"]
         fd = "n/a" if "not_applicable" in a["aba"] else f"{a['aba']['mean_norm']:.2e}"
         fd_rel = "n/a" if "not_applicable" in a["aba"] else f"{a['aba']['max_rel']:.1e}"
         lines.append(f"| {r['robot']} | {r['base']} | {r['nv']} | {a['rnea']['mean_norm']:.2e} "
-                     f"| {fd} | {fd_rel} | {worst_rel(r):.1e} "
+                     f"| {fd} | {fd_rel} | {worst_rel(r, CENTROIDAL):.1e} "
+                     f"| {worst_rel(r, MANIFOLD):.1e} | {worst_rel(r):.1e} "
                      f"| {'✓' if r['pass'] else '✗'} |")
     lines += ["", "The paper's Table 1 in full (Panda, gafro against each library, "
               f"{PAPER_SAMPLES} samples):", "",

@@ -19,6 +19,7 @@ _LAZY = {
     "load_urdf": "cgadyn.multibody",
     "robots": "cgadyn.multibody",
     "Model": "cgadyn.multibody",
+    "from_pinocchio": "cgadyn.multibody.pinocchio_model",
     "rnea": "cgadyn.algorithms",
     "aba": "cgadyn.algorithms",
     "crba": "cgadyn.algorithms",

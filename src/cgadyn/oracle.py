@@ -8,6 +8,7 @@ validation scripts and the tests:
   URDF text, built alike (a free-flyer root where cgadyn gives one);
 - ``pin_configuration``: cgadyn's q in Pinocchio's layout (a continuous joint is one angle
   in cgadyn and (cos, sin) in Pinocchio; a free flyer is the same 7 numbers in both);
+- ``cgadyn_configuration``: Pinocchio's q in cgadyn's layout (the inverse);
 - ``sample``: random states;
 - ``relative_error``: the measure, ``RELATIVE``;
 - ``CHECKS``: what ``validate`` compares, each with its cgadyn call, its Pinocchio call and
@@ -30,15 +31,19 @@ SCALED = ("forward dynamics and M⁻¹ are judged against tolerance × cond(M): 
 
 
 def models(robot, floating_base=None, check_inertia: bool = True):
-    """``(cgadyn model, pinocchio model)`` of a robot name, a URDF path or URDF text."""
+    """``(cgadyn model, pinocchio model)`` of a robot name, a URDF path or URDF text, or an
+    MJCF path or text (``registry.resolve`` decides; Pinocchio reads MJCF through
+    ``mjcf.pinocchio_model``, the model cgadyn converts)."""
     import pinocchio as pin
 
-    from .multibody import registry
+    from .multibody import mjcf, registry
 
     model = registry.load(robot, floating_base=floating_base, check_inertia=check_inertia)
     kind, value, _ = registry.resolve(robot)
     root = pin.JointModelFreeFlyer() if model.floating_base else None
-    if kind == "text":
+    if kind == "mjcf":
+        pm = mjcf.pinocchio_model(value, floating_base)
+    elif kind == "text":
         pm = (pin.buildModelFromXML(value, root) if root is not None
               else pin.buildModelFromXML(value))
     else:
@@ -60,6 +65,26 @@ def pin_configuration(model, q: np.ndarray) -> np.ndarray:
         block = q[..., model.idx_q[j]:model.idx_q[j + 1]]
         parts += [np.cos(block), np.sin(block)] if kind == "continuous" else [block]
     return np.concatenate(parts, axis=-1) if parts else q
+
+
+def cgadyn_configuration(model, qp: np.ndarray) -> np.ndarray:
+    """Pinocchio's configuration(s) (..., pinocchio nq) in cgadyn's layout, the inverse of
+    ``pin_configuration``: a continuous joint's (cos, sin) becomes the angle
+    ``atan2(sin, cos)``; every other coordinate passes through."""
+    qp = np.asarray(qp, dtype=float)
+    parts, i = [], 0
+    for j, kind in enumerate(model.joint_kinds):
+        if kind == "continuous":
+            parts.append(np.arctan2(qp[..., i + 1:i + 2], qp[..., i:i + 1]))
+            i += 2
+        else:
+            size = int(model.idx_q[j + 1] - model.idx_q[j])
+            parts.append(qp[..., i:i + size])
+            i += size
+    if i != qp.shape[-1]:
+        raise ValueError(f"a Pinocchio configuration of {model.name!r} has {i} entries "
+                         f"(Pinocchio's nq), got {qp.shape[-1]}")
+    return np.concatenate(parts, axis=-1) if parts else qp
 
 
 def forces(f_ext: np.ndarray):

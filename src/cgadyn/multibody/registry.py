@@ -13,6 +13,7 @@ import site
 import sys
 from pathlib import Path
 
+from cgadyn.multibody.mjcf import file_is_mjcf, is_mjcf, load_mjcf
 from cgadyn.multibody.model import Model
 from cgadyn.multibody.urdf import load_urdf
 
@@ -215,8 +216,17 @@ def natural_base(name: str) -> str:
 def resolve(robot) -> tuple[str, object, str | None]:
     """What ``robot`` names, by one rule for ``load`` and every command:
     ``("name", name, base)`` for a registered robot, ``("path", Path, None)`` for an existing
-    file (any extension), ``("text", str, None)`` for URDF text. A path that does not exist
-    raises ``FileNotFoundError`` ("file not found"); anything else ``ValueError``."""
+    file (any extension), ``("text", str, None)`` for URDF text, and ``("mjcf", Path or str,
+    None)`` for an MJCF file or MJCF text, decided by content: an XML document whose root
+    element is ``<mujoco>`` (``mjcf.is_mjcf``). A path that does not exist raises
+    ``FileNotFoundError`` ("file not found"); anything else ``ValueError``."""
+    kind, value, base = _resolve(robot)
+    if kind == "path" and file_is_mjcf(value) or kind == "text" and is_mjcf(value.encode()):
+        return "mjcf", value, None
+    return kind, value, base
+
+
+def _resolve(robot) -> tuple[str, object, str | None]:
     if isinstance(robot, os.PathLike):
         path = Path(robot)
         if not path.is_file():
@@ -248,11 +258,14 @@ def _load_named(name: str, floating: bool, check_inertia: bool) -> Model:
 
 def load(robot: str | os.PathLike = DEFAULT_ROBOT, floating_base: bool | None = None,
          check_inertia: bool = True) -> Model:
-    """Load a robot: a name from :func:`robots`, a URDF file path, or URDF XML text.
+    """Load a robot: a name from :func:`robots`, a URDF file path, or URDF XML text; or an
+    MJCF file or text (root element ``<mujoco>``), parsed by Pinocchio and converted by
+    ``from_pinocchio``.
 
     ``floating_base``: ``None`` gives the robot its natural base (a free-flyer root
     ``root_joint`` for example-robot-data's legged, humanoid and flying robots; fixed for
-    arms, hands, and any path or text); ``True`` or ``False`` overrides it.
+    arms, hands, and any URDF path or text; for MJCF, the file's own: a free joint on the
+    root body floats it); ``True`` or ``False`` overrides it.
     ``check_inertia=False`` accepts inertias that are not physically valid, as Pinocchio
     does. Models loaded by name are cached (models are immutable).
     """
@@ -262,4 +275,6 @@ def load(robot: str | os.PathLike = DEFAULT_ROBOT, floating_base: bool | None = 
     if kind == "name":
         floating = base == FREE if floating_base is None else bool(floating_base)
         return _load_named(value, floating, bool(check_inertia))
+    if kind == "mjcf":
+        return load_mjcf(value, floating_base=floating_base, check_inertia=check_inertia)
     return load_urdf(value, floating_base=bool(floating_base), check_inertia=check_inertia)

@@ -1,0 +1,208 @@
+"""Convert a Pinocchio model into a cgadyn :class:`~cgadyn.multibody.model.Model`.
+
+``from_pinocchio(pin_model)`` reads what Pinocchio already built, whatever built it: a
+model made in code (``pin.Model().addJoint``, ``appendBodyToJoint``, ``addBodyFrame``),
+parsed from URDF, or parsed from MJCF (``pinocchio.buildModelFromMJCF``). It keeps
+Pinocchio's joints, their order and so the order of ``v``; bodies welded by fixed joints
+are already merged into their joint's inertia by Pinocchio, as cgadyn's URDF loader merges
+them, and every ``BODY`` frame becomes a link of the model.
+
+The joint types converted (``SUPPORTED``): revolute about any axis (``JointModelRX``,
+``RY``, ``RZ``, ``RevoluteUnaligned``), unbounded revolute (``RUBX``, ``RUBY``, ``RUBZ``,
+``RevoluteUnboundedUnaligned``), prismatic (``PX``, ``PY``, ``PZ``,
+``PrismaticUnaligned``) and a free flyer (``FreeFlyer``) as the root joint. Any other joint
+(spherical, planar, translation, helical, universal, composite, mimic, ...) is refused by
+name.
+
+Configurations: an unbounded revolute joint takes two numbers ``(cos θ, sin θ)`` in
+Pinocchio's q and one angle θ in cgadyn's, so for a model with such joints ``nq`` differs
+and q converts with ``cgadyn.oracle.cgadyn_configuration`` (Pinocchio's q to cgadyn's) and
+``cgadyn.oracle.pin_configuration`` (back). Every other coordinate, and all of v, a, τ, is
+the same in both.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cgadyn.multibody.model import Model, build_model
+from cgadyn.multibody.packed import DEFAULT_GRAVITY
+
+SUPPORTED = {
+    **{f"JointModelR{a}": "revolute" for a in "XYZ"},
+    "JointModelRevoluteUnaligned": "revolute",
+    **{f"JointModelRUB{a}": "continuous" for a in "XYZ"},
+    "JointModelRevoluteUnboundedUnaligned": "continuous",
+    **{f"JointModelP{a}": "prismatic" for a in "XYZ"},
+    "JointModelPrismaticUnaligned": "prismatic",
+    "JointModelFreeFlyer": "free_flyer",
+}
+"""Pinocchio's joint types that cgadyn models, and the joint kind each becomes."""
+
+_SUPPORTED_TEXT = ("revolute (JointModelRX/RY/RZ, RevoluteUnaligned), unbounded revolute "
+                   "(JointModelRUBX/RUBY/RUBZ, RevoluteUnboundedUnaligned), prismatic "
+                   "(JointModelPX/PY/PZ, PrismaticUnaligned) and a free flyer "
+                   "(JointModelFreeFlyer) as the root joint")
+
+_HUGE = 1e300  # Pinocchio's "no limit" is ±DBL_MAX
+
+
+def _axis(joint, kind: str, q0: np.ndarray) -> np.ndarray:
+    """The unit axis of a one-dof joint in its joint frame: the angular (revolute) or linear
+    (prismatic) part of its motion subspace ``S``, as Pinocchio computes it (the Python
+    bindings do not expose every joint's axis, ``RevoluteUnboundedUnaligned``'s among
+    them). ``q0``: any configuration of the model."""
+    data = joint.createData()
+    joint.calc(data, q0)
+    S = np.asarray(data.S, dtype=float).reshape(6)  # [linear, angular]
+    return S[:3].copy() if kind == "prismatic" else S[3:].copy()
+
+
+def _unbounded(values) -> np.ndarray:
+    """Pinocchio's ±DBL_MAX ("no limit") as ±inf."""
+    out = np.array(values, dtype=float).reshape(-1)
+    out[out >= _HUGE] = np.inf
+    out[out <= -_HUGE] = -np.inf
+    return out
+
+
+def _kinds(pm) -> list[str]:
+    """The cgadyn joint kind of every joint of ``pm`` (universe excluded), or a
+    ``ValueError`` naming the first joint that cgadyn cannot model."""
+    kinds = []
+    for i in range(1, pm.njoints):
+        shortname = pm.joints[i].shortname()
+        kind = SUPPORTED.get(shortname)
+        if kind is None:
+            raise ValueError(f"joint {pm.names[i]!r} is a {shortname}, which cgadyn does not "
+                             f"support; supported joints: {_SUPPORTED_TEXT}")
+        if kind == "free_flyer" and (i != 1 or pm.parents[i] != 0):
+            raise ValueError(f"joint {pm.names[i]!r} is a JointModelFreeFlyer that is not the "
+                             f"root joint; cgadyn supports a free flyer only as the first "
+                             f"joint, child of the universe")
+        kinds.append(kind)
+    return kinds
+
+
+def _check_dynamics(pm) -> None:
+    """Refuse what Pinocchio's dynamics would include and cgadyn's model cannot hold."""
+    armature = np.asarray(pm.armature, dtype=float)
+    if np.any(armature != 0.0):
+        k = int(np.flatnonzero(armature)[0])
+        raise ValueError(f"the Pinocchio model has a nonzero armature ({armature[k]} at "
+                         f"velocity index {k}), which cgadyn's model does not hold; expected "
+                         f"model.armature all zero")
+    gravity = np.asarray(pm.gravity.linear, dtype=float)
+    if not np.allclose(gravity, DEFAULT_GRAVITY, rtol=0.0, atol=1e-12) or np.any(
+            np.asarray(pm.gravity.angular) != 0.0):
+        raise ValueError(f"the Pinocchio model's gravity is {gravity.tolist()}, but a cgadyn "
+                         f"model uses {list(DEFAULT_GRAVITY)} unless a call passes gravity=; "
+                         f"set pin_model.gravity to that and pass your gravity to the calls")
+
+
+def _check_inertia(joint: str, mass: float, rotational) -> None:
+    """Refuse a body whose mass is negative or whose rotational inertia about its centre of
+    mass is not positive semi-definite, naming its joint."""
+    eig = np.linalg.eigvalsh(0.5 * (rotational + rotational.T))
+    if mass < 0.0 or eig.min() < -1e-12 * max(1.0, float(np.abs(eig).max())):
+        raise ValueError(f"the body of joint {joint!r} has mass {mass} and rotational "
+                         f"inertia eigenvalues {eig.tolist()}; expected a physical inertia "
+                         f"(mass >= 0, positive semi-definite; convert with "
+                         f"check_inertia=False to accept it, as Pinocchio does)")
+
+
+def _links(pm):
+    """``(names, joint, placements, root)`` of the links: Pinocchio's ``BODY`` frames, each
+    in the frame of its parent joint (``-1``: the world); ``None`` when there is none."""
+    import pinocchio as pin
+
+    bodies = [f for f in pm.frames if f.type == pin.FrameType.BODY]
+    if not bodies:
+        return None
+    names = [f.name for f in bodies]
+    joint = [int(f.parentJoint) - 1 for f in bodies]
+    placements = np.array([f.placement.homogeneous for f in bodies]).reshape(-1, 4, 4)
+    root_joint = 0 if pm.njoints > 1 and pm.joints[1].shortname() == "JointModelFreeFlyer" \
+        else -1
+    root = next((f.name for f, j in zip(bodies, joint, strict=True) if j == root_joint),
+                "universe")
+    return names, joint, placements, root
+
+
+def from_pinocchio(pin_model, name: str | None = None, check_inertia: bool = True) -> Model:
+    """The cgadyn :class:`Model` of a Pinocchio model (``pinocchio.Model``).
+
+    Joints (``pin_model.names[1:]``), their order, parents, placements
+    (``jointPlacements``), axes and bodies (``inertias``, fixed bodies already merged in)
+    are Pinocchio's, so ``v``, ``a``, ``τ`` and the Jacobians' columns are laid out alike;
+    q too, except that an unbounded revolute joint takes one angle (see the module's
+    docstring). Position, velocity and effort limits are Pinocchio's (``±DBL_MAX`` becomes
+    ``±inf``). The links are the ``BODY`` frames (their names, parent joints and
+    placements); a model without any gets one link per joint, named after it, and the
+    root link ``universe``. ``name`` defaults to ``pin_model.name``.
+
+    Raises ``ValueError`` naming a joint that cgadyn does not support (its name, its
+    Pinocchio type and what is supported), a free flyer that is not the root joint, joints
+    not in depth-first order, a nonzero armature, a gravity other than cgadyn's default,
+    and (with ``check_inertia``) a body whose inertia is not physically valid.
+    """
+    try:
+        import pinocchio as pin
+    except ImportError:  # pragma: no cover - pinocchio is a test dependency
+        raise ImportError("from_pinocchio needs Pinocchio: pip install pin") from None
+    if not isinstance(pin_model, pin.Model):
+        raise ValueError(f"from_pinocchio expects a pinocchio.Model, got "
+                         f"{type(pin_model).__name__}")
+    pm = pin_model
+    kinds = _kinds(pm)
+    _check_dynamics(pm)
+    n = len(kinds)
+    lower, upper = _unbounded(pm.lowerPositionLimit), _unbounded(pm.upperPositionLimit)
+    velocity, effort = _unbounded(pm.velocityLimit), _unbounded(pm.effortLimit)
+    axes = np.zeros((n, 3))
+    q0 = pin.neutral(pm)
+    q_lower, q_upper = [], []
+    body_mass = np.zeros(n)
+    body_com = np.zeros((n, 3))
+    body_rot = np.zeros((n, 3, 3))
+    for j, kind in enumerate(kinds):
+        joint, i = pm.joints[j + 1], pm.idx_qs[j + 1]
+        if kind == "continuous":  # (cos, sin) in Pinocchio, one angle in cgadyn
+            q_lower.append(-np.inf)
+            q_upper.append(np.inf)
+        else:
+            q_lower += lower[i:i + joint.nq].tolist()
+            q_upper += upper[i:i + joint.nq].tolist()
+        if kind != "free_flyer":
+            axes[j] = _axis(joint, kind, q0)
+        inertia = pm.inertias[j + 1]
+        body_mass[j], body_com[j], body_rot[j] = inertia.mass, inertia.lever, inertia.inertia
+        if check_inertia:
+            _check_inertia(pm.names[j + 1], body_mass[j], body_rot[j])
+    links = _links(pm)
+    link_args = {} if links is None else dict(
+        link_names=links[0], link_joint=links[1], link_placement_matrices=links[2],
+        root_link=links[3])
+    if links is None:
+        link_args["root_link"] = "universe"
+    try:
+        return build_model(
+            name=pm.name if name is None else name,
+            joint_names=list(pm.names)[1:],
+            joint_kinds=kinds,
+            parents=[int(p) - 1 for p in list(pm.parents)[1:]],
+            placement_matrices=np.array([pm.jointPlacements[j].homogeneous
+                                         for j in range(1, n + 1)]).reshape(n, 4, 4),
+            axis_vectors=axes,
+            body_mass=body_mass,
+            body_com=body_com,
+            body_rotational_inertia=body_rot,
+            lower=q_lower,
+            upper=q_upper,
+            velocity_limit=velocity,
+            effort_limit=effort,
+            check_inertia=check_inertia,
+            **link_args,
+        )
+    except ValueError as exc:
+        raise ValueError(f"Pinocchio model {pm.name!r}: {exc}") from None
