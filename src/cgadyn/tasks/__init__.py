@@ -8,7 +8,11 @@ kinematics and the cooperative dual-arm task space (gafro's manipulation toolbox
 - ``dual_arm``: absolute and relative motors of two end-effectors and their Jacobians.
 """
 
+from .ik import IKResult, inverse_kinematics, solve
 from .jacobians import jacobian_time_variation, motor_jacobian, object_jacobian
 from .task import Task, evaluate
 
-__all__ = ["Task", "evaluate", "jacobian_time_variation", "motor_jacobian", "object_jacobian"]
+__all__ = [
+    "IKResult", "Task", "evaluate", "inverse_kinematics", "jacobian_time_variation",
+    "motor_jacobian", "object_jacobian", "solve",
+]

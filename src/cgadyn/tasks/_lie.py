@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 
-from .._jit import inline
+from .._jit import inline, serial
 
 SMALL = 1e-2
 """Below this rotation angle the coefficients take their series (truncation < 1e-16)."""
@@ -56,7 +56,7 @@ def _mul(a, b, out):
             out[i, j] = a[i, 0] * b[0, j] + a[i, 1] * b[1, j] + a[i, 2] * b[2, j]
 
 
-@inline
+@serial
 def _q_left(v0, v1, v2, w0, w1, w2, a, b, c, t):
     """``t[5] = Q(v, ω)``; ``t[0..4]`` scratch."""
     W, V, WV, X, Y, Q = t[0], t[1], t[2], t[3], t[4], t[5]
@@ -90,7 +90,7 @@ def _q_left(v0, v1, v2, w0, w1, w2, a, b, c, t):
             Q[i, j] += c * Y[i, j]
 
 
-@inline
+@serial
 def jlog3(w0, w1, w2, out):
     """``out = J_r(ω)⁻¹ = 1 + ½ ω^ + d ω^²`` (3x3): ``δω = out δ`` for a rotation moved by
     the body angular velocity δ (Pinocchio's ``Jlog3``)."""
@@ -106,7 +106,7 @@ def jlog3(w0, w1, w2, out):
     out[1, 2], out[2, 1] = -0.5 * w0 + d * ww[4], 0.5 * w0 + d * ww[4]
 
 
-@inline
+@serial
 def jlog6(xi, out, t):
     """``out = J_r(ξ)⁻¹`` (6x6) for the physical twist ``xi = (v, ω)``: Pinocchio's
     ``Jlog6`` of ``exp6(ξ)``. ``t``: (6, 3, 3) scratch."""
@@ -126,7 +126,7 @@ def jlog6(xi, out, t):
             out[i + 3, j] = 0.0
 
 
-@inline
+@serial
 def jexp6(xi, out, t):
     """``out = J_r(ξ)`` (6x6): the body velocity of ``exp6(ξ)`` per rate of ξ.
     ``t``: (6, 3, 3) scratch."""

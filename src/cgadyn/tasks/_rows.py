@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import math
 
-from .._jit import inline
+from .._jit import inline, serial
 from ..algorithms.kinematics import link_motor
 from ..kernels import motor_log, motor_mul, motor_reverse, twist_sandwich
 from ..kernels.layout import physical
@@ -107,7 +107,7 @@ def _rotate(R, a0, a1, a2):
             R[6] * a0 + R[7] * a1 + R[8] * a2)
 
 
-@inline
+@serial
 def task_rows(m, Mw, task, r, J, o, wk):
     """Rows ``o .. o + dim`` of the residual ``r`` and Jacobian ``J`` (·, nv) of one task
     row (module docstring); ``Mw`` the joints' world motors. ``wk``: a ``RowsWork``."""
