@@ -12,7 +12,10 @@ from .ik import IKResult, inverse_kinematics, solve
 from .jacobians import jacobian_time_variation, motor_jacobian, object_jacobian
 from .task import Task, evaluate
 
+solve_tasks = solve
+evaluate_tasks = evaluate
+
 __all__ = [
     "IKResult", "Task", "evaluate", "inverse_kinematics", "jacobian_time_variation",
-    "motor_jacobian", "object_jacobian", "solve",
+    "motor_jacobian", "object_jacobian", "solve", "solve_tasks", "evaluate_tasks",
 ]

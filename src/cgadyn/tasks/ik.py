@@ -107,7 +107,7 @@ def _limits(model) -> tuple[np.ndarray, np.ndarray]:
 
 
 def solve(model, tasks: Task | Sequence[Task], q0=None, *, tol: float = 1e-10,
-          max_iter: int = 50, restarts: int = 20, damping: float = 1.0,
+          max_iter: int = 30, restarts: int = 20, damping: float = 1.0,
           seed: int = 0) -> IKResult:
     """Minimise the weighted stack of ``tasks`` from ``q0`` (default: the middle of the
     joint ranges) within the joint limits: the task-stack form of inverse kinematics."""
@@ -160,7 +160,7 @@ def _batch_rows(model, link, target, carried, tool, kind) -> np.ndarray | None:
 
 
 def inverse_kinematics(model, link: str | int, target, q0=None, *, carried=None, tool=None,
-                       kind: str | None = None, tol: float = 1e-10, max_iter: int = 50,
+                       kind: str | None = None, tol: float = 1e-10, max_iter: int = 30,
                        restarts: int = 20, damping: float = 1.0, seed: int = 0,
                        threads: int | None = None) -> IKResult:
     """A configuration that brings ``link`` (or its ``tool`` frame, or the object it

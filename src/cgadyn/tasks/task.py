@@ -28,10 +28,10 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..algorithms import _inputs
-from ..cga.conventions import motor_from_matrix
 from ..cga.objects import Circle, Geometric, Line, Motor, Plane, Point, Sphere
 from . import _rows as R
 from ._stack import evaluate as _evaluate
+from .poses import motors_from_matrices
 from .primitives import (
     circle_parameters,
     line_parameters,
@@ -51,9 +51,10 @@ def as_motor(x, what: str) -> np.ndarray:
         return x.normalized().values.copy()
     a = np.asarray(x, dtype=float)
     if a.shape == (4, 4):
-        if not np.all(np.isfinite(a)):
-            raise ValueError(f"{what} holds NaN or inf")
-        return motor_from_matrix(a)  # ValueError when not rigid
+        try:
+            return motors_from_matrices(a[None])[0]
+        except ValueError as exc:
+            raise ValueError(f"{what}: {exc}") from None
     if a.shape == (8,):
         return Motor(a).normalized().values.copy()
     raise ValueError(f"{what} must be a Motor, 8 motor coefficients or a rigid 4x4 matrix, "
