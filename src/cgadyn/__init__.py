@@ -58,6 +58,9 @@ _LAZY = {
     "motor_jacobian": "cgadyn.tasks",
     "object_jacobian": "cgadyn.tasks",
     "jacobian_time_variation": "cgadyn.tasks",
+    "CooperativeTask": "cgadyn.tasks",
+    "cooperative_space": "cgadyn.tasks",
+    "solve_cooperative": "cgadyn.tasks",
 }
 
 __all__ = sorted(_LAZY)

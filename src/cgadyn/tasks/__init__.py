@@ -8,6 +8,7 @@ kinematics and the cooperative dual-arm task space (gafro's manipulation toolbox
 - ``dual_arm``: absolute and relative motors of two end-effectors and their Jacobians.
 """
 
+from .dual_arm import CooperativeTask, cooperative_space, solve_cooperative
 from .ik import IKResult, inverse_kinematics, solve
 from .jacobians import jacobian_time_variation, motor_jacobian, object_jacobian
 from .task import Task, evaluate
@@ -16,6 +17,7 @@ solve_tasks = solve
 evaluate_tasks = evaluate
 
 __all__ = [
+    "CooperativeTask", "cooperative_space", "solve_cooperative",
     "IKResult", "Task", "evaluate", "inverse_kinematics", "jacobian_time_variation",
     "motor_jacobian", "object_jacobian", "solve", "solve_tasks", "evaluate_tasks",
 ]
