@@ -43,17 +43,16 @@ def solve_workspace_size(n, nq, nv, nr):
     return stack_workspace_size(n, nq, nv) + 2 * nr * (nv + 1) + nv * nv + 3 * nv + 2 * nq + 24
 
 
+MINSTD_MODULUS = 2147483647
+"""Park and Miller's minimal standard generator ``s ← 48271 s mod (2³¹ - 1)``: products stay
+below 2⁴⁷, so the same integers come out compiled and in pure Python."""
+
+
 @inline
 def _uniform(state):
-    """splitmix64: the next state and a uniform number in [0, 1)."""
-    state = (state + np.uint64(0x9E3779B97F4A7C15)) & np.uint64(0xFFFFFFFFFFFFFFFF)
-    z = state
-    z = ((z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)) & np.uint64(
-        0xFFFFFFFFFFFFFFFF)
-    z = ((z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)) & np.uint64(
-        0xFFFFFFFFFFFFFFFF)
-    z = z ^ (z >> np.uint64(31))
-    return state, float(z >> np.uint64(11)) * (1.0 / 9007199254740992.0)
+    """The next state of the generator and a uniform number in (0, 1)."""
+    state = (state * 48271) % MINSTD_MODULUS
+    return state, state / MINSTD_MODULUS
 
 
 @inline
@@ -146,7 +145,7 @@ def solve_core(m, q0, lower, upper, tasks, options, sample, q, res, info, work):
     tmp, o = carve(buf, o, (3, 8))
     free, o = carve(buf, o, (m.nv,))
     max_iter, tol, restarts = int(options[MAX_ITER]), options[TOL], int(options[RESTARTS])
-    state = np.uint64(int(options[SEED])) * np.uint64(1000003) + np.uint64(sample)
+    state = (int(options[SEED]) * 1000003 + sample) % (MINSTD_MODULUS - 1) + 1
     tol2 = tol * tol
     best = np.inf
     iterations = 0
