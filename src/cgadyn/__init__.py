@@ -51,6 +51,17 @@ _LAZY = {
     "force_from_wrench": "cgadyn.cga.conventions",
     "motor_from_matrix": "cgadyn.cga.conventions",
     "matrix_from_motor": "cgadyn.cga.conventions",
+    "inverse_kinematics": "cgadyn.tasks",
+    "IKResult": "cgadyn.tasks",
+    "Task": "cgadyn.tasks",
+    "solve_tasks": "cgadyn.tasks",
+    "evaluate_tasks": "cgadyn.tasks",
+    "motor_jacobian": "cgadyn.tasks",
+    "object_jacobian": "cgadyn.tasks",
+    "jacobian_time_variation": "cgadyn.tasks",
+    "CooperativeTask": "cgadyn.tasks",
+    "cooperative_space": "cgadyn.tasks",
+    "solve_cooperative": "cgadyn.tasks",
 }
 
 __all__ = sorted(_LAZY)

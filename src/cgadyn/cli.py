@@ -5,6 +5,7 @@
     cgadyn robots [--json | --names]
     cgadyn bench [ROBOT] [--batch B ...] [--output DIR]
     cgadyn simulate-body [...]
+    cgadyn ik ROBOT LINK --position X Y Z [--orientation W X Y Z] [--json]
     cgadyn --version
 
 Each subcommand is a module of ``cgadyn.commands`` (``add_parser``, ``run``), registered
@@ -30,7 +31,8 @@ from .commands.common import UsageError
 __all__ = ["COMMANDS", "build_parser", "main"]
 
 COMMANDS = ("cgadyn.commands.validate", "cgadyn.commands.info", "cgadyn.commands.robots",
-            "cgadyn.commands.bench", "cgadyn.pga.cli")
+            "cgadyn.commands.bench", "cgadyn.pga.cli",
+            "cgadyn.commands.ik")
 """The modules that register a subcommand, in the order ``--help`` lists them."""
 
 

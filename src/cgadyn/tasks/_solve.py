@@ -1,0 +1,231 @@
+"""Inverse kinematics in compiled code: Levenberg-Marquardt on a stack of tasks.
+
+Minimise ``½ |r(q)|²`` (``_stack``: the weighted residuals of the tasks, ``J = ∂r/∂q`` in
+the tangent space). Each iteration solves the damped normal equations
+
+    (Jᵀ J + λ 1) δ = -Jᵀ r                                   (Levenberg 1944, Marquardt 1963)
+
+by Cholesky, moves ``q ← clamp(q ⊕ δ)`` (``joints.joint_integrate``, then every one-dof
+coordinate clamped into its limits) and keeps the step when it lowers the cost: then
+``λ ← λ / 3``, else ``λ ← 10 λ`` and the step is tried again from the same q. A run stops
+when ``|r| ≤ tol``, after ``max_iter`` iterations or when λ exceeds ``LAMBDA_MAX`` (a local
+minimum or a limit); it then restarts from a random configuration within the limits (a
+deterministic generator seeded per target; free flyers keep their start), at most
+``restarts`` times. The best configuration over all runs is returned.
+
+``options = [max_iter, tol, restarts, seed, λ0]``; ``info = [converged, |r|, iterations,
+restarts used]``. Nothing is allocated: every array is carved from ``work``
+(``solve_workspace_size``); the batch entry allocates one ``work`` per chunk of targets.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import prange
+
+from .._jit import core, inline, parallel, serial
+from .._views import carve, data_pointer
+from ..algorithms._workspace import chunks
+from ..multibody.joints import FREE_FLYER, joint_integrate
+from ..multibody.packed import unpack
+from ._stack import stack_dim, stack_rows, stack_workspace, stack_workspace_size
+
+LAMBDA_MAX = 1e10
+ACTIVE_PASSES = 4
+MAX_ITER, TOL, RESTARTS, SEED, LAMBDA0 = range(5)
+CONVERGED, RESIDUAL, ITERATIONS, RESTARTS_USED = range(4)
+
+
+@inline
+def solve_workspace_size(n, nq, nv, nr):
+    return stack_workspace_size(n, nq, nv) + 2 * nr * (nv + 1) + nv * nv + 3 * nv + 2 * nq + 24
+
+
+MINSTD_MODULUS = 2147483647
+"""Park and Miller's minimal standard generator ``s ← 48271 s mod (2³¹ - 1)``: products stay
+below 2⁴⁷, so the same integers come out compiled and in pure Python."""
+
+
+@inline
+def _uniform(state):
+    """The next state of the generator and a uniform number in (0, 1)."""
+    state = (state * 48271) % MINSTD_MODULUS
+    return state, state / MINSTD_MODULUS
+
+
+@inline
+def _clamp(m, lower, upper, q):
+    """Every one-dof coordinate of q into its limits."""
+    for j in range(m.n):
+        if m.types[j] != FREE_FLYER:
+            i = m.iq[j]
+            q[i] = min(max(q[i], lower[i]), upper[i])
+
+
+@inline
+def _cost(r):
+    acc = 0.0
+    for i in range(r.shape[0]):
+        acc += r[i] * r[i]
+    return acc
+
+
+@serial
+def _step(m, q, lower, upper, J, r, lam, A, g, d, free):
+    """``d = -(Jᵀ J + λ 1)⁻¹ Jᵀ r`` over the free coordinates, by Cholesky of A (in place):
+    a coordinate at a limit whose step would leave it is held (an active set, ``free[k] =
+    0``, at most ``ACTIVE_PASSES`` passes). False if A is not positive definite."""
+    nr, nv = J.shape
+    for k in range(nv):
+        free[k] = 1.0
+    for _ in range(ACTIVE_PASSES):
+        for a in range(nv):
+            acc = 0.0
+            for i in range(nr):
+                acc += J[i, a] * r[i]
+            g[a] = -acc * free[a]
+            for b in range(a + 1):
+                acc = 0.0
+                for i in range(nr):
+                    acc += J[i, a] * J[i, b]
+                A[a, b] = acc * free[a] * free[b]
+            A[a, a] += lam if free[a] > 0.0 else 1.0
+        for a in range(nv):  # A = L Lᵀ, L in the lower triangle
+            for b in range(a + 1):
+                acc = A[a, b]
+                for k in range(b):
+                    acc -= A[a, k] * A[b, k]
+                if a == b:
+                    if not acc > 0.0:
+                        return False
+                    A[a, a] = math.sqrt(acc)
+                else:
+                    A[a, b] = acc / A[b, b]
+        for a in range(nv):  # L y = g
+            acc = g[a]
+            for k in range(a):
+                acc -= A[a, k] * d[k]
+            d[a] = acc / A[a, a]
+        for a in range(nv - 1, -1, -1):  # Lᵀ d = y
+            acc = d[a]
+            for k in range(a + 1, nv):
+                acc -= A[k, a] * d[k]
+            d[a] = acc / A[a, a]
+        held = False
+        for j in range(m.n):
+            if m.types[j] != FREE_FLYER:
+                i, k = m.iq[j], m.iv[j]
+                if free[k] > 0.0 and ((q[i] <= lower[i] and d[k] < 0.0)
+                                      or (q[i] >= upper[i] and d[k] > 0.0)):
+                    free[k] = 0.0
+                    held = True
+        if not held:
+            break
+    return True
+
+
+@core
+def solve_core(m, q0, lower, upper, tasks, options, sample, q, res, info, work):
+    """Levenberg-Marquardt from q0 with restarts (module docstring); the best q into ``q``,
+    its residual into ``res``."""
+    nr = stack_dim(tasks)
+    buf = data_pointer(work)
+    sw, o = stack_workspace(buf, m, 0)
+    r, o = carve(buf, o, (nr,))
+    J, o = carve(buf, o, (nr, m.nv))
+    r2, o = carve(buf, o, (nr,))
+    J2, o = carve(buf, o, (nr, m.nv))
+    A, o = carve(buf, o, (m.nv, m.nv))
+    g, o = carve(buf, o, (m.nv,))
+    d, o = carve(buf, o, (m.nv,))
+    qc, o = carve(buf, o, (m.nq,))
+    qt, o = carve(buf, o, (m.nq,))
+    tmp, o = carve(buf, o, (3, 8))
+    free, o = carve(buf, o, (m.nv,))
+    max_iter, tol, restarts = int(options[MAX_ITER]), options[TOL], int(options[RESTARTS])
+    state = (int(options[SEED]) * 1000003 + sample) % (MINSTD_MODULUS - 1) + 1
+    tol2 = tol * tol
+    best = np.inf
+    iterations = 0
+    used = 0
+    for attempt in range(restarts + 1):
+        used = attempt
+        for i in range(m.nq):
+            qc[i] = q0[i]
+        if attempt > 0:
+            for j in range(m.n):
+                if m.types[j] != FREE_FLYER:
+                    i = m.iq[j]
+                    lo = lower[i] if math.isfinite(lower[i]) else -math.pi
+                    hi = upper[i] if math.isfinite(upper[i]) else math.pi
+                    state, u = _uniform(state)
+                    qc[i] = lo + u * (hi - lo)
+        _clamp(m, lower, upper, qc)
+        stack_rows(m, qc, tasks, r, J, sw)
+        f = _cost(r)
+        lam = options[LAMBDA0]
+        for _ in range(max_iter):
+            if not f > tol2:
+                break
+            iterations += 1
+            if _step(m, qc, lower, upper, J, r, lam, A, g, d, free):
+                for j in range(m.n):
+                    joint_integrate(m, j, qc, d, tmp, qt)
+                _clamp(m, lower, upper, qt)
+                stack_rows(m, qt, tasks, r2, J2, sw)
+                ft = _cost(r2)
+            else:
+                ft = np.inf
+            if ft < f:
+                f = ft
+                for i in range(m.nq):
+                    qc[i] = qt[i]
+                r, r2 = r2, r
+                J, J2 = J2, J
+                lam = max(lam / 3.0, 1e-12)
+            else:
+                lam *= 10.0
+                if lam > LAMBDA_MAX:
+                    break
+        if f < best:
+            best = f
+            for i in range(m.nq):
+                q[i] = qc[i]
+        if not best > tol2:
+            break
+    stack_rows(m, q, tasks, r, J, sw)
+    for i in range(nr):
+        res[i] = r[i]
+    info[CONVERGED] = 1.0 if not best > tol2 else 0.0
+    info[RESIDUAL] = math.sqrt(best)
+    info[ITERATIONS] = iterations
+    info[RESTARTS_USED] = used
+    return 0 if math.isfinite(best) else 2
+
+
+@serial
+def solve_single(packed, q0, lower, upper, tasks, options, q, res, info):
+    """One target; a status (0, or 2 when no residual was finite)."""
+    m = unpack(packed)
+    nr = stack_dim(tasks)
+    work = np.empty(solve_workspace_size(m.n, m.nq, m.nv, nr))
+    return solve_core(m, q0, lower, upper, tasks, options, 0, q, res, info, work)
+
+
+@parallel
+def solve_batch(packed, q0, lower, upper, tasks, options, q, res, info, threads):
+    """(B,) targets in parallel chunks: ``q0`` (B, nq), ``tasks`` (B, T, TASK_SIZE), ``q``
+    (B, nq), ``res`` (B, nr), ``info`` (B, 4); returns a status per target (0 or 2)."""
+    batch = tasks.shape[0]
+    starts, stops = chunks(batch, threads)
+    status = np.zeros(batch, dtype=np.int64)
+    for c in prange(starts.shape[0]):
+        m = unpack(packed)
+        nr = stack_dim(tasks[starts[c]]) if stops[c] > starts[c] else 0
+        work = np.empty(solve_workspace_size(m.n, m.nq, m.nv, nr))
+        for b in range(starts[c], stops[c]):
+            status[b] = solve_core(m, q0[b], lower, upper, tasks[b], options, b, q[b], res[b],
+                                   info[b], work)
+    return status

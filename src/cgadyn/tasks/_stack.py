@@ -1,0 +1,75 @@
+"""A weighted stack of tasks in compiled code: all residual rows and Jacobian rows at q.
+
+Forward kinematics once (eq. 5, ``algorithms.kinematics.world_motors``), then every task's
+rows (``_rows.task_rows``) one under the other: the residual ``r`` (nr) and its Jacobian
+``J`` (nr, nv) in the tangent space of q. Nothing is allocated: the arrays are carved out of
+the caller's ``work`` (``stack_workspace_size`` floats).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._jit import inline, serial
+from .._views import carve, data_pointer
+from ..algorithms.kinematics import world_motors
+from ..multibody.packed import unpack
+from ._rows import DIMS, KIND, task_dim, task_rows
+
+__all__ = ["DIMS", "evaluate", "stack_dim", "stack_rows", "stack_workspace_size"]
+
+
+@inline
+def stack_workspace_size(n, nq, nv):
+    return 16 * n + 2 * nq + 8 * 4 + 12 + 6 * nv + 36 + 54
+
+
+@inline
+def stack_workspace(buf, m, o):
+    """The scratch of ``stack_rows`` from offset ``o``: the joint motors M, Mw (n, 8), their
+    scalars c, s (nq), tmp8, and the rows' work (L, F, E (8), tw, xi (6), Jf (6, nv),
+    J6 (6, 6), t (6, 3, 3)); and the next offset."""
+    M, o = carve(buf, o, (m.n, 8))
+    Mw, o = carve(buf, o, (m.n, 8))
+    c, o = carve(buf, o, (m.nq,))
+    s, o = carve(buf, o, (m.nq,))
+    tmp8, o = carve(buf, o, (8,))
+    L, o = carve(buf, o, (8,))
+    F, o = carve(buf, o, (8,))
+    E, o = carve(buf, o, (8,))
+    tw, o = carve(buf, o, (6,))
+    xi, o = carve(buf, o, (6,))
+    Jf, o = carve(buf, o, (6, m.nv))
+    J6, o = carve(buf, o, (6, 6))
+    t, o = carve(buf, o, (6, 3, 3))
+    return (M, Mw, c, s, tmp8, (L, F, E, tw, xi, Jf, J6, t)), o
+
+
+@inline
+def stack_dim(tasks):
+    """The residual rows of a stack of task rows (T, TASK_SIZE)."""
+    nr = 0
+    for i in range(tasks.shape[0]):
+        nr += task_dim(int(tasks[i, KIND]))
+    return nr
+
+
+@serial
+def stack_rows(m, q, tasks, r, J, sw):
+    """``r`` (nr) and ``J`` (nr, nv) of the stack at q; ``sw`` from ``stack_workspace``."""
+    M, Mw, c, s, tmp8, wk = sw
+    world_motors(m, q, c, s, tmp8, M, Mw)
+    o = 0
+    for i in range(tasks.shape[0]):
+        task_rows(m, Mw, tasks[i], r, J, o, wk)
+        o += task_dim(int(tasks[i, KIND]))
+
+
+@serial
+def evaluate(packed, q, tasks, r, J):
+    """``r, J`` of a stack at one configuration (for Python: tests, the task objects)."""
+    m = unpack(packed)
+    work = np.empty(stack_workspace_size(m.n, m.nq, m.nv))
+    sw, _ = stack_workspace(data_pointer(work), m, 0)
+    stack_rows(m, q, tasks, r, J, sw)
+
