@@ -175,34 +175,50 @@ def rollouts(packed, method, q0, v0, u, f, flags, gains, q_ref, v_ref, dt, Q, V,
         buf = np.empty(size)
         work = np.empty(csize)
         sc = _scratch(ws.data_pointer(buf), mb)
-        none = sc[6]
-        ctrl = (flags, gains, q_ref[b], v_ref[b])
-        fb = f[0] if f.shape[0] == 1 else (f[b] if f.shape[0] > 1 else none)
-        ub = u[0] if u.shape[0] == 1 else u[b]
+        # bare views of this rollout's rows (no reference counts in the loop over steps)
+        Qb = _rows(Q[b], steps + 1, mb.nq)
+        Vb = _rows(V[b], steps + 1, mb.nv)
+        Ab = _rows(A[b], steps + 1, mb.nv)
+        Eb = _rows(E[b], steps + 1, 2)
+        ub = _rows(u[0], steps, mb.nv)  # shared by all rollouts, or
+        if u.shape[0] > 1:
+            ub = _rows(u[b], steps, mb.nv)  # this rollout's own
+        fb = sc[6]  # no wrenches, or
+        if f.shape[0] == 1:
+            fb = _rows(f[0], mb.n, 6)
+        elif f.shape[0] > 1:
+            fb = _rows(f[b], mb.n, 6)
+        ctrl = (flags, gains, _rows(q_ref[b], 1, mb.nq)[0], _rows(v_ref[b], 1, mb.nv)[0])
         for k in range(mb.nq):
-            Q[b, 0, k] = q0[b, k]
+            Qb[0, k] = q0[b, k]
         for k in range(mb.nv):
-            V[b, 0, k] = v0[b, k]
+            Vb[0, k] = v0[b, k]
         s = OK
         done = 0
         for i in range(steps):
-            s = energy_core(mb, Q[b, i], V[b, i], E[b, i], 0, work)
+            s = energy_core(mb, Qb[i], Vb[i], Eb[i], 0, work)
             if s != OK:
                 break
-            s = step(mb, method, Q[b, i], V[b, i], ub[i], fb, ctrl, dt, Q[b, i + 1],
-                     V[b, i + 1], A[b, i], sc, work)
+            s = step(mb, method, Qb[i], Vb[i], ub[i], fb, ctrl, dt, Qb[i + 1], Vb[i + 1],
+                     Ab[i], sc, work)
             if s != OK:
                 break
             done = i + 1
         if s == OK:
-            s = energy_core(mb, Q[b, steps], V[b, steps], E[b, steps], 0, work)
+            s = energy_core(mb, Qb[steps], Vb[steps], Eb[steps], 0, work)
         if s == OK:
-            s = closed_loop_acceleration(mb, Q[b, steps], V[b, steps], ub[steps - 1], fb, ctrl,
-                                         A[b, steps], sc, work)
+            s = closed_loop_acceleration(mb, Qb[steps], Vb[steps], ub[steps - 1], fb, ctrl,
+                                         Ab[steps], sc, work)
         completed[b] = done
         status[b] = s
         if s != OK:
-            _blank(Q[b], V[b], A[b], E[b], done)
+            _blank(Qb, Vb, Ab, Eb, done)
+
+
+@inline
+def _rows(x, rows, cols):
+    """A C-contiguous array ``x`` as a bare (rows, cols) view (``_views.carve``)."""
+    return ws.carve(ws.data_pointer(x), 0, (rows, cols))[0]
 
 
 @inline
