@@ -7,7 +7,8 @@ The workload: the panda from example-robot-data, RK4 at dt = 1e-3, open-loop tor
 without meshes (visual and collision elements removed), with contacts, joint limits and
 the equality constraint of the fingers' ``mimic`` disabled and the URDF's joint damping set
 to zero (cgadyn and the Pinocchio loop have none of them), torques applied as
-``qfrc_applied``. Each library runs at the same thread count
+``qfrc_applied``; and once more with contacts disabled only, as MuJoCo imports the URDF
+(other dynamics, timed for reference). Each library runs at the same thread count
 (cgadyn: numba's threads; MuJoCo: one ``MjData`` per thread). The Python loop is timed on
 fewer rollouts (it is the slowest by far) and compared per step. Time is the best of
 ``--repeat`` runs; the machine's load average is recorded, since it is shared.
@@ -61,7 +62,9 @@ def pin_rk4(pm, d, q, v, taus, dt):
     return q, v
 
 
-def mujoco_model():
+def mujoco_model(same_dynamics: bool = True):
+    """The panda in MuJoCo, contacts disabled, RK4; ``same_dynamics``: also joint limits,
+    the fingers' mimic (an equality constraint) and joint damping off, as in cgadyn."""
     import mujoco
 
     text = Path(registry.robot_path("panda")).read_text()
@@ -69,10 +72,11 @@ def mujoco_model():
     mm = mujoco.MjModel.from_xml_string(text)
     mm.opt.timestep = DT
     mm.opt.integrator = mujoco.mjtIntegrator.mjINT_RK4
-    mm.opt.disableflags |= (mujoco.mjtDisableBit.mjDSBL_CONTACT
-                            | mujoco.mjtDisableBit.mjDSBL_LIMIT
-                            | mujoco.mjtDisableBit.mjDSBL_EQUALITY)  # the fingers' mimic
-    mm.dof_damping[:] = 0.0
+    mm.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
+    if same_dynamics:
+        mm.opt.disableflags |= (mujoco.mjtDisableBit.mjDSBL_LIMIT
+                                | mujoco.mjtDisableBit.mjDSBL_EQUALITY)  # the fingers' mimic
+        mm.dof_damping[:] = 0.0
     return mm
 
 
@@ -128,10 +132,14 @@ def main() -> None:
 
         mm = mujoco_model()
         version = mujoco.__version__
+        full = mujoco_model(same_dynamics=False)
         for t in threads:
             datas = [mujoco.MjData(mm) for _ in range(t)]
             cases[(f"mujoco.rollout (RK4, MuJoCo {version})", t, B)] = \
                 lambda datas=datas: mujoco_run(mm, datas, q0, v0, taus)
+            datas = [mujoco.MjData(full) for _ in range(t)]
+            cases[("mujoco.rollout, contacts off only (limits, mimic, damping on)", t, B)] = \
+                lambda datas=datas: mujoco_run(full, datas, q0, v0, taus)
         state, _ = mujoco_run(mm, [mujoco.MjData(mm)], q0[:1], v0[:1], taus[:1])
         agree["mujoco"] = state[0, -1, 1:1 + mm.nq + mm.nv]  # (time, qpos, qvel, ...)
     except ImportError:
@@ -218,9 +226,9 @@ def write(rows, dask_rows, agree, load, B, H, P, version, repeat) -> None:
         if w == "cgadyn.simulate":
             lines.append(f"- {t} thread(s): Python loop over pin.aba / cgadyn = "
                          f"{loop / us:.1f}x" + ("" if t == 1 else " (the loop on 1 thread)"))
-            mj = [v for (w2, t2), v in per_step.items() if w2.startswith("mujoco") and t2 == t]
-            if mj:
-                lines.append(f"- {t} thread(s): mujoco.rollout / cgadyn = {mj[0] / us:.2f}x")
+            for (w2, t2), v in per_step.items():
+                if w2.startswith("mujoco") and t2 == t:
+                    lines.append(f"- {t} thread(s): {w2} / cgadyn = {v / us:.2f}x")
     if version is None:
         lines.append("- MuJoCo: not installed, not measured.")
     lines += ["", f"Agreement: the state of rollout 0 after {H} steps against the Pinocchio loop "
