@@ -62,6 +62,11 @@ _LAZY = {
     "CooperativeTask": "cgadyn.tasks",
     "cooperative_space": "cgadyn.tasks",
     "solve_cooperative": "cgadyn.tasks",
+    "simulate": "cgadyn.sim",
+    "Trajectory": "cgadyn.sim",
+    "PD": "cgadyn.sim",
+    "GravityCompensation": "cgadyn.sim",
+    "SimulationDiverged": "cgadyn.sim",
 }
 
 __all__ = sorted(_LAZY)
