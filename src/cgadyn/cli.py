@@ -5,6 +5,7 @@
     cgadyn robots [--json | --names]
     cgadyn bench [ROBOT] [--batch B ...] [--output DIR]
     cgadyn simulate-body [...]
+    cgadyn simulate [ROBOT] [--seconds S] [--dt DT] [--controller C] [--plot F] [--html F]
     cgadyn --version
 
 Each subcommand is a module of ``cgadyn.commands`` (``add_parser``, ``run``), registered
@@ -32,6 +33,7 @@ __all__ = ["COMMANDS", "build_parser", "main"]
 COMMANDS = ("cgadyn.commands.validate", "cgadyn.commands.info", "cgadyn.commands.robots",
             "cgadyn.commands.bench", "cgadyn.pga.cli")
 """The modules that register a subcommand, in the order ``--help`` lists them."""
+COMMANDS += ("cgadyn.commands.simulate",)
 
 
 class _Parser(argparse.ArgumentParser):

@@ -18,12 +18,14 @@ import json
 import math
 import os
 import uuid
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["MissingViewer", "animation_frames", "visuals", "write_html"]
+__all__ = ["MissingViewer", "animation_frames", "require_viewer", "resolve_mesh", "visuals",
+           "write_html"]
 
 FPS = 30.0
 """Frames per second of the animation (the trajectory is sampled at these instants)."""
@@ -36,10 +38,13 @@ class MissingViewer(ImportError):
     """The optional ``viewer`` extra (meshcat) is not installed."""
 
 
-def _meshcat():
+def require_viewer():
+    """meshcat's geometry module and its msgpack encoder; ``MissingViewer`` without them."""
     try:
-        import meshcat.geometry as g
-        import umsgpack
+        with warnings.catch_warnings():  # meshcat imports pyzmq's deprecated ioloop
+            warnings.simplefilter("ignore", DeprecationWarning)
+            import meshcat.geometry as g
+            import umsgpack
     except ImportError:
         raise MissingViewer("the HTML animation needs meshcat, which is not installed: "
                             "pip install 'cgadyn[viewer]' (or pip install meshcat)") from None
@@ -180,7 +185,7 @@ def _hex(rgba) -> int:
 
 def _object(vis: dict) -> dict:
     """The ``set_object`` payload of one visual (three.js JSON, meshcat's extensions)."""
-    g, umsgpack = _meshcat()
+    g, umsgpack = require_viewer()
     material = g.MeshPhongMaterial(color=_hex(vis["rgba"]), opacity=vis["rgba"][3],
                                    transparent=vis["rgba"][3] < 1)
     if vis["kind"] == "mesh" and vis["format"] in ("dae", "obj"):
@@ -301,7 +306,7 @@ JSON.parse(document.getElementById("cgadyn-commands").textContent).forEach(funct
 var meta = JSON.parse(document.getElementById("cgadyn-animation").textContent);
 var c = meta.center, r = meta.radius;
 viewer.controls.target.set(c[0], c[2], -c[1]);
-viewer.camera.position.set(c[0] + 2.0 * r, c[2] + 1.1 * r, -c[1] + 1.5 * r);
+viewer.camera.position.set(c[0] + 2.0 * r, c[2] + 1.6 * r, -c[1] + 1.5 * r);
 viewer.controls.update();
 viewer.set_dirty();
 </script>
@@ -321,7 +326,7 @@ def write_html(model, q, dt: float, path: str | os.PathLike, urdf=None, fps: flo
     Raises :class:`MissingViewer` without meshcat, ``ValueError`` for bad ``q``/``dt``/
     ``fps`` or a URDF without visuals, ``FileNotFoundError`` for a missing mesh.
     """
-    _meshcat()
+    require_viewer()
     q = np.asarray(q, dtype=float)
     if q.ndim != 2 or q.shape[1] != model.nq or len(q) < 1:
         raise ValueError(f"q must be a trajectory of shape (T, nq) = (T, {model.nq}) with "
@@ -335,7 +340,7 @@ def write_html(model, q, dt: float, path: str | os.PathLike, urdf=None, fps: flo
     if not out.parent.is_dir():
         raise FileNotFoundError(f"cannot write {str(out)!r}: directory {str(out.parent)!r} "
                                 f"does not exist")
-    _, umsgpack = _meshcat()
+    _, umsgpack = require_viewer()
     cmds, framing = _commands(model, q, float(dt), float(fps), urdf, loop)
     blobs = [base64.b64encode(umsgpack.packb(c)).decode("ascii") for c in cmds]
     duration = (len(q) - 1) * dt
