@@ -50,6 +50,11 @@ _LAZY = {
     "force_from_wrench": "cgadyn.cga.conventions",
     "motor_from_matrix": "cgadyn.cga.conventions",
     "matrix_from_motor": "cgadyn.cga.conventions",
+    "simulate": "cgadyn.sim",
+    "Trajectory": "cgadyn.sim",
+    "PD": "cgadyn.sim",
+    "GravityCompensation": "cgadyn.sim",
+    "SimulationDiverged": "cgadyn.sim",
 }
 
 __all__ = sorted(_LAZY)

@@ -1,0 +1,216 @@
+"""Rollouts in one compiled call: the closed-loop dynamics, three integrators on the
+configuration manifold, and the loop over steps, parallel over rollouts.
+
+The state is ``(q, v)``; its time derivative is ``(v, q̈)`` with (Algorithms 1 and 3)
+
+    q̈ = ABA(q, v, τ),   τ = τ_ol(t_k) + τ_ctrl(q, v)
+    τ_ctrl = K_p (q_ref ⊖ q) + K_d (v_ref - v) + g(q),   g(q) = RNEA(q, 0, 0)  (Algorithm 2)
+
+``τ_ol`` is held constant over each step (zero-order hold); the feedback law is evaluated
+at every stage of the integrator, as part of the closed-loop vector field. Positions move
+on the configuration manifold with ``q ⊕ δ`` (``multibody.joints.joint_integrate``: a sum
+for one-dof joints, ``M exp(V / 2)`` for a free flyer). With ``h = dt``:
+
+- ``EULER``: ``q' = q ⊕ h v``, ``v' = v + h q̈(q, v)``;
+- ``SEMI_IMPLICIT_EULER`` (symplectic Euler): ``v' = v + h q̈(q, v)``, ``q' = q ⊕ h v'``;
+- ``RK4``: the classical Runge-Kutta stages, each taken from q in the chart ``q ⊕ ·``::
+
+      k_1 = (v, q̈(q, v))
+      k_i = (v_i, q̈(q ⊕ c_i h v_{i-1}, v_i)),   v_i = v + c_i h q̈_{i-1},   c = (½, ½, 1)
+      q' = q ⊕ h/6 (v + 2 v_2 + 2 v_3 + v_4),   v' = v + h/6 (q̈_1 + 2 q̈_2 + 2 q̈_3 + q̈_4)
+
+  fourth order for one-dof joints; for the rotation of a free flyer the chart is not
+  corrected by the inverse of the exponential's differential (Munthe-Kaas), so the order
+  there is lower, as with the same scheme written on Pinocchio's ``integrate``.
+
+Every core called here (``aba_core``, ``rnea_core``, ``energy_core``) allocates nothing and
+takes a workspace; each rollout owns one. Compiled code never raises: a rollout whose step
+fails (a fault of ABA, or a state that is no longer finite) stops there with a status, and
+the loop records how many steps it completed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import prange
+
+from .._jit import core, inline, parallel
+from ..algorithms import _workspace as ws
+from ..algorithms._checks import finite
+from ..algorithms.aba import aba_core
+from ..algorithms.aba import workspace_size as aba_workspace
+from ..algorithms.energy import energy_core
+from ..algorithms.energy import workspace_size as energy_workspace
+from ..algorithms.rnea import rnea_core
+from ..algorithms.rnea import workspace_size as rnea_workspace
+from ..algorithms.status import NONFINITE_RESULT, OK, fault
+from ..multibody.joints import joint_difference, joint_integrate
+from ..multibody.packed import unpack
+
+RK4, SEMI_IMPLICIT_EULER, EULER = 0, 1, 2
+"""The integrators, by number."""
+
+PD, GRAVITY = 1, 2
+"""Controller flags: joint-space PD around ``(q_ref, v_ref)``, gravity compensation."""
+
+
+@core
+def closed_loop_acceleration(m, q, v, u, f, ctrl, qdd, sc, work):
+    """``qdd = ABA(q, v, u + τ_ctrl(q, v))`` (the module's first equations); ``ctrl`` the
+    controller ``(flags, gains (2, nv), q_ref (nq), v_ref (nv))``. A status."""
+    flags, gains, q_ref, v_ref = ctrl
+    tau, g, dq, zero, none, tmp = sc[2], sc[3], sc[4], sc[5], sc[6], sc[7]
+    for k in range(m.nv):
+        tau[k] = u[k]
+    if flags & GRAVITY:
+        status = rnea_core(m, q, zero, zero, none, g, 0, work)  # g(q) = RNEA(q, 0, 0)
+        if status != OK:
+            return status
+        for k in range(m.nv):
+            tau[k] += g[k]
+    if flags & PD:
+        for j in range(m.n):
+            joint_difference(m, j, q, q_ref, tmp, dq)  # q_ref ⊖ q
+        for k in range(m.nv):
+            tau[k] += gains[0, k] * dq[k] + gains[1, k] * (v_ref[k] - v[k])
+    return aba_core(m, q, v, tau, f, qdd, 0, work)
+
+
+@inline
+def _advance(m, q, v, h, tmp, dq, out):
+    """``out = q ⊕ h v`` (``dq`` receives ``h v``)."""
+    for k in range(m.nv):
+        dq[k] = h * v[k]
+    for j in range(m.n):
+        joint_integrate(m, j, q, dq, tmp, out)
+
+
+@core
+def step(m, method, q, v, u, f, ctrl, dt, qn, vn, a, sc, work):
+    """One step of ``method`` from ``(q, v)`` to ``(qn, vn)``; ``a = q̈(q, v)``. A status."""
+    K, Ka, tau, dq, tmp, qs = sc[0], sc[1], sc[2], sc[4], sc[7], sc[8]
+    status = closed_loop_acceleration(m, q, v, u, f, ctrl, a, sc, work)
+    if status != OK:
+        return status
+    if method == EULER:
+        _advance(m, q, v, dt, tmp, dq, qn)
+        for k in range(m.nv):
+            vn[k] = v[k] + dt * a[k]
+    elif method == SEMI_IMPLICIT_EULER:
+        for k in range(m.nv):
+            vn[k] = v[k] + dt * a[k]
+        _advance(m, q, vn, dt, tmp, dq, qn)
+    else:
+        for k in range(m.nv):
+            K[0, k] = v[k]
+            Ka[0, k] = a[k]
+        for i in range(1, 4):
+            h = dt if i == 3 else 0.5 * dt
+            _advance(m, q, K[i - 1], h, tmp, dq, qs)  # q ⊕ c_i h v_{i-1}
+            for k in range(m.nv):
+                K[i, k] = v[k] + h * Ka[i - 1, k]  # v_i = v + c_i h q̈_{i-1}
+            status = closed_loop_acceleration(m, qs, K[i], u, f, ctrl, Ka[i], sc, work)
+            if status != OK:
+                return status
+        w = dt / 6.0
+        for k in range(m.nv):
+            tau[k] = K[0, k] + 2.0 * K[1, k] + 2.0 * K[2, k] + K[3, k]
+            vn[k] = v[k] + w * (Ka[0, k] + 2.0 * Ka[1, k] + 2.0 * Ka[2, k] + Ka[3, k])
+        _advance(m, q, tau, w, tmp, dq, qn)
+    if not (finite(qn) and finite(vn)):
+        return fault(NONFINITE_RESULT, -1)
+    return OK
+
+
+@inline
+def workspace_size(n, nq, nv, nl):
+    """The floats of one rollout's scratch (``_scratch``)."""
+    return 12 * nv + nq + 24
+
+
+@inline
+def core_workspace_size(n, nq, nv, nl):
+    """The largest workspace of the cores a step calls, shared by them in turn."""
+    return max(aba_workspace(n, nq, nv, nl), rnea_workspace(n, nq, nv, nl),
+               energy_workspace(n, nq, nv, nl))
+
+
+@inline
+def _scratch(buf, m):
+    """K, K̈ (4, nv) the RK4 stages' velocities and accelerations, τ, g, δ, 0 (nv), no
+    wrenches (0, 6), tmp (3, 8), the stage configuration (nq)."""
+    K, o = ws.carve(buf, 0, (4, m.nv))
+    Ka, o = ws.carve(buf, o, (4, m.nv))
+    tau, o = ws.carve(buf, o, (m.nv,))
+    g, o = ws.carve(buf, o, (m.nv,))
+    dq, o = ws.carve(buf, o, (m.nv,))
+    zero, o = ws.carve(buf, o, (m.nv,))
+    none, o = ws.carve(buf, o, (0, 6))
+    tmp, o = ws.carve(buf, o, (3, 8))
+    qs, o = ws.carve(buf, o, (m.nq,))
+    for k in range(m.nv):
+        zero[k] = 0.0
+    return K, Ka, tau, g, dq, zero, none, tmp, qs
+
+
+@parallel
+def rollouts(packed, method, q0, v0, u, f, flags, gains, q_ref, v_ref, dt, Q, V, A, E,
+             completed, status):
+    """``B = q0.shape[0]`` rollouts of ``Q.shape[1] - 1`` steps, in parallel.
+
+    ``q0`` (B, nq), ``v0`` (B, nv); ``u`` the open-loop torques (1 or B, steps, nv);
+    ``f`` wrenches (0, 1 or B, n, 6); ``gains`` (2, nv) ``K_p, K_d``;
+    ``q_ref`` (B, nq), ``v_ref`` (B, nv). Writes ``Q`` (B, steps+1, nq), ``V``, ``A``
+    (B, steps+1, nv), ``E`` (B, steps+1, 2) the kinetic and potential energy, and per rollout
+    the steps ``completed`` and the ``status`` (0, or the fault that stopped it). The
+    acceleration at the last state takes the last open-loop torque. The outputs come in
+    filled with NaN; a rollout that stops leaves NaN after the last state it reached.
+    """
+    m = unpack(packed)
+    B, steps = Q.shape[0], Q.shape[1] - 1
+    size = workspace_size(m.n, m.nq, m.nv, m.nl)
+    csize = core_workspace_size(m.n, m.nq, m.nv, m.nl)
+    for b in prange(B):
+        mb = unpack(packed)
+        buf = np.empty(size)
+        work = np.empty(csize)
+        sc = _scratch(ws.data_pointer(buf), mb)
+        none = sc[6]
+        ctrl = (flags, gains, q_ref[b], v_ref[b])
+        fb = f[0] if f.shape[0] == 1 else (f[b] if f.shape[0] > 1 else none)
+        ub = u[0] if u.shape[0] == 1 else u[b]
+        for k in range(mb.nq):
+            Q[b, 0, k] = q0[b, k]
+        for k in range(mb.nv):
+            V[b, 0, k] = v0[b, k]
+        s = OK
+        done = 0
+        for i in range(steps):
+            s = energy_core(mb, Q[b, i], V[b, i], E[b, i], 0, work)
+            if s != OK:
+                break
+            s = step(mb, method, Q[b, i], V[b, i], ub[i], fb, ctrl, dt, Q[b, i + 1],
+                     V[b, i + 1], A[b, i], sc, work)
+            if s != OK:
+                break
+            done = i + 1
+        if s == OK:
+            s = energy_core(mb, Q[b, steps], V[b, steps], E[b, steps], 0, work)
+        if s == OK:
+            s = closed_loop_acceleration(mb, Q[b, steps], V[b, steps], ub[steps - 1], fb, ctrl,
+                                         A[b, steps], sc, work)
+        completed[b] = done
+        status[b] = s
+        if s != OK:
+            _blank(Q[b], V[b], A[b], E[b], done)
+
+
+@inline
+def _blank(Q, V, A, E, done):
+    """NaN in every entry after the last state reached (index ``done``), where a failed
+    step may have written part of its result."""
+    for i in range(done + 1, Q.shape[0]):
+        Q[i, :] = np.nan
+        V[i, :] = np.nan
+        A[i, :] = np.nan
+        E[i, :] = np.nan
