@@ -13,9 +13,8 @@ import numpy as np
 import pytest
 
 import cgadyn
-from cgadyn import cli
+from cgadyn import PD, cli, simulate
 from cgadyn.commands import simulate as command
-from cgadyn.sim import PD, simulate
 
 Q0, V0 = np.array([1.0, -0.5]), np.array([0.3, 0.0])
 
@@ -63,12 +62,12 @@ def test_chunked_run_with_progress_bar_equals_one_call(monkeypatch, capsys):
     model = cgadyn.load("double_pendulum")
     monkeypatch.setattr(command, "PROGRESS_AFTER", 0.0)  # draw the bar however fast
     ctrl = PD([30.0, 10.0], [3.0, 1.0], q_ref=np.zeros(2))
-    parts, message = command.simulate_chunked(model, Q0, V0, 1e-3, 1500, "rk4", ctrl)
-    assert message == ""
+    chunked = command.simulate_chunked(model, Q0, V0, 1e-3, 1500, "rk4", ctrl)
+    assert chunked.message == "" and not chunked.diverged and chunked.completed == 1500
     assert "simulate |" in capsys.readouterr().err
     traj = simulate(model, Q0, V0, 1e-3, 1500, controller=ctrl)
     for key in ("q", "v", "a", "energy", "t"):
-        np.testing.assert_array_equal(parts[key], getattr(traj, key), err_msg=key)
+        np.testing.assert_array_equal(getattr(chunked, key), getattr(traj, key), err_msg=key)
     assert np.abs(traj.q[-1]).max() < 0.5 * np.abs(Q0).max()  # the PD pulls it in
 
 

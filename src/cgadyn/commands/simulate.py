@@ -35,7 +35,8 @@ from .common import (
     warn,
 )
 
-__all__ = ["add_parser", "energy_drift", "parse_vector", "run", "simulate_chunked"]
+__all__ = ["add_parser", "check_html_path", "parse_vector", "pd_gains", "run",
+           "simulate_chunked"]
 
 INTEGRATORS = ("rk4", "semi_implicit_euler", "euler")
 CONTROLLERS = ("none", "gravity", "pd")
@@ -151,9 +152,9 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
                      progress: bool = True):
     """``cgadyn.simulate(model, q0, v0, dt, steps, ...)`` as a sequence of calls, each
     continuing from the last state, with a progress bar when the whole is expected to take
-    longer than :data:`PROGRESS_AFTER` seconds. Returns ``(trajectory parts, message)``:
-    a dict of the concatenated arrays and the divergence message ("" if none)."""
-    from ..sim import simulate
+    longer than :data:`PROGRESS_AFTER` seconds. Returns one ``Trajectory`` (its message
+    gives the step and time of the whole run)."""
+    from ..sim import Trajectory, simulate
 
     parts: dict[str, list] = {k: [] for k in ("q", "v", "a", "kinetic", "potential",
                                               "energy")}
@@ -196,8 +197,8 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
     if bar is not None:
         bar.update(done, final=True)
     out = {k: np.concatenate(v) for k, v in parts.items()}
-    out["t"] = dt * np.arange(len(out["q"]))
-    return out, message
+    return Trajectory(t=dt * np.arange(len(out["q"])), **out, completed=len(out["q"]) - 1,
+                      diverged=bool(message), dt=dt, integrator=integrator, message=message)
 
 
 def _stopped(message: str, done: int, steps: int, dt: float) -> str:
@@ -211,12 +212,6 @@ def _stopped(message: str, done: int, steps: int, dt: float) -> str:
 def _compiling() -> None:
     sys.stderr.write("simulate: compiling the simulation loop (once; numba caches it)...\n")
     sys.stderr.flush()
-
-
-def energy_drift(energy: np.ndarray) -> float:
-    """``max_t |E(t) - E(0)| / |E(0)|`` (the absolute drift where ``E(0) = 0``)."""
-    drift = float(np.max(np.abs(energy - energy[0])))
-    return drift / abs(float(energy[0])) if energy[0] != 0 else drift
 
 
 def pd_gains(model, q_ref: np.ndarray, wn: float) -> tuple[np.ndarray, np.ndarray]:
@@ -273,49 +268,40 @@ def run(args: argparse.Namespace) -> int:
     controller = _controller(args, model)
 
     start = time.perf_counter()
-    traj, message = simulate_chunked(model, q0, v0, args.dt, steps, args.integrator,
-                                     controller, progress=args.progress)
+    traj = simulate_chunked(model, q0, v0, args.dt, steps, args.integrator, controller,
+                            progress=args.progress)
     wall = time.perf_counter() - start
-    completed = len(traj["q"]) - 1
-    passive = controller is None
-    drift = energy_drift(traj["energy"]) if passive else None
+    drift = traj.energy_drift() if controller is None else None  # a passive run
     summary = {"robot": model.name, "base": "free flyer" if model.floating_base else "fixed",
                "nq": model.nq, "nv": model.nv, "integrator": args.integrator,
                "dt": args.dt, "steps": steps, "seconds": steps * args.dt,
                "controller": args.controller,
                "gains": {"kp": controller.kp, "kd": controller.kd}
                if args.controller == "pd" else None,
-               "completed": completed, "diverged": bool(message), "message": message,
-               "wall_seconds": wall, "energy_initial": traj["energy"][0],
-               "energy_final": traj["energy"][-1], "energy_drift": drift,
-               "q0": q0, "v0": v0, "q_final": traj["q"][-1], "v_final": traj["v"][-1]}
+               "completed": traj.completed, "diverged": traj.diverged,
+               "message": traj.message, "wall_seconds": wall,
+               "energy_initial": traj.energy[0], "energy_final": traj.energy[-1],
+               "energy_drift": drift, "q0": q0, "v0": v0, "q_final": traj.q[-1],
+               "v_final": traj.v[-1]}
     if plot is not None:
         from ..sim.plot import plot_trajectory
 
-        plot_trajectory(model, _Trajectory(traj, args), plot)
+        plot_trajectory(model, traj, plot)
     if html is not None:
         from ..sim.html import write_html
 
-        write_html(model, traj["q"], args.dt, html, urdf=_urdf(args.robot, registry))
+        write_html(model, traj.q, args.dt, html, urdf=_urdf(args.robot, registry))
     if args.json:
-        print_json({**summary, "t": traj["t"], "q": traj["q"], "v": traj["v"],
-                    "a": traj["a"], "kinetic": traj["kinetic"],
-                    "potential": traj["potential"], "energy": traj["energy"],
-                    "plot": str(plot) if plot else None, "html": str(html) if html else None})
+        arrays = {k: getattr(traj, k) for k in ("t", "q", "v", "a", "kinetic", "potential",
+                                                "energy")}
+        print_json({**summary, **arrays, "plot": str(plot) if plot else None,
+                    "html": str(html) if html else None})
     else:
         print(_summary_text(summary, plot, html))
-    if message:
-        warn(f"simulation stopped early: {message}")
+    if traj.diverged:
+        warn(f"simulation stopped early: {traj.message}")
         return 1
     return 0
-
-
-class _Trajectory:
-    """The chunked run's arrays with the attributes ``plot_trajectory`` reads."""
-
-    def __init__(self, parts: dict, args: argparse.Namespace):
-        self.__dict__.update(parts)
-        self.dt, self.integrator = args.dt, args.integrator
 
 
 def _urdf(robot: str, registry):
