@@ -150,3 +150,23 @@ def test_chromium_shows_the_robot(pendulum_page, tmp_path):
     assert px["colours"] > 200, f"blank page: {px}"
     assert px["yellow"] > 1e-3, f"the pendulum's yellow base is not visible: {px}"
     assert px["grey"] > 1.2e-2, f"the pendulum's grey links are not visible: {px}"
+
+
+def test_urdf_without_visuals_is_drawn_as_a_skeleton(tmp_path):
+    model = cgadyn.load("cart_pole")  # the project's own URDF: no <visual>
+    assert html.visuals(model) == []
+    sk = html.skeleton(model)
+    assert [v["kind"] for v in sk].count("sphere") == model.njoints
+    T0 = cgadyn.link_placements(model, np.zeros(model.nq))
+    for v in sk:
+        if v["kind"] == "cylinder":  # from its link's origin to a child joint's origin
+            radius, length = v["size"]
+            end = (T0[v["link"]] @ v["origin"] @ [0, 0, length / 2, 1])[:3]
+            starts = [T0[v["link"]][:3, 3]]
+            assert np.allclose((T0[v["link"]] @ v["origin"] @ [0, 0, -length / 2, 1])[:3],
+                               starts[0], atol=1e-12)
+            assert any(np.allclose(end, T0[li][:3, 3], atol=1e-12)
+                       for li in range(model.nlinks))
+    path = html.write_html(model, np.zeros((11, model.nq)), 0.1, tmp_path / "cp.html")
+    _, cmds = _page_parts(path.read_text(encoding="utf-8"))
+    assert sum(c["type"] == "set_object" for c in cmds) == len(sk)

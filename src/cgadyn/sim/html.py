@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 __all__ = ["MissingViewer", "animation_frames", "require_viewer", "resolve_mesh", "visuals",
+           "skeleton",
            "write_html"]
 
 FPS = 30.0
@@ -175,6 +176,44 @@ def visuals(model, urdf=None) -> list[dict]:
     return out
 
 
+_SKELETON_RGBA = (0.95, 0.55, 0.1, 1.0)
+
+
+def _joint_link(model, j: int) -> int:
+    """The link whose frame is joint ``j``'s frame (the world's root link for -1)."""
+    for li in range(model.nlinks):
+        if model.link_joint[li] == j and np.allclose(model.link_placement_matrices[li],
+                                                     np.eye(4)):
+            return li
+    raise ValueError(f"no link frame coincides with joint {j} of {model.name!r}")
+
+
+def skeleton(model) -> list[dict]:
+    """Visuals for a URDF without any: a sphere at every joint frame and a cylinder from
+    each joint frame's origin to its children's, fixed in the parent's link."""
+    offsets = [np.asarray(model.placement_matrices[j][:3, 3]) for j in range(model.njoints)]
+    lengths = [float(np.linalg.norm(p)) for p in offsets if np.linalg.norm(p) > 1e-9]
+    r = 0.12 * (float(np.median(lengths)) if lengths else 0.5)
+    out = []
+    for j in range(model.njoints):
+        li = _joint_link(model, j)
+        out.append({"link": li, "origin": np.eye(4), "kind": "sphere", "size": [r],
+                    "rgba": _SKELETON_RGBA})
+        p, length = offsets[j], float(np.linalg.norm(offsets[j]))
+        if length < 1e-9:
+            continue
+        z = p / length  # the cylinder's axis (URDF cylinders lie along z)
+        x = np.cross(z, [1.0, 0, 0] if abs(z[0]) < 0.9 else [0, 1.0, 0])
+        x /= np.linalg.norm(x)
+        frame = np.eye(4)
+        frame[:3, :3] = np.column_stack([x, np.cross(z, x), z])
+        frame[:3, 3] = 0.5 * p
+        parent = _joint_link(model, int(model.parents[j]))
+        out.append({"link": parent, "origin": frame, "kind": "cylinder",
+                    "size": [0.4 * r, length], "rgba": (0.6, 0.6, 0.65, 1.0)})
+    return out
+
+
 # --- meshcat commands ---------------------------------------------------------------------
 
 
@@ -240,9 +279,7 @@ def _commands(model, q: np.ndarray, dt: float, fps: float, urdf,
               loop: bool) -> tuple[list[dict], dict]:
     from ..algorithms.api import link_placements
 
-    vis = visuals(model, urdf)
-    if not vis:
-        raise ValueError(f"the URDF of {model.name!r} has no <visual> to show")
+    vis = visuals(model, urdf) or skeleton(model)
     rows = animation_frames(q, dt, fps)
     T = np.asarray(link_placements(model, q[rows]))  # (F, nl, 4, 4)
     links = sorted({v["link"] for v in vis})
@@ -276,11 +313,19 @@ def _commands(model, q: np.ndarray, dt: float, fps: float, urdf,
 
 
 def _framing(T: np.ndarray, vis: list[dict]) -> dict:
-    """Centre and radius (metres) of the box swept by the visuals' origins, for the camera."""
-    pts = np.concatenate([(T[:, v["link"]] @ v["origin"])[:, :3, 3] for v in vis])
-    lo, hi = pts.min(axis=0), pts.max(axis=0)
-    radius = max(0.5 * float(np.linalg.norm(hi - lo)), 0.1) * 1.15
-    return {"center": [float(c) for c in 0.5 * (lo + hi)], "radius": radius}
+    """Centre and radius (metres) for the camera: the box swept by the visuals' origins,
+    or the first frame's box when the robot travels more than three times its own size."""
+    pts = np.stack([(T[:, v["link"]] @ v["origin"])[:, :3, 3] for v in vis], axis=1)
+
+    def box(p):
+        lo, hi = p.min(axis=0), p.max(axis=0)
+        return 0.5 * (lo + hi), max(0.5 * float(np.linalg.norm(hi - lo)), 0.1) * 1.15
+
+    center, radius = box(pts.reshape(-1, 3))
+    c0, r0 = box(pts[0])
+    if radius > 3 * r0:
+        center, radius = c0, r0
+    return {"center": [float(c) for c in center], "radius": radius}
 
 
 _PAGE = """<!DOCTYPE html>
@@ -323,6 +368,7 @@ def write_html(model, q, dt: float, path: str | os.PathLike, urdf=None, fps: flo
     ``urdf`` : the URDF file (or text) ``model`` was loaded from, to find its visuals;
     default: the registry's file for ``model.name``.
     ``fps`` : animation frames per second (the states nearest those instants are shown).
+    A URDF without ``<visual>`` is drawn as a :func:`skeleton`.
     Raises :class:`MissingViewer` without meshcat, ``ValueError`` for bad ``q``/``dt``/
     ``fps`` or a URDF without visuals, ``FileNotFoundError`` for a missing mesh.
     """
