@@ -15,6 +15,7 @@ import pytest
 import cgadyn
 from cgadyn import PD, cli, simulate
 from cgadyn.commands import simulate as command
+from cgadyn.sim import html
 
 Q0, V0 = np.array([1.0, -0.5]), np.array([0.3, 0.0])
 
@@ -86,10 +87,10 @@ def test_plot_and_html_files(tmp_path, capsys):
     png = tmp_path / "run.png"
     argv = ["simulate", "double_pendulum", "--seconds", "0.3", "--plot", str(png)]
     try:
-        import meshcat  # noqa: F401
+        html.require_viewer()
         page = tmp_path / "run.html"
         argv += ["--html", str(page)]
-    except ImportError:
+    except html.MissingViewer:
         page = None
     assert cli.main(argv) == 0
     out = capsys.readouterr().out
@@ -135,6 +136,16 @@ def test_user_errors(argv, expected):
     assert "Traceback" not in r.stderr + r.stdout
     assert r.stderr.strip().splitlines()[-1].startswith("cgadyn: error: ")
     assert expected in r.stderr, r.stderr
+
+
+def test_html_without_meshcat_says_how_to_install(monkeypatch, capsys, tmp_path):
+    for name in ("meshcat", "meshcat.geometry", "umsgpack"):
+        monkeypatch.setitem(sys.modules, name, None)  # import fails as if not installed
+    code = cli.main(["simulate", "double_pendulum", "--html", str(tmp_path / "a.html")])
+    err = capsys.readouterr().err
+    assert code == 2 and not (tmp_path / "a.html").exists()
+    assert "cgadyn: error: --html: the HTML animation needs meshcat" in err
+    assert "pip install 'cgadyn[viewer]'" in err
 
 
 def test_unknown_robot():

@@ -266,6 +266,10 @@ def run(args: argparse.Namespace) -> int:
     v0 = parse_vector(args.v0, model.nv, "--v0")
     v0 = np.zeros(model.nv) if v0 is None else v0
     controller = _controller(args, model)
+    if html is not None:  # find the meshes before the run, not after it
+        from ..sim.html import visuals
+
+        visuals(model, _urdf(args.robot, registry))
 
     start = time.perf_counter()
     traj = simulate_chunked(model, q0, v0, args.dt, steps, args.integrator, controller,
