@@ -26,6 +26,7 @@ print(json.dumps({{
     "crba": cgadyn.crba(m, q[1]).tolist(),
     "jac": cgadyn.jacobian(m, q[0], m.link_names[-1]).tolist(),
     "energy": cgadyn.energy(m, q[1], v[1]).tolist(),
+    "simulate": cgadyn.simulate(m, q, v, 1e-3, 5, controller=cgadyn.PD(2.0, 0.1)).q.tolist(),
 }}))
 """
 

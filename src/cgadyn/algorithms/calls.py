@@ -118,6 +118,10 @@ ndarray or tuple; the caller then calls ``run``."""
 def run(name: str, model, arrays: tuple, gravity=DEFAULT_GRAVITY, f_ext=None, option: int = 0):
     """The checked path of algorithm ``name`` on ``arrays`` (its inputs, in table order):
     its output, or a tuple of its outputs, for one sample or a batch."""
+    if any(type(a).__module__.startswith("dask") for a in arrays):  # chunk by chunk
+        from .. import distributed
+
+        return distributed.run(name, model, arrays, gravity, f_ext, option)
     entry = ENTRIES[name]
     alg = entry.algorithm
     x = _inputs.states(model, arrays, alg.inputs)

@@ -11,6 +11,7 @@ import warnings
 
 import numpy as np
 
+from .. import distributed
 from ..algorithms import _inputs
 from ..algorithms.api import energy as _energy
 from ..algorithms.calls import _PARALLEL
@@ -19,6 +20,8 @@ from ..multibody.packed import DEFAULT_GRAVITY
 from .controllers import PD, GravityCompensation
 from .rollout import EULER, RK4, SEMI_IMPLICIT_EULER, rollouts
 from .trajectory import Trajectory
+
+is_dask = distributed.is_dask
 
 INTEGRATORS = {"rk4": RK4, "semi_implicit_euler": SEMI_IMPLICIT_EULER, "euler": EULER}
 
@@ -45,12 +48,18 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     articulated inertia) stops at that step: the ``Trajectory`` holds it up to there, says
     so (``diverged``, ``completed``, ``message``), and a ``SimulationDiverged`` warning is
     issued (turn it into an error with ``warnings.simplefilter("error", SimulationDiverged)``).
+
+    dask arrays of states (``q0``/``v0`` (B, n), ``tau`` (B, steps, nv), chunked along B)
+    give a ``Trajectory`` of dask arrays, one compiled call per chunk (``cgadyn.distributed``).
     """
     dt = _positive(dt)
     steps = _steps(steps)
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {', '.join(map(repr, INTEGRATORS))}, "
                          f"got {integrator!r}")
+    if is_dask(q0) or is_dask(v0) or is_dask(tau):  # chunks of rollouts, scheduled by dask
+        return distributed.simulate(model, q0, v0, dt, steps, tau, dict(
+            integrator=integrator, gravity=gravity, f_ext=f_ext, controller=controller))
     gravity = DEFAULT_GRAVITY if gravity is None else gravity
     packed = _inputs.packed(model, gravity)
     q0 = _inputs.state(model, q0, "q0", model.nq)
