@@ -186,7 +186,7 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
             break
         q, v = traj.q[-1], traj.v[-1]
         if chunk == 1:
-            chunk = min(100, steps)
+            chunk = min(1000, steps)
         else:
             rate = n / max(took, 1e-9)  # steps per second
             if bar is None and progress and (steps - done) / rate > PROGRESS_AFTER:
