@@ -192,7 +192,7 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
             if bar is None and progress and (steps - done) / rate > PROGRESS_AFTER:
                 bar = _Progress(steps)
             chunk = max(1, int(rate * 0.25))  # four updates a second
-        if bar is not None:
+        if bar is not None and done < steps:
             bar.update(done)
     if bar is not None:
         bar.update(done, final=True)
