@@ -133,8 +133,7 @@ def _torques(model, tau, steps: int) -> np.ndarray:
 
 def _batch(arrays: dict) -> int:
     """The common number of rollouts B of the batched arrays (0: one rollout)."""
-    sizes = {k: a.shape[0] for k, a in arrays.items() if a is not None and a.ndim >= 2
-             and not (k == "tau" and a.ndim == 2)}
+    sizes = {k: a.shape[0] for k, a in arrays.items() if a is not None and a.ndim >= 2}
     if len(set(sizes.values())) > 1:
         detail = ", ".join(f"{k} {arrays[k].shape}" for k in sizes)
         raise ValueError(f"the batched inputs disagree on the number of rollouts: {detail}")
