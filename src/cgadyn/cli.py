@@ -1,4 +1,5 @@
-"""The ``cgadyn`` command: ``validate``, ``info``, ``robots``, ``bench``, ``simulate-body``.
+"""The ``cgadyn`` command: ``validate``, ``info``, ``robots``, ``bench``, ``simulate-body``,
+``ik``, ``simulate``.
 
     cgadyn validate [ROBOT | --all] [--samples N] [--seed S] [--tolerance T] [--json]
     cgadyn info [ROBOT] [--json]
@@ -6,6 +7,7 @@
     cgadyn bench [ROBOT] [--batch B ...] [--output DIR]
     cgadyn simulate-body [...]
     cgadyn ik ROBOT LINK --position X Y Z [--orientation W X Y Z] [--json]
+    cgadyn simulate [ROBOT] [--seconds S] [--dt DT] [--controller C] [--plot F] [--html F]
     cgadyn --version
 
 Each subcommand is a module of ``cgadyn.commands`` (``add_parser``, ``run``), registered
@@ -32,7 +34,7 @@ __all__ = ["COMMANDS", "build_parser", "main"]
 
 COMMANDS = ("cgadyn.commands.validate", "cgadyn.commands.info", "cgadyn.commands.robots",
             "cgadyn.commands.bench", "cgadyn.pga.cli",
-            "cgadyn.commands.ik")
+            "cgadyn.commands.ik", "cgadyn.commands.simulate")
 """The modules that register a subcommand, in the order ``--help`` lists them."""
 
 

@@ -1,0 +1,338 @@
+"""``cgadyn simulate``: integrate a robot's motion (``cgadyn.simulate``), print a summary
+(the energy drift of passive runs), and optionally the trajectory as JSON, a figure
+(``--plot``) and a self-contained browser animation with the robot's meshes (``--html``).
+
+    cgadyn simulate [ROBOT] [--seconds S] [--dt DT] [--integrator NAME]
+                    [--controller none|gravity|pd] [--wn W | --kp KP --kd KD] [--q0 Q ...]
+                    [--v0 V ...] [--json] [--plot F.png] [--html F.html] [--no-progress]
+
+The run is integrated in chunks of steps, each one ``cgadyn.simulate`` call continuing from
+the last state (RK4 and the Euler methods are one-step methods, so the states are those of
+one call), to draw a progress bar on stderr when the run takes more than a second.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import re
+import sys
+import threading
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from .common import (
+    DEFAULT_ROBOT,
+    UsageError,
+    add_base_options,
+    check_plot_path,
+    floating_base,
+    positive_float,
+    print_json,
+    warn,
+)
+
+__all__ = ["add_parser", "check_html_path", "parse_vector", "pd_gains", "run",
+           "simulate_chunked"]
+
+INTEGRATORS = ("rk4", "semi_implicit_euler", "euler")
+CONTROLLERS = ("none", "gravity", "pd")
+WN = 10.0
+"""rad/s: the default natural frequency of the ``pd`` controller's joints."""
+PROGRESS_AFTER = 1.0
+"""Seconds: a run expected to take longer than this draws a progress bar."""
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser(
+        "simulate", help="integrate a robot's motion; plot it or animate it in a browser",
+        description="Integrate q'' = ABA(q, v, tau) from q0, v0 and print a summary: the "
+        "final state, and for a passive run (no controller) the drift of the total energy, "
+        "max |E(t) - E(0)| / |E(0)|.")
+    p.add_argument("robot", nargs="?", default=DEFAULT_ROBOT, metavar="ROBOT",
+                   help=f"robot name or URDF file (default {DEFAULT_ROBOT})")
+    p.add_argument("--seconds", type=positive_float, default=2.0,
+                   help="simulated time in seconds (default 2)")
+    p.add_argument("--dt", type=positive_float, default=1e-3,
+                   help="time step in seconds (default 0.001)")
+    p.add_argument("--integrator", choices=INTEGRATORS, default="rk4",
+                   help="integration method (default rk4)")
+    p.add_argument("--controller", choices=CONTROLLERS, default="none",
+                   help="none: passive; gravity: gravity compensation; pd: joint PD to the "
+                        "neutral configuration plus gravity compensation (default none)")
+    p.add_argument("--wn", type=positive_float, default=WN,
+                   help=f"PD natural frequency in rad/s: K_p = diag(M(q_ref)) wn^2, "
+                        f"K_d = 2 diag(M(q_ref)) wn, critically damped per joint, so that "
+                        f"light joints get light gains (default {WN:g})")
+    p.add_argument("--kp", nargs="+", metavar="KP",
+                   help="PD stiffness instead: one number for every joint or nv numbers")
+    p.add_argument("--kd", nargs="+", metavar="KD",
+                   help="PD damping instead: one number for every joint or nv numbers")
+    p.add_argument("--q0", nargs="+", metavar="Q",
+                   help="initial configuration, nq numbers separated by spaces or commas "
+                        "(default: the neutral configuration)")
+    p.add_argument("--v0", nargs="+", metavar="V",
+                   help="initial velocity, nv numbers (default zero)")
+    p.add_argument("--json", action="store_true",
+                   help="print the summary and the whole trajectory as JSON")
+    p.add_argument("--plot", metavar="FILE", help="write joint trajectories and energy to "
+                   "FILE (its extension picks the format, e.g. .png, .pdf, .svg)")
+    p.add_argument("--html", metavar="FILE", help="write a self-contained animation of the "
+                   "robot with its meshes, for a browser, to FILE.html (needs meshcat: pip "
+                   "install 'cgadyn[viewer]')")
+    p.add_argument("--no-progress", dest="progress", action="store_false",
+                   help="never draw the progress bar")
+    add_base_options(p)
+    p.set_defaults(func=run)
+
+
+def parse_vector(tokens: list[str] | None, size: int, name: str) -> np.ndarray | None:
+    """``--q0 1 -0.5`` or ``--q0 1,-0.5`` as ``size`` finite numbers; a ``UsageError``
+    naming the option otherwise."""
+    if tokens is None:
+        return None
+    parts = [p for tok in tokens for p in re.split(r"[,\s]+", tok.strip()) if p]
+    try:
+        values = np.array([float(p) for p in parts])
+    except ValueError:
+        raise UsageError(f"{name} must be numbers separated by spaces or commas, got "
+                         f"{' '.join(tokens)!r}") from None
+    if values.shape != (size,):
+        raise UsageError(f"{name} needs {size} numbers for this robot, got {len(values)}")
+    if not np.all(np.isfinite(values)):
+        raise UsageError(f"{name} must be finite numbers, got {' '.join(tokens)!r}")
+    return values
+
+
+def check_html_path(path: str | None) -> Path | None:
+    """``path`` if the animation can be written there (``.html``/``.htm`` in an existing
+    directory) and meshcat is installed; else a ``UsageError`` saying which."""
+    if path is None:
+        return None
+    p = Path(path)
+    if p.suffix.lower() not in (".html", ".htm"):
+        raise UsageError(f"cannot write the animation {path!r}: expected a file ending in "
+                         f".html, got {p.suffix or '(no extension)'!r}")
+    if not p.parent.is_dir():
+        raise UsageError(f"cannot write the animation {path!r}: directory "
+                         f"{str(p.parent)!r} does not exist")
+    from ..sim.html import MissingViewer, require_viewer
+
+    try:
+        require_viewer()
+    except MissingViewer as exc:
+        raise UsageError(f"--html: {exc}") from None
+    return p
+
+
+class _Progress:
+    """A one-line progress bar on stderr: ``simulate |#####     | 52% 5200/10000 steps``."""
+
+    def __init__(self, total: int, width: int = 30):
+        self.total, self.width, self.last = total, width, -1.0
+
+    def update(self, done: int, final: bool = False) -> None:
+        now = time.perf_counter()
+        if not final and now - self.last < 0.2:
+            return
+        self.last = now
+        frac = done / self.total
+        bar = "#" * int(round(frac * self.width))
+        sys.stderr.write(f"\rsimulate |{bar:<{self.width}}| {100 * frac:3.0f}% "
+                         f"{done}/{self.total} steps")
+        if final:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+
+
+def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, controller,
+                     progress: bool = True):
+    """``cgadyn.simulate(model, q0, v0, dt, steps, ...)`` as a sequence of calls, each
+    continuing from the last state, with a progress bar when the whole is expected to take
+    longer than :data:`PROGRESS_AFTER` seconds. Returns one ``Trajectory`` (its message
+    gives the step and time of the whole run)."""
+    from ..sim import Trajectory, simulate
+
+    parts: dict[str, list] = {k: [] for k in ("q", "v", "a", "kinetic", "potential",
+                                              "energy")}
+    q, v, done, message, bar = q0, v0, 0, "", None
+    chunk = 1  # the first call compiles: one step, then a measured chunk sets the pace
+    while done < steps:
+        n = min(chunk, steps - done)
+        start = time.perf_counter()
+        notice = threading.Timer(PROGRESS_AFTER, _compiling) if progress and done == 0 \
+            else None
+        if notice is not None:
+            notice.daemon = True
+            notice.start()
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # the message is reported once, below
+                traj = simulate(model, q, v, dt, n, integrator=integrator,
+                                controller=controller)
+        finally:
+            if notice is not None:
+                notice.cancel()
+        took = time.perf_counter() - start
+        first = 0 if done == 0 else 1
+        for k in parts:
+            parts[k].append(np.asarray(getattr(traj, k))[first:])
+        done += int(traj.completed)
+        if traj.diverged:
+            message = _stopped(traj.message, done, steps, dt)
+            break
+        q, v = traj.q[-1], traj.v[-1]
+        if chunk == 1:
+            chunk = min(1000, steps)
+        else:
+            rate = n / max(took, 1e-9)  # steps per second
+            if bar is None and progress and (steps - done) / rate > PROGRESS_AFTER:
+                bar = _Progress(steps)
+            chunk = max(1, int(rate * 0.25))  # four updates a second
+        if bar is not None and done < steps:
+            bar.update(done)
+    if bar is not None:
+        bar.update(done, final=True)
+    out = {k: np.concatenate(v) for k, v in parts.items()}
+    return Trajectory(t=dt * np.arange(len(out["q"])), **out, completed=len(out["q"]) - 1,
+                      diverged=bool(message), dt=dt, integrator=integrator, message=message)
+
+
+def _stopped(message: str, done: int, steps: int, dt: float) -> str:
+    """The divergence message of one call, with the step and time of the whole run."""
+    found = re.search(r"\): (.*?)(; the trajectory|$)", message or "")
+    reason = found.group(1) if found else (message or "the state stopped being finite")
+    return (f"stopped after {done} of {steps} steps (t = {done * dt:g} s): {reason}; the "
+            f"results hold the states up to there")
+
+
+def _compiling() -> None:
+    sys.stderr.write("simulate: compiling the simulation loop (once; numba caches it)...\n")
+    sys.stderr.flush()
+
+
+def pd_gains(model, q_ref: np.ndarray, wn: float) -> tuple[np.ndarray, np.ndarray]:
+    """``K_p = diag(M(q_ref)) wn²``, ``K_d = 2 diag(M(q_ref)) wn``: each joint alone, with
+    the inertia it moves at ``q_ref``, a critically damped oscillator of frequency ``wn``."""
+    from ..algorithms import crba
+
+    m = np.diag(np.asarray(crba(model, q_ref)))
+    return m * wn**2, 2.0 * m * wn
+
+
+def _gains(tokens, model, name: str) -> np.ndarray | None:
+    if tokens is None:
+        return None
+    size = 1 if len(tokens) == 1 and not re.search(r"[,\s]", tokens[0].strip()) else model.nv
+    gains = parse_vector(tokens, size, name)
+    if np.any(gains < 0):
+        raise UsageError(f"{name} must be >= 0, got {' '.join(tokens)!r}")
+    return gains[0] if size == 1 else gains
+
+
+def _controller(args, model):
+    from ..algorithms import neutral
+    from ..sim import PD, GravityCompensation
+
+    if args.controller == "gravity":
+        return GravityCompensation()
+    if args.controller == "pd":
+        q_ref = np.asarray(neutral(model), float)
+        kp, kd = pd_gains(model, q_ref, args.wn)
+        kp_user, kd_user = _gains(args.kp, model, "--kp"), _gains(args.kd, model, "--kd")
+        kp = kp if kp_user is None else kp_user
+        kd = kd if kd_user is None else kd_user
+        return PD(kp, kd, q_ref=q_ref)
+    return None
+
+
+def run(args: argparse.Namespace) -> int:
+    from ..multibody import registry
+
+    steps = int(round(args.seconds / args.dt))
+    if steps < 1:
+        raise UsageError(f"--seconds {args.seconds:g} is shorter than one step of --dt "
+                         f"{args.dt:g}")
+    plot = check_plot_path(args.plot)
+    html = check_html_path(args.html)
+    model = registry.load(args.robot, floating_base=floating_base(args))
+    from ..algorithms import neutral
+
+    q0 = parse_vector(args.q0, model.nq, "--q0")
+    q0 = np.asarray(neutral(model), float) if q0 is None else q0
+    v0 = parse_vector(args.v0, model.nv, "--v0")
+    v0 = np.zeros(model.nv) if v0 is None else v0
+    controller = _controller(args, model)
+    if html is not None:  # find the meshes before the run, not after it
+        from ..sim.html import visuals
+
+        visuals(model, _urdf(args.robot, registry))
+
+    start = time.perf_counter()
+    traj = simulate_chunked(model, q0, v0, args.dt, steps, args.integrator, controller,
+                            progress=args.progress)
+    wall = time.perf_counter() - start
+    drift = traj.energy_drift() if controller is None else None  # a passive run
+    summary = {"robot": model.name, "base": "free flyer" if model.floating_base else "fixed",
+               "nq": model.nq, "nv": model.nv, "integrator": args.integrator,
+               "dt": args.dt, "steps": steps, "seconds": steps * args.dt,
+               "controller": args.controller,
+               "gains": {"kp": controller.kp, "kd": controller.kd}
+               if args.controller == "pd" else None,
+               "completed": traj.completed, "diverged": traj.diverged,
+               "message": traj.message, "wall_seconds": wall,
+               "energy_initial": traj.energy[0], "energy_final": traj.energy[-1],
+               "energy_drift": drift, "q0": q0, "v0": v0, "q_final": traj.q[-1],
+               "v_final": traj.v[-1]}
+    if plot is not None:
+        from ..sim.plot import plot_trajectory
+
+        plot_trajectory(model, traj, plot)
+    if html is not None:
+        from ..sim.html import write_html
+
+        write_html(model, traj.q, args.dt, html, urdf=_urdf(args.robot, registry))
+    if args.json:
+        arrays = {k: getattr(traj, k) for k in ("t", "q", "v", "a", "kinetic", "potential",
+                                                "energy")}
+        print_json({**summary, **arrays, "plot": str(plot) if plot else None,
+                    "html": str(html) if html else None})
+    else:
+        print(_summary_text(summary, plot, html))
+    if traj.diverged:
+        warn(f"simulation stopped early: {traj.message}")
+        return 1
+    return 0
+
+
+def _urdf(robot: str, registry):
+    kind, value, _ = registry.resolve(robot)
+    return registry.robot_path(value) if kind == "name" else value
+
+
+def _vec(x) -> str:
+    return "[" + ", ".join(f"{v:.6g}" for v in x) + "]"
+
+
+def _summary_text(s: dict, plot, html) -> str:
+    rate = s["completed"] / s["wall_seconds"] if s["wall_seconds"] > 0 else math.inf
+    lines = [f"cgadyn simulate: {s['robot']}, {s['base']} base, nq {s['nq']}, nv {s['nv']}, "
+             f"{s['integrator']}, dt {s['dt']:g} s, {s['seconds']:g} s ({s['steps']} steps), "
+             f"controller {s['controller']}",
+             f"  simulated {s['completed']} steps in {s['wall_seconds']:.3g} s "
+             f"({rate:.3g} steps/s)",
+             f"  q(end) = {_vec(s['q_final'])}",
+             f"  v(end) = {_vec(s['v_final'])}",
+             f"  energy E(0) = {s['energy_initial']:.10g} J, E(end) = "
+             f"{s['energy_final']:.10g} J"]
+    if s["energy_drift"] is not None:
+        lines.append(f"  energy drift (passive run): max |E(t) - E(0)| / |E(0)| = "
+                     f"{s['energy_drift']:.3e}")
+    if plot is not None:
+        lines.append(f"  plot: {plot}")
+    if html is not None:
+        lines.append(f"  animation: {html} (open it in a browser; it plays offline)")
+    return "\n".join(lines)

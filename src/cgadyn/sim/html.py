@@ -1,0 +1,410 @@
+"""A trajectory as a self-contained HTML animation of the robot with its meshes.
+
+The page is meshcat's three.js viewer (``main.min.js``, shipped in the ``meshcat`` wheel,
+inlined) fed with meshcat's own scene commands (``set_object``, ``set_transform``,
+``set_animation``, msgpack-encoded), which are written into the page as base64 strings in
+one JSON ``<script>`` element: the file loads nothing from the network and plays offline.
+
+Geometry comes from the URDF's ``<visual>`` elements (meshes in DAE, STL or OBJ, boxes,
+cylinders, spheres), each placed at its link frame composed with the visual's ``<origin>``
+(and ``scale``); the link frames per animation frame are
+:func:`cgadyn.link_placements` of the trajectory, sampled at ``fps`` frames per second.
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import math
+import os
+import uuid
+import warnings
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["MissingViewer", "animation_frames", "require_viewer", "resolve_mesh", "visuals",
+           "skeleton",
+           "write_html"]
+
+FPS = 30.0
+"""Frames per second of the animation (the trajectory is sampled at these instants)."""
+
+_MESH_FORMATS = {".dae": "dae", ".stl": "stl", ".obj": "obj"}
+_DEFAULT_RGBA = (0.7, 0.7, 0.72, 1.0)
+
+
+class MissingViewer(ImportError):
+    """The optional ``viewer`` extra (meshcat) is not installed."""
+
+
+def require_viewer():
+    """meshcat's geometry module and its msgpack encoder; ``MissingViewer`` without them."""
+    try:
+        with warnings.catch_warnings():  # meshcat imports pyzmq's deprecated ioloop
+            warnings.simplefilter("ignore", DeprecationWarning)
+            import meshcat.geometry as g
+            import umsgpack
+    except ImportError:
+        raise MissingViewer("the HTML animation needs meshcat, which is not installed: "
+                            "pip install 'cgadyn[viewer]' (or pip install meshcat)") from None
+    return g, umsgpack
+
+
+def _viewer_js() -> str:
+    import meshcat
+
+    path = Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js"
+    if not path.is_file():
+        raise MissingViewer(f"meshcat's viewer script {str(path)!r} is missing; reinstall "
+                            f"meshcat")
+    return path.read_text(encoding="utf-8").replace("</script", "<\\/script")
+
+
+# --- the URDF's visuals ---------------------------------------------------------------
+
+
+def _urdf_source(model, urdf) -> tuple[bytes, Path | None]:
+    """The URDF XML and its file (None for text) of ``model``: ``urdf`` if given, else
+    the registry's file for the model's name."""
+    from ..multibody import registry
+
+    if urdf is None:
+        try:
+            urdf = registry.robot_path(model.name)
+        except ValueError:
+            raise ValueError(f"robot {model.name!r} is not a registered robot: give the URDF "
+                             f"it was loaded from (urdf=path) to find its meshes") from None
+    kind, value, _ = registry.resolve(urdf if isinstance(urdf, os.PathLike | str) else str(urdf))
+    if kind == "text":
+        return value.encode("utf-8"), None
+    if kind == "name":
+        value = registry.robot_path(value)
+    return Path(value).read_bytes(), Path(value)
+
+
+def _package_roots(urdf_path: Path | None) -> list[Path]:
+    """Directories under which ``package://PKG/...`` may live: example-robot-data's share
+    directory and every ancestor of the URDF's directory."""
+    from ..multibody import registry
+
+    roots = []
+    erd = registry.example_robot_data_dir()
+    if erd is not None:
+        roots += [erd.parent.parent, erd.parent, erd]  # share/, share/example-robot-data/
+    if urdf_path is not None:
+        roots += list(urdf_path.resolve().parents)
+    return roots
+
+
+def resolve_mesh(filename: str, urdf_path: Path | None) -> Path:
+    """The file a URDF mesh ``filename`` names: ``package://PKG/REST`` is looked up as
+    ``ROOT/PKG/REST`` (or ``ROOT/REST`` for the root of package PKG) under
+    :func:`_package_roots`; ``file://`` and plain paths are taken relative to the URDF."""
+    tried = []
+    if filename.startswith("package://"):
+        pkg, _, rest = filename[len("package://"):].partition("/")
+        for root in _package_roots(urdf_path):
+            for cand in (root / pkg / rest, root / rest if root.name == pkg else None):
+                if cand is not None:
+                    tried.append(cand)
+                    if cand.is_file():
+                        return cand
+    else:
+        name = filename[len("file://"):] if filename.startswith("file://") else filename
+        cand = Path(name)
+        if not cand.is_absolute() and urdf_path is not None:
+            cand = urdf_path.parent / cand
+        tried.append(cand)
+        if cand.is_file():
+            return cand
+    raise FileNotFoundError(f"mesh {filename!r} of the URDF not found (looked in "
+                            f"{', '.join(str(p) for p in tried[:4]) or 'no place'}"
+                            f"{' ...' if len(tried) > 4 else ''})")
+
+
+def _rgba(visual, materials: dict) -> tuple:
+    mat = visual.material
+    if mat is not None and mat.color is not None:
+        return tuple(float(c) for c in mat.color.rgba)
+    if mat is not None and mat.name in materials:
+        return materials[mat.name]
+    return _DEFAULT_RGBA
+
+
+def visuals(model, urdf=None) -> list[dict]:
+    """The URDF's visuals of every link of ``model``: dicts with ``link`` (index in
+    ``model.link_names``), ``origin`` (4x4, scale included), ``kind`` (``'mesh'``,
+    ``'box'``, ``'cylinder'``, ``'sphere'``), ``file`` and ``format`` (meshes),
+    ``size`` (primitives) and ``rgba``."""
+    from ..multibody.urdf import _parse
+
+    xml, path = _urdf_source(model, urdf)
+    robot = _parse(xml, repr(str(path)) if path else "the URDF text")
+    materials = {m.name: tuple(float(c) for c in m.color.rgba)
+                 for m in robot.materials if m.color is not None}
+    out = []
+    for link in robot.links:
+        if link.name not in model.link_names:
+            continue
+        li = model.link_names.index(link.name)
+        for vis in link.visuals:
+            origin = np.eye(4) if vis.origin is None else np.asarray(vis.origin, float)
+            geo = vis.geometry
+            item = {"link": li, "origin": origin, "rgba": _rgba(vis, materials)}
+            if geo.mesh is not None:
+                file = resolve_mesh(geo.mesh.filename, path)
+                fmt = _MESH_FORMATS.get(file.suffix.lower())
+                if fmt is None:
+                    raise ValueError(f"mesh {str(file)!r}: format {file.suffix!r} is not "
+                                     f"supported; expected .dae, .stl or .obj")
+                scale = np.ones(3) if geo.mesh.scale is None else np.broadcast_to(
+                    np.asarray(geo.mesh.scale, float), (3,))
+                item.update(kind="mesh", file=file, format=fmt,
+                            origin=origin @ np.diag([*scale, 1.0]))
+            elif geo.box is not None:
+                item.update(kind="box", size=[float(s) for s in geo.box.size])
+            elif geo.cylinder is not None:
+                item.update(kind="cylinder", size=[float(geo.cylinder.radius),
+                                                    float(geo.cylinder.length)])
+            elif geo.sphere is not None:
+                item.update(kind="sphere", size=[float(geo.sphere.radius)])
+            else:
+                continue
+            out.append(item)
+    return out
+
+
+_SKELETON_RGBA = (0.95, 0.55, 0.1, 1.0)
+
+
+def _joint_link(model, j: int) -> int:
+    """The link whose frame is joint ``j``'s frame (the world's root link for -1)."""
+    for li in range(model.nlinks):
+        if model.link_joint[li] == j and np.allclose(model.link_placement_matrices[li],
+                                                     np.eye(4)):
+            return li
+    raise ValueError(f"no link frame coincides with joint {j} of {model.name!r}")
+
+
+def skeleton(model) -> list[dict]:
+    """Visuals for a URDF without any: a sphere at every joint frame and a cylinder from
+    each joint frame's origin to its children's, fixed in the parent's link."""
+    offsets = [np.asarray(model.placement_matrices[j][:3, 3]) for j in range(model.njoints)]
+    lengths = [float(np.linalg.norm(p)) for p in offsets if np.linalg.norm(p) > 1e-9]
+    r = 0.12 * (float(np.median(lengths)) if lengths else 0.5)
+    out = []
+    for j in range(model.njoints):
+        li = _joint_link(model, j)
+        out.append({"link": li, "origin": np.eye(4), "kind": "sphere", "size": [r],
+                    "rgba": _SKELETON_RGBA})
+        p, length = offsets[j], float(np.linalg.norm(offsets[j]))
+        if length < 1e-9:
+            continue
+        z = p / length  # the cylinder's axis (URDF cylinders lie along z)
+        x = np.cross(z, [1.0, 0, 0] if abs(z[0]) < 0.9 else [0, 1.0, 0])
+        x /= np.linalg.norm(x)
+        frame = np.eye(4)
+        frame[:3, :3] = np.column_stack([x, np.cross(z, x), z])
+        frame[:3, 3] = 0.5 * p
+        parent = _joint_link(model, int(model.parents[j]))
+        out.append({"link": parent, "origin": frame, "kind": "cylinder",
+                    "size": [0.4 * r, length], "rgba": (0.6, 0.6, 0.65, 1.0)})
+    return out
+
+
+# --- meshcat commands ---------------------------------------------------------------------
+
+
+def _hex(rgba) -> int:
+    r, g, b = (min(255, max(0, round(255 * c))) for c in rgba[:3])
+    return (r << 16) | (g << 8) | b
+
+
+def _object(vis: dict) -> dict:
+    """The ``set_object`` payload of one visual (three.js JSON, meshcat's extensions)."""
+    g, umsgpack = require_viewer()
+    material = g.MeshPhongMaterial(color=_hex(vis["rgba"]), opacity=vis["rgba"][3],
+                                   transparent=vis["rgba"][3] < 1)
+    if vis["kind"] == "mesh" and vis["format"] in ("dae", "obj"):
+        # meshcat's "_meshfile_object": the mesh with the materials of its own file
+        return {"metadata": {"version": 4.5, "type": "Object"}, "geometries": [],
+                "materials": [], "object": {"uuid": str(uuid.uuid1()),
+                                            "type": "_meshfile_object",
+                                            "format": vis["format"], "resources": {},
+                                            "data": vis["file"].read_text(errors="replace")}}
+    if vis["kind"] == "mesh":  # STL: its colour from the URDF
+        data = umsgpack.Ext(0x12, vis["file"].read_bytes())  # meshcat's Uint8Array code
+        geometry = g.MeshGeometry(data, "stl")
+    elif vis["kind"] == "box":
+        geometry = g.Box(vis["size"])
+    elif vis["kind"] == "sphere":
+        geometry = g.Sphere(vis["size"][0])
+    else:  # three.js cylinders lie along y, URDF's along z: turned in _visual_matrix
+        geometry = g.Cylinder(vis["size"][1], vis["size"][0])
+    return g.Mesh(geometry, material).lower()
+
+
+def _visual_matrix(vis: dict) -> np.ndarray:
+    if vis["kind"] == "cylinder":
+        turn = np.array([[1.0, 0, 0, 0], [0, 0, -1, 0], [0, 1, 0, 0], [0, 0, 0, 1]])
+        return vis["origin"] @ turn
+    return vis["origin"]
+
+
+def _quaternion_xyzw(R: np.ndarray) -> list[float]:
+    """The unit quaternion (x, y, z, w) of a rotation matrix, three.js's order."""
+    from meshcat.transformations import quaternion_from_matrix
+
+    T = np.eye(4)
+    T[:3, :3] = R
+    w, x, y, z = quaternion_from_matrix(T)
+    return [float(x), float(y), float(z), float(w)]
+
+
+def animation_frames(q: np.ndarray, dt: float, fps: float = FPS) -> np.ndarray:
+    """Row indices of ``q`` (states ``dt`` apart) shown at ``fps`` frames per second:
+    the states nearest to ``0, 1/fps, 2/fps, ...`` and always the last one."""
+    n = len(q)
+    duration = (n - 1) * dt
+    count = int(math.floor(duration * fps + 1e-9)) + 1
+    idx = np.minimum(np.rint(np.arange(count) / (fps * dt)).astype(np.int64), n - 1)
+    if idx[-1] != n - 1:
+        idx = np.append(idx, n - 1)
+    return idx
+
+
+def _commands(model, q: np.ndarray, dt: float, fps: float, urdf,
+              loop: bool) -> tuple[list[dict], dict]:
+    from ..algorithms.api import link_placements
+
+    vis = visuals(model, urdf) or skeleton(model)
+    rows = animation_frames(q, dt, fps)
+    T = np.asarray(link_placements(model, q[rows]))  # (F, nl, 4, 4)
+    links = sorted({v["link"] for v in vis})
+    path = {li: f"/cgadyn/{model.name}/{model.link_names[li]}" for li in links}
+    cmds: list[dict] = []
+    for i, v in enumerate(vis):
+        node = f"{path[v['link']]}/visual_{i}"
+        cmds.append({"type": "set_object", "path": node, "object": _object(v)})
+        cmds.append({"type": "set_transform", "path": node,
+                     "matrix": [float(x) for x in _visual_matrix(v).T.ravel()]})
+    times = rows * dt * fps  # keyframe times in frames of the clip (three.js divides by fps)
+    animations = []
+    for li in links:
+        pos = T[:, li, :3, 3]
+        quat = [_quaternion_xyzw(R) for R in T[:, li, :3, :3]]
+        cmds.append({"type": "set_transform", "path": path[li],
+                     "matrix": [float(x) for x in T[0, li].T.ravel()]})
+        tracks = [{"name": ".position", "type": "vector3",
+                   "keys": [{"time": float(t), "value": [float(x) for x in p]}
+                            for t, p in zip(times, pos, strict=True)]},
+                  {"name": ".quaternion", "type": "quaternion",
+                   "keys": [{"time": float(t), "value": r}
+                            for t, r in zip(times, quat, strict=True)]}]
+        animations.append({"path": path[li], "clip": {"fps": float(fps), "name": "default",
+                                                      "tracks": tracks}})
+    cmds.append({"type": "set_animation", "path": "", "animations": animations,
+                 "options": {"play": True, "repetitions": 1_000_000 if loop else 1}})
+    cmds.append({"type": "set_property", "path": "/Axes", "property": "visible",
+                 "value": False})
+    return cmds, _framing(T, vis)
+
+
+def _framing(T: np.ndarray, vis: list[dict]) -> dict:
+    """Centre and radius (metres) for the camera: the box swept by the visuals' origins,
+    or the first frame's box when the robot travels more than three times its own size."""
+    pts = np.stack([(T[:, v["link"]] @ v["origin"])[:, :3, 3] for v in vis], axis=1)
+
+    def box(p):
+        lo, hi = p.min(axis=0), p.max(axis=0)
+        return 0.5 * (lo + hi), max(0.5 * float(np.linalg.norm(hi - lo)), 0.1) * 1.15
+
+    center, radius = box(pts.reshape(-1, 3))
+    c0, r0 = box(pts[0])
+    if radius > 3 * r0:
+        center, radius = c0, r0
+    return {"center": [float(c) for c in center], "radius": radius}
+
+
+_PAGE = """<!DOCTYPE html>
+<html>
+<head><meta charset="utf-8"><title>{title}</title>
+<style>body {{ margin: 0; }} #meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}
+#cgadyn-caption {{ position: absolute; left: 8px; bottom: 8px; font: 13px sans-serif;
+color: #fff; text-shadow: 0 0 3px #000; }}</style></head>
+<body>
+<div id="meshcat-pane"></div>
+<div id="cgadyn-caption">{caption}</div>
+<script>{viewer_js}</script>
+<script type="application/json" id="cgadyn-animation">{meta}</script>
+<script type="application/json" id="cgadyn-commands">{commands}</script>
+<script>
+var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
+JSON.parse(document.getElementById("cgadyn-commands").textContent).forEach(function (b64) {{
+  var s = atob(b64), bytes = new Uint8Array(s.length);
+  for (var i = 0; i < s.length; i++) bytes[i] = s.charCodeAt(i);
+  viewer.handle_command_bytearray(bytes);
+}});
+// the camera frames the swept volume; its frame is y-up: world (x, y, z) is (x, z, -y)
+var meta = JSON.parse(document.getElementById("cgadyn-animation").textContent);
+var c = meta.center, r = meta.radius;
+viewer.controls.target.set(c[0], c[2], -c[1]);
+viewer.camera.position.set(c[0] + 2.0 * r, c[2] + 1.6 * r, -c[1] + 1.5 * r);
+viewer.controls.update();
+viewer.set_dirty();
+</script>
+</body>
+</html>
+"""
+
+
+def write_html(model, q, dt: float, path: str | os.PathLike, urdf=None, fps: float = FPS,
+               loop: bool = True, title: str | None = None) -> Path:
+    """Write a self-contained HTML page that animates ``model`` through the states ``q``.
+
+    ``q`` : (T, nq) configurations ``dt`` seconds apart (a trajectory's ``q``).
+    ``urdf`` : the URDF file (or text) ``model`` was loaded from, to find its visuals;
+    default: the registry's file for ``model.name``.
+    ``fps`` : animation frames per second (the states nearest those instants are shown).
+    A URDF without ``<visual>`` is drawn as a :func:`skeleton`.
+    Raises :class:`MissingViewer` without meshcat, ``ValueError`` for bad ``q``/``dt``/
+    ``fps`` or a URDF without visuals, ``FileNotFoundError`` for a missing mesh.
+    """
+    require_viewer()
+    q = np.asarray(q, dtype=float)
+    if q.ndim != 2 or q.shape[1] != model.nq or len(q) < 1:
+        raise ValueError(f"q must be a trajectory of shape (T, nq) = (T, {model.nq}) with "
+                         f"T >= 1, got shape {q.shape}")
+    if not np.all(np.isfinite(q)):
+        raise ValueError("q holds non-finite values; cut the trajectory where it diverged")
+    for name, value in (("dt", dt), ("fps", fps)):
+        if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
+            raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+    out = Path(path)
+    if not out.parent.is_dir():
+        raise FileNotFoundError(f"cannot write {str(out)!r}: directory {str(out.parent)!r} "
+                                f"does not exist")
+    _, umsgpack = require_viewer()
+    cmds, framing = _commands(model, q, float(dt), float(fps), urdf, loop)
+    blobs = [base64.b64encode(umsgpack.packb(c)).decode("ascii") for c in cmds]
+    duration = (len(q) - 1) * dt
+    meta = {"robot": model.name, "fps": fps, "frames": int(len(animation_frames(q, dt, fps))),
+            "duration": duration, "links": _animated_links(cmds), **framing}
+    page = _PAGE.format(title=_escape(title or f"cgadyn: {model.name}"),
+                        caption=_escape(title or f"cgadyn simulate {model.name}: "
+                                        f"{duration:.3g} s"),
+                        viewer_js=_viewer_js(), meta=json.dumps(meta),
+                        commands=json.dumps(blobs))
+    out.write_text(page, encoding="utf-8")
+    return out
+
+
+def _animated_links(cmds: Sequence[dict]) -> list[str]:
+    return [a["path"].rsplit("/", 1)[-1] for c in cmds if c["type"] == "set_animation"
+            for a in c["animations"]]
+
+
+def _escape(text: str) -> str:
+    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")

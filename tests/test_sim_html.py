@@ -1,0 +1,172 @@
+"""The HTML animation (``cgadyn.sim.html``): self-contained (nothing loaded from the
+network), its frames are the link placements of the trajectory composed with the URDF's
+visual origins, and headless Chromium shows the robot in its colours."""
+
+from __future__ import annotations
+
+import base64
+import json
+import re
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cgadyn
+from cgadyn.sim import html
+
+umsgpack = pytest.importorskip("umsgpack", reason="the viewer extra (meshcat) is not installed")
+pytest.importorskip("meshcat", reason="the viewer extra (meshcat) is not installed")
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser") \
+    or shutil.which("google-chrome")
+
+
+def _pendulum_trajectory(model, n: int = 301, dt: float = 0.01) -> np.ndarray:
+    t = dt * np.arange(n)
+    q = np.zeros((n, model.nq))
+    q[:, 0] = 1.0 * np.cos(2.0 * t)
+    q[:, 1] = -0.5 + 0.3 * np.sin(3.0 * t)
+    return q
+
+
+def _page_parts(text: str) -> tuple[dict, list[dict]]:
+    def script(name):
+        m = re.search(rf'<script type="application/json" id="{name}">(.*?)</script>', text,
+                      re.S)
+        assert m, f"no <script id={name}>"
+        return json.loads(m.group(1))
+
+    cmds = [umsgpack.unpackb(base64.b64decode(b)) for b in script("cgadyn-commands")]
+    return script("cgadyn-animation"), cmds
+
+
+@pytest.fixture(scope="module")
+def pendulum_page(tmp_path_factory):
+    model = cgadyn.load("double_pendulum")
+    q = _pendulum_trajectory(model)
+    path = html.write_html(model, q, 0.01, tmp_path_factory.mktemp("html") / "dp.html")
+    return model, q, path
+
+
+def test_page_is_self_contained(pendulum_page):
+    _, _, path = pendulum_page
+    text = path.read_text(encoding="utf-8")
+    assert text.lstrip().startswith("<!DOCTYPE html>")
+    # nothing is fetched: no external script, stylesheet, image, import or fetch
+    assert not re.search(r"<(script|link|img|iframe)[^>]*\b(src|href)\s*=", text, re.I)
+    assert not re.search(r"""(fetch|import)\s*\(\s*["'`]https?:""", text, re.I)
+    assert not re.search(r"""url\(\s*["']?https?:""", text, re.I)
+    assert not re.search(r"""\bfrom\s+["']https?:""", text)
+    assert "MeshCat.Viewer" in text and "handle_command_bytearray" in text
+
+
+def test_frames_are_link_placements_with_visual_origins(pendulum_page):
+    model, q, path = pendulum_page
+    meta, cmds = _page_parts(path.read_text(encoding="utf-8"))
+    rows = html.animation_frames(q, 0.01, html.FPS)
+    assert meta["frames"] == len(rows) == 91  # 3 s at 30 frames per second
+    assert rows[0] == 0 and rows[-1] == len(q) - 1
+    (anim,) = [c for c in cmds if c["type"] == "set_animation"]
+    T = cgadyn.link_placements(model, q[rows])
+    vis = html.visuals(model)
+    assert {v["kind"] for v in vis} == {"mesh"} and len(vis) == 3  # base and two links
+    animated = {model.link_names[v["link"]] for v in vis}
+    assert set(meta["links"]) == animated
+    for a in anim["animations"]:
+        li = model.link_names.index(a["path"].rsplit("/", 1)[-1])
+        pos = {t["name"]: t for t in a["clip"]["tracks"]}[".position"]["keys"]
+        quat = {t["name"]: t for t in a["clip"]["tracks"]}[".quaternion"]["keys"]
+        assert [k["time"] for k in pos] == pytest.approx(rows * 0.01 * html.FPS)
+        np.testing.assert_allclose([k["value"] for k in pos], T[:, li, :3, 3], atol=1e-12)
+        # the quaternion (x, y, z, w) rotates like the link's rotation matrix
+        for k, R in zip(quat, T[:, li, :3, :3], strict=True):
+            x, y, z, w = k["value"]
+            Rq = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                           [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                           [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+            np.testing.assert_allclose(Rq, R, atol=1e-12)
+    # each visual sits at its URDF origin in its link's frame, with the mesh's bytes inline
+    objects = [c for c in cmds if c["type"] == "set_object"]
+    assert len(objects) == len(vis)
+    for c, v in zip(objects, vis, strict=True):
+        data = c["object"]["geometries"][0]["data"]
+        payload = data.data if hasattr(data, "data") else data
+        assert bytes(payload) == v["file"].read_bytes()
+
+
+def test_bad_inputs_are_refused(tmp_path):
+    model = cgadyn.load("double_pendulum")
+    q = np.zeros((5, 2))
+    with pytest.raises(ValueError, match=r"shape \(T, nq\)"):
+        html.write_html(model, np.zeros((5, 3)), 0.01, tmp_path / "a.html")
+    with pytest.raises(ValueError, match="dt must be a positive"):
+        html.write_html(model, q, 0.0, tmp_path / "a.html")
+    bad = q.copy()
+    bad[2, 0] = np.nan
+    with pytest.raises(ValueError, match="non-finite"):
+        html.write_html(model, bad, 0.01, tmp_path / "a.html")
+    with pytest.raises(FileNotFoundError, match="does not exist"):
+        html.write_html(model, q, 0.01, tmp_path / "no" / "a.html")
+    with pytest.raises(FileNotFoundError, match="mesh 'package://nowhere/x.stl'"):
+        html.resolve_mesh("package://nowhere/x.stl", None)
+
+
+def screenshot(page: Path, png: Path, size=(800, 600), budget_ms: int = 3000) -> None:
+    """Render ``page`` in headless Chromium with every host name unresolvable (offline)."""
+    with tempfile.TemporaryDirectory() as profile:
+        subprocess.run(
+            [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+             "--no-first-run", "--disable-background-networking", "--disable-component-update",
+             "--disable-sync", "--host-resolver-rules=MAP * ~NOTFOUND",
+             f"--user-data-dir={profile}", f"--virtual-time-budget={budget_ms}",
+             f"--window-size={size[0]},{size[1]}", f"--screenshot={png}", page.as_uri()],
+            capture_output=True, timeout=120, check=False)
+
+
+def robot_pixels(png: Path) -> dict:
+    """Fractions of the picture in the double pendulum's colours (yellow base, grey links)
+    and of distinct colours; meshcat's background is a blue gradient."""
+    import matplotlib.image as mpimg
+
+    img = (mpimg.imread(png)[..., :3] * 255).astype(int)
+    r, g, b = img[..., 0], img[..., 1], img[..., 2]
+    yellow = (r > 180) & (g > 180) & (b < 90)
+    grey = (np.abs(r - g) < 12) & (np.abs(g - b) < 12) & (r > 120)
+    return {"yellow": float(yellow.mean()), "grey": float(grey.mean()),  # empty scene: 0, 0.005
+            "colours": len(np.unique(img.reshape(-1, 3), axis=0))}
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="no chromium to render the page")
+def test_chromium_shows_the_robot(pendulum_page, tmp_path):
+    _, _, path = pendulum_page
+    png = tmp_path / "shot.png"
+    screenshot(path, png)
+    assert png.is_file() and png.stat().st_size > 0, "chromium wrote no screenshot"
+    px = robot_pixels(png)
+    assert px["colours"] > 200, f"blank page: {px}"
+    assert px["yellow"] > 1e-3, f"the pendulum's yellow base is not visible: {px}"
+    assert px["grey"] > 1.2e-2, f"the pendulum's grey links are not visible: {px}"
+
+
+def test_urdf_without_visuals_is_drawn_as_a_skeleton(tmp_path):
+    model = cgadyn.load("cart_pole")  # the project's own URDF: no <visual>
+    assert html.visuals(model) == []
+    sk = html.skeleton(model)
+    assert [v["kind"] for v in sk].count("sphere") == model.njoints
+    T0 = cgadyn.link_placements(model, np.zeros(model.nq))
+    for v in sk:
+        if v["kind"] == "cylinder":  # from its link's origin to a child joint's origin
+            radius, length = v["size"]
+            end = (T0[v["link"]] @ v["origin"] @ [0, 0, length / 2, 1])[:3]
+            starts = [T0[v["link"]][:3, 3]]
+            assert np.allclose((T0[v["link"]] @ v["origin"] @ [0, 0, -length / 2, 1])[:3],
+                               starts[0], atol=1e-12)
+            assert any(np.allclose(end, T0[li][:3, 3], atol=1e-12)
+                       for li in range(model.nlinks))
+    path = html.write_html(model, np.zeros((11, model.nq)), 0.1, tmp_path / "cp.html")
+    _, cmds = _page_parts(path.read_text(encoding="utf-8"))
+    assert sum(c["type"] == "set_object" for c in cmds) == len(sk)

@@ -1,0 +1,154 @@
+"""``cgadyn simulate``: its JSON equals ``simulate`` called directly, the chunked run with its
+progress bar equals one call, passive runs print their energy drift, ``--plot`` and
+``--html`` write their files, and every user error is one ``cgadyn: error:`` line with
+status 2 (a subprocess each, never a traceback)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import cgadyn
+from cgadyn import PD, cli, simulate
+from cgadyn.commands import simulate as command
+from cgadyn.sim import html
+
+Q0, V0 = np.array([1.0, -0.5]), np.array([0.3, 0.0])
+
+
+def cgadyn_cmd(*argv: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "cgadyn.cli", *argv], capture_output=True,
+                          text=True, timeout=300)
+
+
+def strict_json(text: str):
+    def refuse(name):
+        raise ValueError(f"non-standard JSON constant {name}")
+
+    return json.loads(text, parse_constant=refuse)
+
+
+def test_json_equals_simulate():
+    r = cgadyn_cmd("simulate", "double_pendulum", "--seconds", "0.5", "--dt", "0.002",
+                   "--q0", "1,-0.5", "--v0", "0.3", "0", "--json")
+    assert r.returncode == 0, r.stderr
+    out = strict_json(r.stdout)
+    model = cgadyn.load("double_pendulum")
+    traj = simulate(model, Q0, V0, 0.002, 250)
+    assert out["steps"] == out["completed"] == 250 and not out["diverged"]
+    for key in ("q", "v", "a", "energy", "kinetic", "potential", "t"):
+        np.testing.assert_array_equal(np.array(out[key]), getattr(traj, key), err_msg=key)
+    drift = np.max(np.abs(traj.energy - traj.energy[0])) / abs(traj.energy[0])
+    assert out["energy_drift"] == pytest.approx(drift, rel=1e-12) and 0 < drift < 1e-5
+    assert out["controller"] == "none" and out["gains"] is None
+
+
+def test_text_prints_the_drift_of_passive_runs_only(capsys):
+    assert cli.main(["simulate", "double_pendulum", "--seconds", "0.2", "--q0", "1", "-0.5",
+                     "--v0", "0.3,0"]) == 0
+    out = capsys.readouterr().out
+    assert "energy drift (passive run): max |E(t) - E(0)| / |E(0)| = " in out
+    assert "200 steps" in out and "controller none" in out
+    assert cli.main(["simulate", "double_pendulum", "--seconds", "0.2", "--controller",
+                     "gravity", "--q0", "1", "-0.5"]) == 0
+    out = capsys.readouterr().out
+    assert "controller gravity" in out and "energy drift" not in out
+
+
+def test_chunked_run_with_progress_bar_equals_one_call(monkeypatch, capsys):
+    model = cgadyn.load("double_pendulum")
+    monkeypatch.setattr(command, "PROGRESS_AFTER", 0.0)  # draw the bar however fast
+    ctrl = PD([30.0, 10.0], [3.0, 1.0], q_ref=np.zeros(2))
+    chunked = command.simulate_chunked(model, Q0, V0, 1e-3, 1500, "rk4", ctrl)
+    assert chunked.message == "" and not chunked.diverged and chunked.completed == 1500
+    assert "simulate |" in capsys.readouterr().err
+    traj = simulate(model, Q0, V0, 1e-3, 1500, controller=ctrl)
+    for key in ("q", "v", "a", "energy", "t"):
+        np.testing.assert_array_equal(getattr(chunked, key), getattr(traj, key), err_msg=key)
+    assert np.abs(traj.q[-1]).max() < 0.5 * np.abs(Q0).max()  # the PD pulls it in
+
+
+def test_pd_gains_follow_the_mass_matrix():
+    model = cgadyn.load("panda")
+    q = np.asarray(cgadyn.neutral(model), float)
+    kp, kd = command.pd_gains(model, q, 10.0)
+    M = np.asarray(cgadyn.crba(model, q))
+    np.testing.assert_allclose(kp, 100.0 * np.diag(M))
+    np.testing.assert_allclose(kd, 20.0 * np.diag(M))
+    assert kp[-1] < 1e-2 * kp[1]  # a finger weighs little next to the arm
+
+
+def test_plot_and_html_files(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    png = tmp_path / "run.png"
+    argv = ["simulate", "double_pendulum", "--seconds", "0.3", "--plot", str(png)]
+    try:
+        html.require_viewer()
+        page = tmp_path / "run.html"
+        argv += ["--html", str(page)]
+    except html.MissingViewer:
+        page = None
+    assert cli.main(argv) == 0
+    out = capsys.readouterr().out
+    assert png.stat().st_size > 10_000 and f"plot: {png}" in out
+    if page is not None:
+        text = page.read_text(encoding="utf-8")
+        assert "MeshCat.Viewer" in text and '"frames": 10' in text
+
+
+def test_a_run_that_blows_up_stops_and_says_so():
+    r = cgadyn_cmd("simulate", "double_pendulum", "--seconds", "5", "--dt", "0.05",
+                   "--controller", "pd", "--kp", "1e9", "--kd", "1e9", "--q0", "1", "0",
+                   "--json")
+    assert r.returncode == 1, r.stderr
+    assert "Traceback" not in r.stderr + r.stdout
+    assert "cgadyn: simulation stopped early: stopped after" in r.stderr
+    out = strict_json(r.stdout)
+    assert out["diverged"] and out["completed"] < 100
+    assert len(out["q"]) == out["completed"] + 1
+    assert np.all(np.isfinite(np.array(out["q"])))
+
+
+@pytest.mark.parametrize("argv, expected", [
+    (["--dt", "0"], "argument --dt: must be a positive finite number"),
+    (["--dt=-1e-3"], "argument --dt: must be a positive finite number"),
+    (["--seconds", "nan"], "argument --seconds: must be a positive finite number"),
+    (["--seconds", "1e-4"], "--seconds 0.0001 is shorter than one step of --dt 0.001"),
+    (["--integrator", "leapfrog"], "argument --integrator: invalid choice: 'leapfrog'"),
+    (["--controller", "lqr"], "argument --controller: invalid choice: 'lqr'"),
+    (["--q0", "1", "2", "3"], "--q0 needs 2 numbers for this robot, got 3"),
+    (["--q0", "1,x"], "--q0 must be numbers separated by spaces or commas"),
+    (["--v0", "inf", "0"], "--v0 must be finite numbers"),
+    (["--controller", "pd", "--kp", "-1"], "--kp must be >= 0"),
+    (["--controller", "pd", "--kd", "1", "2", "3"], "--kd needs 2 numbers for this robot"),
+    (["--plot", "/nonexistent-dir/a.png"], "directory '/nonexistent-dir' does not exist"),
+    (["--plot", "a.xyz"], "extension '.xyz' is not a format matplotlib writes"),
+    (["--html", "/nonexistent-dir/a.html"], "directory '/nonexistent-dir' does not exist"),
+    (["--html", "a.png"], "expected a file ending in .html"),
+])
+def test_user_errors(argv, expected):
+    r = cgadyn_cmd("simulate", "double_pendulum", *argv)
+    assert r.returncode == 2, (r.stdout, r.stderr)
+    assert "Traceback" not in r.stderr + r.stdout
+    assert r.stderr.strip().splitlines()[-1].startswith("cgadyn: error: ")
+    assert expected in r.stderr, r.stderr
+
+
+def test_html_without_meshcat_says_how_to_install(monkeypatch, capsys, tmp_path):
+    for name in ("meshcat", "meshcat.geometry", "umsgpack"):
+        monkeypatch.setitem(sys.modules, name, None)  # import fails as if not installed
+    code = cli.main(["simulate", "double_pendulum", "--html", str(tmp_path / "a.html")])
+    err = capsys.readouterr().err
+    assert code == 2 and not (tmp_path / "a.html").exists()
+    assert "cgadyn: error: --html: the HTML animation needs meshcat" in err
+    assert "pip install 'cgadyn[viewer]'" in err
+
+
+def test_unknown_robot():
+    r = cgadyn_cmd("simulate", "no_such_robot")
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert "cgadyn: error: unknown robot 'no_such_robot'" in r.stderr
