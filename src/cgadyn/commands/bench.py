@@ -7,6 +7,7 @@ import argparse
 
 from .common import (
     DEFAULT_ROBOT,
+    ROBOT_HELP,
     UsageError,
     add_base_options,
     floating_base,
@@ -25,7 +26,7 @@ def add_parser(sub) -> None:
         "libraries, medians over repeats. Ratios are cgadyn / other: below 1 means cgadyn is "
         "faster.")
     p.add_argument("robot", nargs="?", default=DEFAULT_ROBOT, metavar="ROBOT",
-                   help=f"robot name or URDF file (default {DEFAULT_ROBOT})")
+                   help=f"{ROBOT_HELP} (default {DEFAULT_ROBOT})")
     p.add_argument("--batch", type=positive_int, nargs="+", default=[1, 64, 4096],
                    metavar="B", help="batch sizes (default 1 64 4096)")
     p.add_argument("--threads", type=positive_int, default=None,

@@ -1,5 +1,6 @@
 """What the subcommands share: argument types that refuse bad values with a clear message,
-the robot argument (``registry.resolve``'s rule: a name, or a URDF file of any extension),
+the robot argument (``registry.resolve``'s rule: a name, or a URDF or MJCF file of any
+extension),
 ``--plot`` paths checked before any work starts, and output as text or standard JSON."""
 
 from __future__ import annotations
@@ -13,7 +14,10 @@ from .._json import dumps
 
 DEFAULT_ROBOT = "panda"
 
-__all__ = ["DEFAULT_ROBOT", "UsageError", "add_base_options", "check_plot_path",
+ROBOT_HELP = "robot name (see `cgadyn robots`), or a URDF or MJCF file"
+"""What the ROBOT argument of every subcommand accepts."""
+
+__all__ = ["DEFAULT_ROBOT", "ROBOT_HELP", "UsageError", "add_base_options", "check_plot_path",
            "floating_base", "non_negative_int", "positive_float", "positive_int", "print_json"]
 
 

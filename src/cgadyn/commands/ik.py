@@ -13,7 +13,14 @@ from __future__ import annotations
 import argparse
 import math
 
-from .common import add_base_options, floating_base, non_negative_int, positive_float, print_json
+from .common import (
+    ROBOT_HELP,
+    add_base_options,
+    floating_base,
+    non_negative_int,
+    positive_float,
+    print_json,
+)
 
 __all__ = ["add_parser", "run"]
 
@@ -30,7 +37,7 @@ def _finite(text: str) -> float:
 
 def add_parser(sub) -> None:
     p = sub.add_parser("ik", help="inverse kinematics: a link to a position or a pose")
-    p.add_argument("robot", metavar="ROBOT", help="robot name or URDF file")
+    p.add_argument("robot", metavar="ROBOT", help=ROBOT_HELP)
     p.add_argument("link", metavar="LINK", help="the link to move (see `cgadyn info ROBOT`)")
     p.add_argument("--position", type=_finite, nargs=3, required=True, metavar=("X", "Y", "Z"),
                    help="target position of the link frame's origin, in the world (m)")

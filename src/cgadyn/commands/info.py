@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 
-from .common import DEFAULT_ROBOT, add_base_options, floating_base, print_json
+from .common import DEFAULT_ROBOT, ROBOT_HELP, add_base_options, floating_base, print_json
 
 __all__ = ["add_parser", "format_info", "model_info", "run"]
 
@@ -13,7 +13,7 @@ __all__ = ["add_parser", "format_info", "model_info", "run"]
 def add_parser(sub) -> None:
     p = sub.add_parser("info", help="joints, limits, links, base and mass of a robot")
     p.add_argument("robot", nargs="?", default=DEFAULT_ROBOT, metavar="ROBOT",
-                   help=f"robot name or URDF file (default {DEFAULT_ROBOT})")
+                   help=f"{ROBOT_HELP} (default {DEFAULT_ROBOT})")
     p.add_argument("--json", action="store_true", help="print as JSON")
     add_base_options(p)
     p.set_defaults(func=run)

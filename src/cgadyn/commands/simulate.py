@@ -26,6 +26,7 @@ import numpy as np
 
 from .common import (
     DEFAULT_ROBOT,
+    ROBOT_HELP,
     UsageError,
     add_base_options,
     check_plot_path,
@@ -53,7 +54,7 @@ def add_parser(sub) -> None:
         "final state, and for a passive run (no controller) the drift of the total energy, "
         "max |E(t) - E(0)| / |E(0)|.")
     p.add_argument("robot", nargs="?", default=DEFAULT_ROBOT, metavar="ROBOT",
-                   help=f"robot name or URDF file (default {DEFAULT_ROBOT})")
+                   help=f"{ROBOT_HELP} (default {DEFAULT_ROBOT})")
     p.add_argument("--seconds", type=positive_float, default=2.0,
                    help="simulated time in seconds (default 2)")
     p.add_argument("--dt", type=positive_float, default=1e-3,

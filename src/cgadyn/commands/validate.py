@@ -11,6 +11,7 @@ import sys
 from .. import oracle
 from .common import (
     DEFAULT_ROBOT,
+    ROBOT_HELP,
     UsageError,
     add_base_options,
     floating_base,
@@ -34,7 +35,7 @@ def add_parser(sub) -> None:
         "their limits, a free-flyer base in the unit box with a uniformly random rotation; "
         "v, a, tau standard normal. Exit status 1 if a check fails.")
     p.add_argument("robot", nargs="?", metavar="ROBOT",
-                   help=f"robot name (see `cgadyn robots`) or URDF file; default {DEFAULT_ROBOT}")
+                   help=f"{ROBOT_HELP} (default {DEFAULT_ROBOT})")
     p.add_argument("--samples", type=positive_int, default=DEFAULT_SAMPLES,
                    help=f"random states per robot (default {DEFAULT_SAMPLES}; the paper used "
                    "1000)")
