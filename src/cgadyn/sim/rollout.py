@@ -34,7 +34,7 @@ from __future__ import annotations
 import numpy as np
 from numba import prange
 
-from .._jit import core, inline, parallel
+from .._jit import inline, parallel
 from ..algorithms import _workspace as ws
 from ..algorithms._checks import finite
 from ..algorithms.aba import aba_core
@@ -54,7 +54,7 @@ PD, GRAVITY = 1, 2
 """Controller flags: joint-space PD around ``(q_ref, v_ref)``, gravity compensation."""
 
 
-@core
+@inline
 def closed_loop_acceleration(m, q, v, u, f, ctrl, qdd, sc, work):
     """``qdd = ABA(q, v, u + τ_ctrl(q, v))`` (the module's first equations); ``ctrl`` the
     controller ``(flags, gains (2, nv), q_ref (nq), v_ref (nv))``. A status."""
@@ -85,7 +85,7 @@ def _advance(m, q, v, h, tmp, dq, out):
         joint_integrate(m, j, q, dq, tmp, out)
 
 
-@core
+@inline
 def step(m, method, q, v, u, f, ctrl, dt, qn, vn, a, sc, work):
     """One step of ``method`` from ``(q, v)`` to ``(qn, vn)``; ``a = q̈(q, v)``. A status."""
     K, Ka, tau, dq, tmp, qs = sc[0], sc[1], sc[2], sc[4], sc[7], sc[8]
@@ -173,7 +173,8 @@ def rollouts(packed, method, q0, v0, u, f, flags, gains, q_ref, v_ref, dt, Q, V,
     for b in prange(B):
         mb = unpack(packed)
         buf = np.empty(size)
-        work = np.empty(csize)
+        heap = np.empty(csize)
+        work = ws.carve(ws.data_pointer(heap), 0, (csize,))[0]  # bare: no reference counts
         sc = _scratch(ws.data_pointer(buf), mb)
         # bare views of this rollout's rows (no reference counts in the loop over steps)
         Qb = _rows(Q[b], steps + 1, mb.nq)
