@@ -27,6 +27,7 @@ import threading
 import numba
 import numpy as np
 
+from .. import distributed
 from ..multibody.packed import DEFAULT_GRAVITY
 from . import _entries, _inputs
 from .errors import explain
@@ -118,9 +119,7 @@ ndarray or tuple; the caller then calls ``run``."""
 def run(name: str, model, arrays: tuple, gravity=DEFAULT_GRAVITY, f_ext=None, option: int = 0):
     """The checked path of algorithm ``name`` on ``arrays`` (its inputs, in table order):
     its output, or a tuple of its outputs, for one sample or a batch."""
-    if any(type(a).__module__.startswith("dask") for a in arrays):  # chunk by chunk
-        from .. import distributed
-
+    if any(distributed.is_dask(a) for a in arrays):  # chunk by chunk
         return distributed.run(name, model, arrays, gravity, f_ext, option)
     entry = ENTRIES[name]
     alg = entry.algorithm

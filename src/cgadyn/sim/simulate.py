@@ -21,8 +21,6 @@ from .controllers import PD, GravityCompensation
 from .rollout import EULER, RK4, SEMI_IMPLICIT_EULER, rollouts
 from .trajectory import Trajectory
 
-is_dask = distributed.is_dask
-
 INTEGRATORS = {"rk4": RK4, "semi_implicit_euler": SEMI_IMPLICIT_EULER, "euler": EULER}
 
 
@@ -57,7 +55,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {', '.join(map(repr, INTEGRATORS))}, "
                          f"got {integrator!r}")
-    if is_dask(q0) or is_dask(v0) or is_dask(tau):  # chunks of rollouts, scheduled by dask
+    if any(distributed.is_dask(x) for x in (q0, v0, tau)):  # chunks of rollouts, scheduled by dask
         return distributed.simulate(model, q0, v0, dt, steps, tau, dict(
             integrator=integrator, gravity=gravity, f_ext=f_ext, controller=controller))
     gravity = DEFAULT_GRAVITY if gravity is None else gravity
