@@ -31,19 +31,13 @@ from ..kernels.rigid import (
     rigid_move_inertia,
     rigid_move_twist,
     rigid_parameters,
+    rigid_rotate,
 )
 from ..multibody.joints import joint_twist
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from .kinematics import world_motors
 from .status import OK
-
-
-@inline
-def _rotate(r, x, y, z):
-    """``R (x, y, z)`` for a rotation matrix given row by row."""
-    return (r[0] * x + r[1] * y + r[2] * z, r[3] * x + r[4] * y + r[5] * z,
-            r[6] * x + r[7] * y + r[8] * z)
 
 
 @core
@@ -85,11 +79,11 @@ def com_core(m, q, v, a, out, option, work):
         par = rigid_parameters(m.inertias[j])
         mj = par[0]
         mass += mj
-        h = _rotate(r, par[1], par[2], par[3])
+        h = rigid_rotate(r, par[1], par[2], par[3])
         _, _, _, f1, f2, f3 = physical(tmp)  # linear momentum m_j ċ_j, body frame
         _, _, _, g1, g2, g3 = physical(W)  # its rate m_j c̈_j, body frame
-        f = _rotate(r, f1, f2, f3)
-        g = _rotate(r, g1, g2, g3)
+        f = rigid_rotate(r, f1, f2, f3)
+        g = rigid_rotate(r, g1, g2, g3)
         for i in range(3):
             out[0, i] += mj * pw[i] + h[i]  # m_j c_j = m_j p_j + R_j h_j
             out[1, i] += f[i]

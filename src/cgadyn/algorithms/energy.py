@@ -12,7 +12,7 @@ from __future__ import annotations
 from .._jit import core, inline
 from ..kernels import dot, inertia_apply, twist_sandwich_rev
 from ..kernels.layout import physical
-from ..kernels.rigid import rigid_frame, rigid_parameters
+from ..kernels.rigid import rigid_frame, rigid_parameters, rigid_rotate
 from ..multibody.joints import joint_twist
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
@@ -46,9 +46,8 @@ def energy_core(m, q, v, out, option, work):
         r, pw = rigid_frame(Mw[j])
         par = rigid_parameters(m.inertias[j])  # (m_j, h_j, ...)
         mass, h0, h1, h2 = par[0], par[1], par[2], par[3]
-        c0 = mass * pw[0] + r[0] * h0 + r[1] * h1 + r[2] * h2  # m_j c_j = m_j p_j + R_j h_j
-        c1 = mass * pw[1] + r[3] * h0 + r[4] * h1 + r[5] * h2
-        c2 = mass * pw[2] + r[6] * h0 + r[7] * h1 + r[8] * h2
+        h0, h1, h2 = rigid_rotate(r, h0, h1, h2)
+        c0, c1, c2 = mass * pw[0] + h0, mass * pw[1] + h1, mass * pw[2] + h2  # m_j p_j + R_j h_j
         potential += g1 * c0 + g2 * c1 + g3 * c2  # -m_j g · c_j
     out[0] = kinetic
     out[1] = potential

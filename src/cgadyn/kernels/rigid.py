@@ -127,6 +127,13 @@ def rigid_frame(m):
 
 
 @inline
+def rigid_rotate(r, x, y, z):
+    """``R (x, y, z)``, R row by row as ``rigid_frame`` gives it."""
+    return (r[0] * x + r[1] * y + r[2] * z, r[3] * x + r[4] * y + r[5] * z,
+            r[6] * x + r[7] * y + r[8] * z)
+
+
+@inline
 def rigid_move_twist(r, p, x, out):
     """``out = M X ~M`` (eq. 4) for a twist X, from M's R and p (``rigid_frame``): on physical
     components the motion transform ``ω' = R ω``, ``v' = R v + p × ω'``, 24 multiplications

@@ -43,7 +43,7 @@ from .._jit import inline, serial
 from ..algorithms.kinematics import link_motor
 from ..kernels import motor_log, motor_mul, motor_reverse, twist_sandwich
 from ..kernels.layout import physical
-from ..kernels.rigid import rigid_frame
+from ..kernels.rigid import rigid_frame, rigid_rotate
 from ._lie import jlog3, jlog6
 
 POINT, PLANE, LINE, SPHERE, CIRCLE, LINE_LINE, PLANE_PLANE, ORIENTATION, POSE = range(9)
@@ -100,13 +100,6 @@ def _point_rate(Jf, k, c0, c1, c2):
             Jf[2, k] + w0 * c1 - w1 * c0)
 
 
-@inline
-def _rotate(R, a0, a1, a2):
-    """``R a`` for R row by row (9-tuple)."""
-    return (R[0] * a0 + R[1] * a1 + R[2] * a2, R[3] * a0 + R[4] * a1 + R[5] * a2,
-            R[6] * a0 + R[7] * a1 + R[8] * a2)
-
-
 @serial
 def task_rows(m, Mw, task, r, J, o, wk):
     """Rows ``o .. o + dim`` of the residual ``r`` and Jacobian ``J`` (·, nv) of one task
@@ -124,7 +117,7 @@ def task_rows(m, Mw, task, r, J, o, wk):
     g = task[TARGET:TARGET + 16]
     nv = m.nv
     if kind <= CIRCLE:
-        c0, c1, c2 = _rotate(R, a[0], a[1], a[2])  # x - p
+        c0, c1, c2 = rigid_rotate(R, a[0], a[1], a[2])  # x - p
         x0, x1, x2 = p0 + c0, p1 + c1, p2 + c2
         if kind == POINT:
             r[o], r[o + 1], r[o + 2] = w * (x0 - g[0]), w * (x1 - g[1]), w * (x2 - g[2])
@@ -168,9 +161,9 @@ def task_rows(m, Mw, task, r, J, o, wk):
                 J[o, k] = w * (n0 * d0 + n1 * d1 + n2 * d2)
                 J[o + 1, k] = w * s * (f0 * d0 + f1 * d1 + f2 * d2)
     elif kind == LINE_LINE:
-        b0, b1, b2 = _rotate(R, a[0], a[1], a[2])
+        b0, b1, b2 = rigid_rotate(R, a[0], a[1], a[2])
         b0, b1, b2 = p0 + b0, p1 + b1, p2 + b2
-        v0, v1, v2 = _rotate(R, a[3], a[4], a[5])  # w'
+        v0, v1, v2 = rigid_rotate(R, a[3], a[4], a[5])  # w'
         u0, u1, u2 = g[3], g[4], g[5]
         r[o], r[o + 1], r[o + 2] = w * (v0 - u0), w * (v1 - u1), w * (v2 - u2)
         r[o + 3] = w * ((b1 * v2 - b2 * v1) - (g[1] * u2 - g[2] * u1))
@@ -185,7 +178,7 @@ def task_rows(m, Mw, task, r, J, o, wk):
             J[o + 4, k] = w * (db2 * v0 - db0 * v2 + b2 * dv0 - b0 * dv2)
             J[o + 5, k] = w * (db0 * v1 - db1 * v0 + b0 * dv1 - b1 * dv0)
     elif kind == PLANE_PLANE:
-        n0, n1, n2 = _rotate(R, a[0], a[1], a[2])  # n'
+        n0, n1, n2 = rigid_rotate(R, a[0], a[1], a[2])  # n'
         dd = a[3] + n0 * p0 + n1 * p1 + n2 * p2  # d' = d_l + n'·p
         r[o], r[o + 1], r[o + 2] = w * (n0 - g[0]), w * (n1 - g[1]), w * (n2 - g[2])
         r[o + 3] = w * (dd - g[3])
