@@ -132,7 +132,7 @@ def simulate(model, q0, v0, dt, steps, tau, kwargs: dict):
     cut = np.cumsum([0, nq, nv, nv, 1, 1, 1, 1])
     q, v, a, T, U, done, diverged = (out[..., cut[i]:cut[i + 1]] for i in range(7))
     return Trajectory(t=dt * np.arange(steps + 1), q=q, v=v, a=a, kinetic=T[..., 0],
-                      potential=U[..., 0], energy=T[..., 0] + U[..., 0],
+                      potential=U[..., 0],
                       completed=done[:, 0, 0].astype(np.int64),
                       diverged=diverged[:, 0, 0].astype(bool), dt=float(dt),
                       integrator=kwargs.get("integrator", "rk4"))

@@ -157,8 +157,7 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
     gives the step and time of the whole run)."""
     from ..sim import Trajectory, simulate
 
-    parts: dict[str, list] = {k: [] for k in ("q", "v", "a", "kinetic", "potential",
-                                              "energy")}
+    parts: dict[str, list] = {k: [] for k in ("q", "v", "a", "kinetic", "potential")}
     q, v, done, message, bar = q0, v0, 0, "", None
     chunk = 1  # the first call compiles: one step, then a measured chunk sets the pace
     while done < steps:

@@ -92,7 +92,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
         Q, V, A, E, t = Q[0, :end], V[0, :end], A[0, :end], E[0, :end], t[:end]
         completed, diverged = int(completed[0]), bool(diverged[0])
     return Trajectory(t=t, q=Q, v=V, a=A, kinetic=E[..., 0], potential=E[..., 1],
-                      energy=E[..., 0] + E[..., 1], completed=completed, diverged=diverged,
+                      completed=completed, diverged=diverged,
                       dt=dt, integrator=integrator, message=message)
 
 

@@ -29,12 +29,16 @@ class Trajectory:
     a: np.ndarray
     kinetic: np.ndarray
     potential: np.ndarray
-    energy: np.ndarray
     completed: int | np.ndarray
     diverged: bool | np.ndarray
     dt: float
     integrator: str
     message: str = ""
+
+    @property
+    def energy(self) -> np.ndarray:
+        """The total energy ``kinetic + potential`` at every state."""
+        return self.kinetic + self.potential
 
     @property
     def batch(self) -> bool:
