@@ -214,8 +214,14 @@ def task_rows(m, Mw, task, r, J, o, wk):
             jlog6(xi, J6, t)
             for i in range(6):
                 r[o + i] = w * xi[i]
-                for k in range(nv):
+            for k in range(nv):
+                for i in range(3):
                     acc = 0.0
                     for h in range(6):
+                        acc += J6[i, h] * Jf[h, k]
+                    J[o + i, k] = w * acc
+                for i in range(3, 6):  # Jlog6's lower left block is zero
+                    acc = 0.0
+                    for h in range(3, 6):
                         acc += J6[i, h] * Jf[h, k]
                     J[o + i, k] = w * acc

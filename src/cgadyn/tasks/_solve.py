@@ -8,8 +8,11 @@ the tangent space). Each iteration solves the damped normal equations
 by Cholesky, moves ``q ← clamp(q ⊕ δ)`` (``joints.joint_integrate``, then every one-dof
 coordinate clamped into its limits) and keeps the step when it lowers the cost: then
 ``λ ← λ / 3``, else ``λ ← 10 λ`` and the step is tried again from the same q. A run stops
-when ``|r| ≤ tol``, after ``max_iter`` iterations or when λ exceeds ``LAMBDA_MAX`` (a local
-minimum or a limit); it then restarts from a random configuration within the limits (a
+when ``|r| ≤ tol``, after ``max_iter`` iterations, when λ exceeds ``LAMBDA_MAX`` or when it
+stalls: its cost, still above ``STALL_FLOOR``, is more than ``STALL_RATIO`` of what it was
+``STALL_WINDOW`` accepted steps before (a local minimum or a limit: on the panda a stalled
+run rarely recovers, and stopping it early saves a quarter of the iterations); it then
+restarts from a random configuration within the limits (a
 deterministic generator seeded per target; free flyers keep their start), at most
 ``restarts`` times. The best configuration over all runs is returned.
 
@@ -34,13 +37,15 @@ from ._stack import stack_dim, stack_rows, stack_workspace, stack_workspace_size
 
 LAMBDA_MAX = 1e10
 ACTIVE_PASSES = 4
+STALL_WINDOW, STALL_RATIO, STALL_FLOOR = 4, 0.5, 1e-6
 MAX_ITER, TOL, RESTARTS, SEED, LAMBDA0 = range(5)
 CONVERGED, RESIDUAL, ITERATIONS, RESTARTS_USED = range(4)
 
 
 @inline
 def solve_workspace_size(n, nq, nv, nr):
-    return stack_workspace_size(n, nq, nv) + 2 * nr * (nv + 1) + nv * nv + 3 * nv + 2 * nq + 24
+    return (stack_workspace_size(n, nq, nv) + 2 * nr * (nv + 1) + nv * nv + 3 * nv + 2 * nq
+            + 24 + STALL_WINDOW + 1)
 
 
 MINSTD_MODULUS = 2147483647
@@ -72,47 +77,79 @@ def _cost(r):
     return acc
 
 
+@inline
+def _cholesky_solve(A, n, b, x):
+    """``x = A⁻¹ b`` for the leading n x n block of a symmetric A, by Cholesky in place
+    (``A = L Lᵀ``, L in the lower triangle); x may be b. False if A is not positive
+    definite."""
+    for a in range(n):
+        for c in range(a + 1):
+            acc = A[a, c]
+            for k in range(c):
+                acc -= A[a, k] * A[c, k]
+            if a == c:
+                if not acc > 0.0:
+                    return False
+                A[a, a] = math.sqrt(acc)
+            else:
+                A[a, c] = acc / A[c, c]
+    for a in range(n):  # L y = b
+        acc = b[a]
+        for k in range(a):
+            acc -= A[a, k] * x[k]
+        x[a] = acc / A[a, a]
+    for a in range(n - 1, -1, -1):  # Lᵀ x = y
+        acc = x[a]
+        for k in range(a + 1, n):
+            acc -= A[k, a] * x[k]
+        x[a] = acc / A[a, a]
+    return True
+
+
 @serial
 def _step(m, q, lower, upper, J, r, lam, A, g, d, free):
-    """``d = -(Jᵀ J + λ 1)⁻¹ Jᵀ r`` over the free coordinates, by Cholesky of A (in place):
-    a coordinate at a limit whose step would leave it is held (an active set, ``free[k] =
-    0``, at most ``ACTIVE_PASSES`` passes). False if A is not positive definite."""
+    """``d = -(Jᵀ J + λ 1)⁻¹ Jᵀ r`` over the free coordinates (the columns of J that
+    ``free`` keeps): a coordinate at a limit whose step would leave it is held (an active
+    set, ``free[k] = 0``, at most ``ACTIVE_PASSES`` passes). With fewer residual rows than
+    coordinates (a redundant arm: 6 rows, 7 or more joints) the same step comes from the
+    smaller system ``d = -Jᵀ (J Jᵀ + λ 1)⁻¹ r`` (the push-through identity
+    ``(Jᵀ J + λ 1)⁻¹ Jᵀ = Jᵀ (J Jᵀ + λ 1)⁻¹``). ``A`` (nv, nv) and ``g`` (nv)
+    are scratch; the smaller system uses their leading part. False if the system is not
+    positive definite."""
     nr, nv = J.shape
     for k in range(nv):
         free[k] = 1.0
     for _ in range(ACTIVE_PASSES):
-        for a in range(nv):
-            acc = 0.0
-            for i in range(nr):
-                acc += J[i, a] * r[i]
-            g[a] = -acc * free[a]
-            for b in range(a + 1):
+        if nr < nv:
+            for a in range(nr):  # J Jᵀ + λ 1 over the free columns
+                for b in range(a + 1):
+                    acc = 0.0
+                    for k in range(nv):
+                        acc += J[a, k] * J[b, k] * free[k]
+                    A[a, b] = acc
+                A[a, a] += lam
+                g[a] = -r[a]
+            if not _cholesky_solve(A, nr, g, g):  # y = (J Jᵀ + λ 1)⁻¹ (-r), in place
+                return False
+            for k in range(nv):  # d = Jᵀ y
+                acc = 0.0
+                for a in range(nr):
+                    acc += J[a, k] * g[a]
+                d[k] = acc * free[k]
+        else:
+            for a in range(nv):
                 acc = 0.0
                 for i in range(nr):
-                    acc += J[i, a] * J[i, b]
-                A[a, b] = acc * free[a] * free[b]
-            A[a, a] += lam if free[a] > 0.0 else 1.0
-        for a in range(nv):  # A = L Lᵀ, L in the lower triangle
-            for b in range(a + 1):
-                acc = A[a, b]
-                for k in range(b):
-                    acc -= A[a, k] * A[b, k]
-                if a == b:
-                    if not acc > 0.0:
-                        return False
-                    A[a, a] = math.sqrt(acc)
-                else:
-                    A[a, b] = acc / A[b, b]
-        for a in range(nv):  # L y = g
-            acc = g[a]
-            for k in range(a):
-                acc -= A[a, k] * d[k]
-            d[a] = acc / A[a, a]
-        for a in range(nv - 1, -1, -1):  # Lᵀ d = y
-            acc = d[a]
-            for k in range(a + 1, nv):
-                acc -= A[k, a] * d[k]
-            d[a] = acc / A[a, a]
+                    acc += J[i, a] * r[i]
+                g[a] = -acc * free[a]
+                for b in range(a + 1):
+                    acc = 0.0
+                    for i in range(nr):
+                        acc += J[i, a] * J[i, b]
+                    A[a, b] = acc * free[a] * free[b]
+                A[a, a] += lam if free[a] > 0.0 else 1.0
+            if not _cholesky_solve(A, nv, g, d):
+                return False
         held = False
         for j in range(m.n):
             if m.types[j] != FREE_FLYER:
@@ -144,6 +181,7 @@ def solve_core(m, q0, lower, upper, tasks, options, sample, q, res, info, work):
     qt, o = carve(buf, o, (m.nq,))
     tmp, o = carve(buf, o, (3, 8))
     free, o = carve(buf, o, (m.nv,))
+    ring, o = carve(buf, o, (STALL_WINDOW + 1,))  # the costs of the last accepted steps
     max_iter, tol, restarts = int(options[MAX_ITER]), options[TOL], int(options[RESTARTS])
     state = (int(options[SEED]) * 1000003 + sample) % (MINSTD_MODULUS - 1) + 1
     tol2 = tol * tol
@@ -166,6 +204,7 @@ def solve_core(m, q0, lower, upper, tasks, options, sample, q, res, info, work):
         stack_rows(m, qc, tasks, r, J, sw)
         f = _cost(r)
         lam = options[LAMBDA0]
+        accepted = 0
         for _ in range(max_iter):
             if not f > tol2:
                 break
@@ -185,6 +224,12 @@ def solve_core(m, q0, lower, upper, tasks, options, sample, q, res, info, work):
                 r, r2 = r2, r
                 J, J2 = J2, J
                 lam = max(lam / 3.0, 1e-12)
+                ring[accepted % (STALL_WINDOW + 1)] = f
+                accepted += 1
+                if (accepted > STALL_WINDOW and f > STALL_FLOOR
+                        and f > STALL_RATIO * ring[(accepted - 1 - STALL_WINDOW)
+                                                   % (STALL_WINDOW + 1)]):
+                    break  # stalled
             else:
                 lam *= 10.0
                 if lam > LAMBDA_MAX:

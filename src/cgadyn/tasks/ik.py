@@ -56,6 +56,12 @@ class IKResult:
     restarts: int | np.ndarray
 
 
+DAMPING = 0.1
+"""The first λ of Levenberg-Marquardt. On 2048 random panda poses from the middle of the
+joint ranges it takes a tenth fewer iterations than λ = 1 (18.7 against 21.0 a target),
+with 3 targets unsolved against 2."""
+
+
 def middle_configuration(model) -> np.ndarray:
     """The middle of every joint's range (0 for unbounded joints; free flyers at identity)."""
     from ..algorithms.configuration import neutral
@@ -107,7 +113,7 @@ def _limits(model) -> tuple[np.ndarray, np.ndarray]:
 
 
 def solve(model, tasks: Task | Sequence[Task], q0=None, *, tol: float = 1e-10,
-          max_iter: int = 30, restarts: int = 20, damping: float = 1.0,
+          max_iter: int = 30, restarts: int = 20, damping: float = DAMPING,
           seed: int = 0) -> IKResult:
     """Minimise the weighted stack of ``tasks`` from ``q0`` (default: the middle of the
     joint ranges) within the joint limits: the task-stack form of inverse kinematics."""
@@ -161,7 +167,7 @@ def _batch_rows(model, link, target, carried, tool, kind) -> np.ndarray | None:
 
 def inverse_kinematics(model, link: str | int, target, q0=None, *, carried=None, tool=None,
                        kind: str | None = None, tol: float = 1e-10, max_iter: int = 30,
-                       restarts: int = 20, damping: float = 1.0, seed: int = 0,
+                       restarts: int = 20, damping: float = DAMPING, seed: int = 0,
                        threads: int | None = None) -> IKResult:
     """A configuration that brings ``link`` (or its ``tool`` frame, or the object it
     ``carried``) onto ``target``: a 4x4 pose or a Motor (the full pose; ``kind=
