@@ -11,7 +11,7 @@ import cgadyn
 from cgadyn import oracle
 from cgadyn.cga.objects import Line, Motor, Plane, Point, Sphere
 from cgadyn.tasks import Task, evaluate, inverse_kinematics, solve
-from cgadyn.tasks.dual_arm import CooperativeTask, _log6, cooperative_space, solve_cooperative
+from cgadyn.tasks.dual_arm import CooperativeTask, cooperative_space
 from cgadyn.tasks.ik import middle_configuration
 
 pin = pytest.importorskip("pinocchio")
@@ -106,25 +106,81 @@ def test_bad_input_is_refused_clearly():
         inverse_kinematics(model, "panda_hand", np.eye(4), restarts=-1)
 
 
-def test_cooperative_dual_arm_on_baxter():
+def _log6m(T) -> np.ndarray:
+    """Pinocchio's log6 of a 4x4 rigid transform, as (v, ω)."""
+    return pin.log6(pin.SE3(T)).vector
+
+
+def test_cooperative_space_on_baxter():
+    """C1-C4 against the links' placements and central differences through integrate."""
+    model = cgadyn.load("baxter")
+    a, b = "left_gripper", "right_gripper"
+    q = middle_configuration(model) + 0.2
+    tools = (Motor.translator([0.0, 0.0, 0.1]), np.eye(4))
+    Ma, Ja, Mr, Jr = cooperative_space(model, q, a, b, tools=tools)
+    T = cgadyn.link_placements(model, q)
+    T1 = T[model.link_index(a)] @ tools[0].matrix()
+    T2 = T[model.link_index(b)]
+    assert np.allclose(Mr.matrix(), np.linalg.inv(T1) @ T2, atol=1e-14)  # C1
+    half = np.linalg.inv(T1) @ Ma.matrix()
+    assert np.allclose(half @ half, Mr.matrix(), atol=1e-13)  # C2: (~F_1 M_a)² = M_r
+    h = 1e-6
+    for k, (M, J) in enumerate([(Ma, Ja), (Mr, Jr)]):
+        inv = np.linalg.inv(M.matrix())
+        fd = np.stack([(_log6m(inv @ cooperative_space(
+            model, cgadyn.integrate(model, q, h * e), a, b, tools)[2 * k].matrix())
+            - _log6m(inv @ cooperative_space(
+                model, cgadyn.integrate(model, q, -h * e), a, b, tools)[2 * k].matrix()))
+            / (2 * h) for e in np.eye(model.nv)], axis=1)
+        assert np.abs(fd - J).max() <= 1e-7 * np.abs(J).max()  # C3, C4
+        assert np.abs(J).max() > 0.1
+
+
+def test_cooperative_tasks_on_baxter():
+    """Keep the hands' relative pose while the absolute pose rises and moves forward: the
+    cooperative tasks stacked and solved in compiled code, also with a pose task."""
     model = cgadyn.load("baxter")
     a, b = "left_gripper", "right_gripper"
     q = middle_configuration(model)
-    Ma, Ja, Mr, Jr = cooperative_space(model, q, a, b)
-    H = 1e-6
-    for k, (M, J) in enumerate([(Ma, Ja), (Mr, Jr)]):
-        fd = np.stack([(_log6(M.reverse() * cooperative_space(
-            model, cgadyn.integrate(model, q, H * e), a, b)[2 * k])
-            - _log6(M.reverse() * cooperative_space(
-                model, cgadyn.integrate(model, q, -H * e), a, b)[2 * k])) / (2 * H)
-            for e in np.eye(model.nv)], axis=1)
-        assert np.abs(fd - J).max() <= 1e-7 * np.abs(J).max()
-    # the hands keep their relative pose while the absolute pose rises and moves forward
+    Ma, _, Mr, _ = cooperative_space(model, q, a, b)
     target = Motor.translator([0.05, 0.0, 0.05]) * Ma
-    res = solve_cooperative(model, [CooperativeTask(a, b, "relative", Mr),
-                                    CooperativeTask(a, b, "absolute", target)], q)
+    tasks = [CooperativeTask(model, a, b, "relative", Mr),
+             CooperativeTask(model, a, b, "absolute", target.matrix(), weight=2.0)]
+    r, J = evaluate(model, q, tasks)
+    assert np.allclose(r[:6], 0.0, atol=1e-14)
+    assert np.allclose(r[6:], 2.0 * _log6m(np.linalg.inv(target.matrix()) @ Ma.matrix()))
+    fd = np.stack([(evaluate(model, cgadyn.integrate(model, q, 1e-6 * e), tasks)[0]
+                    - evaluate(model, cgadyn.integrate(model, q, -1e-6 * e), tasks)[0])
+                   / 2e-6 for e in np.eye(model.nv)], axis=1)
+    assert np.abs(fd - J).max() <= 1e-7 * np.abs(J).max()
+    res = solve(model, tasks, q)
     Ma2, _, Mr2, _ = cooperative_space(model, res.q, a, b)
-    assert res.converged
-    assert np.linalg.norm(_log6(Mr.reverse() * Mr2)) <= 1e-10
-    assert np.linalg.norm(_log6(target.reverse() * Ma2)) <= 1e-10
+    assert res.converged and res.error <= 1e-10
+    assert np.linalg.norm(_log6m(np.linalg.inv(Mr.matrix()) @ Mr2.matrix())) <= 1e-10
+    assert np.linalg.norm(_log6m(np.linalg.inv(target.matrix()) @ Ma2.matrix())) <= 1e-10
     assert np.all(res.q >= model.lower) and np.all(res.q <= model.upper)
+    # the relative pose held while the left hand alone goes to a pose (7 + 6 rows)
+    goal = cgadyn.link_placements(model, res.q)[model.link_index(a)]
+    goal = Motor.translator([0.0, 0.03, 0.0]).matrix() @ goal
+    res2 = solve(model, [tasks[0], Task(model, a, goal)], res.q)
+    assert res2.converged
+    T = cgadyn.link_placements(model, res2.q)
+    assert np.linalg.norm(_log6m(np.linalg.inv(goal) @ T[model.link_index(a)])) <= 1e-10
+
+
+def test_cooperative_task_errors():
+    model = cgadyn.load("baxter")
+    a, b = "left_gripper", "right_gripper"
+    with pytest.raises(ValueError, match="which must be 'absolute' or 'relative'"):
+        CooperativeTask(model, a, b, "middle", np.eye(4))
+    with pytest.raises(ValueError, match="must differ"):
+        CooperativeTask(model, a, a, "relative", np.eye(4))
+    with pytest.raises(ValueError, match="tools must be a pair"):
+        CooperativeTask(model, a, b, "relative", np.eye(4), tools=(None,))
+    with pytest.raises(ValueError, match="target"):
+        CooperativeTask(model, a, b, "relative", np.ones((4, 4)))
+    with pytest.raises(ValueError, match="link"):
+        CooperativeTask(model, a, "no_such_link", "relative", np.eye(4))
+    panda = cgadyn.load("panda")
+    with pytest.raises(ValueError, match="built for another model"):
+        solve(panda, CooperativeTask(model, a, b, "relative", np.eye(4)))

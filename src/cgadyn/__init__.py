@@ -61,7 +61,6 @@ _LAZY = {
     "jacobian_time_variation": "cgadyn.tasks",
     "CooperativeTask": "cgadyn.tasks",
     "cooperative_space": "cgadyn.tasks",
-    "solve_cooperative": "cgadyn.tasks",
     "simulate": "cgadyn.sim",
     "Trajectory": "cgadyn.sim",
     "PD": "cgadyn.sim",

@@ -12,6 +12,9 @@ A task is a row of ``TASK_SIZE`` floats::
 
     [kind, link, weight, 0 | P (8) | carried object (8) | target (16)]
 
+(a cooperative task of two links, ``_cooperative``, puts the second link in the fourth
+float and its tool motor in the carried object's place)
+
 and each kind's residual and its geometric meaning:
 
 =============  ===  ==========================================================================
@@ -46,14 +49,16 @@ from ..kernels.layout import physical
 from ..kernels.rigid import rigid_frame, rigid_rotate
 from ._lie import jlog3, jlog6
 
-POINT, PLANE, LINE, SPHERE, CIRCLE, LINE_LINE, PLANE_PLANE, ORIENTATION, POSE = range(9)
+(POINT, PLANE, LINE, SPHERE, CIRCLE, LINE_LINE, PLANE_PLANE, ORIENTATION, POSE, RELATIVE,
+ ABSOLUTE) = range(11)
 KIND_NAMES = ("point", "plane", "line", "sphere", "circle", "line_line", "plane_plane",
-              "orientation", "pose")
-DIMS = (3, 1, 3, 1, 2, 6, 4, 3, 6)
-"""Residual rows of each kind."""
+              "orientation", "pose", "relative", "absolute")
+DIMS = (3, 1, 3, 1, 2, 6, 4, 3, 6, 6, 6)
+"""Residual rows of each kind; the last two are the cooperative tasks of two links
+(``_cooperative``)."""
 
 TASK_SIZE = 36
-KIND, LINK, WEIGHT = 0, 1, 2
+KIND, LINK, WEIGHT, SECOND = 0, 1, 2, 3
 TOOL, CARRIED, TARGET = 4, 12, 20
 """The offsets of the tool motor P, the carried object and the target in a task row."""
 
@@ -90,6 +95,26 @@ def tool_jacobian(m, Mw, link, p0, p1, p2, tw, Jf):
             Jf[2, k] = v2 + w0 * p1 - w1 * p0
             Jf[3, k], Jf[4, k], Jf[5, k] = w0, w1, w2
         j = m.parents[j]
+
+
+@inline
+def _to_local(R, Jf):
+    """Every column ``(v, ω)`` of ``Jf`` to ``(Rᵀ v, Rᵀ ω)``: world axes to the frame's."""
+    for k in range(Jf.shape[1]):
+        for h in (0, 3):
+            y0, y1, y2 = Jf[h, k], Jf[h + 1, k], Jf[h + 2, k]
+            Jf[h, k] = R[0] * y0 + R[3] * y1 + R[6] * y2
+            Jf[h + 1, k] = R[1] * y0 + R[4] * y1 + R[7] * y2
+            Jf[h + 2, k] = R[2] * y0 + R[5] * y1 + R[8] * y2
+
+
+@inline
+def local_jacobian(m, Mw, link, F, tw, Jf):
+    """``Jf`` (6, nv): the body Jacobian of the frame F carried by the link, rows
+    ``[v, ω]`` in F's own axes (Pinocchio's LOCAL frame Jacobian)."""
+    R, p = rigid_frame(F)
+    tool_jacobian(m, Mw, link, p[0], p[1], p[2], tw, Jf)
+    _to_local(R, Jf)
 
 
 @inline
@@ -197,12 +222,7 @@ def task_rows(m, Mw, task, r, J, o, wk):
         motor_log(E, tw)
         w0, w1, w2, v0, v1, v2 = physical(tw)
         xi[0], xi[1], xi[2], xi[3], xi[4], xi[5] = v0, v1, v2, w0, w1, w2
-        for k in range(nv):  # the local Jacobian: Rᵀ v, Rᵀ ω
-            for h in (0, 3):
-                y0, y1, y2 = Jf[h, k], Jf[h + 1, k], Jf[h + 2, k]
-                Jf[h, k] = R[0] * y0 + R[3] * y1 + R[6] * y2
-                Jf[h + 1, k] = R[1] * y0 + R[4] * y1 + R[7] * y2
-                Jf[h + 2, k] = R[2] * y0 + R[5] * y1 + R[8] * y2
+        _to_local(R, Jf)
         if kind == ORIENTATION:
             jlog3(w0, w1, w2, t[0])
             r[o], r[o + 1], r[o + 2] = w * w0, w * w1, w * w2

@@ -34,7 +34,7 @@ from ._solve import (
     solve_single,
 )
 from .poses import motors_from_matrices
-from .task import Task, stack
+from .task import Task, stack_for
 
 __all__ = ["IKResult", "inverse_kinematics", "middle_configuration", "solve"]
 
@@ -117,9 +117,7 @@ def solve(model, tasks: Task | Sequence[Task], q0=None, *, tol: float = 1e-10,
           seed: int = 0) -> IKResult:
     """Minimise the weighted stack of ``tasks`` from ``q0`` (default: the middle of the
     joint ranges) within the joint limits: the task-stack form of inverse kinematics."""
-    rows = stack(tasks)
-    if any(int(r[R.LINK]) >= model.nlinks for r in rows):
-        raise ValueError("a task refers to a link the model does not have")
+    rows = stack_for(model, tasks)
     q0 = _start(model, q0, None)
     options = _options(max_iter, tol, restarts, seed, damping)
     nr = sum(R.DIMS[int(r[R.KIND])] for r in rows)

@@ -40,7 +40,7 @@ from .primitives import (
     sphere_parameters,
 )
 
-__all__ = ["Task", "as_motor", "evaluate", "stack"]
+__all__ = ["Task", "as_motor", "evaluate", "stack", "stack_for"]
 
 
 def as_motor(x, what: str) -> np.ndarray:
@@ -138,11 +138,21 @@ def stack(tasks: Task | Sequence[Task]) -> np.ndarray:
     return np.ascontiguousarray(np.array([t.row for t in tasks]))
 
 
+def stack_for(model, tasks: Task | Sequence[Task]) -> np.ndarray:
+    """``stack(tasks)``, checked against the model the rows will be evaluated on: tasks
+    built for another model (other links, other coordinates) are refused."""
+    rows = stack(tasks)
+    for t in [tasks] if isinstance(tasks, Task) else tasks:
+        links = [t.link, t.second] if hasattr(t, "second") else [t.link]
+        if t.nv != model.nv or max(links) >= model.nlinks:
+            raise ValueError(f"{t!r} was built for another model (this one has "
+                             f"{model.nlinks} links and nv = {model.nv})")
+    return rows
+
+
 def evaluate(model, q, tasks) -> tuple[np.ndarray, np.ndarray]:
     """The stacked weighted residual (nr,) and its Jacobian (nr, nv) at one configuration."""
-    rows = stack(tasks)
-    if any(int(r[R.LINK]) >= model.nlinks for r in rows):
-        raise ValueError("a task refers to a link the model does not have")
+    rows = stack_for(model, tasks)
     q = _inputs.state(model, q, "q", model.nq)
     if q.ndim != 1:
         raise ValueError(f"evaluate takes one configuration (nq,), got shape {q.shape}")
