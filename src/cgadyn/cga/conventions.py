@@ -28,6 +28,7 @@ import numpy as np
 
 from .. import kernels as K
 from ..kernels.layout import BIVECTOR_SIGN, QUATERNION_OF_ROTOR
+from .poses import motors_from_matrices
 
 SIGN = np.array(BIVECTOR_SIGN)
 """Coefficient = SIGN * physical component, physical order (ω or n, then v or f)."""
@@ -97,16 +98,17 @@ def twist_from_axis(kind: str, axis) -> np.ndarray:
 
 def rotor_from_rotation(rot) -> np.ndarray:
     """Rotor coefficients ``(1, e12, e13, e23)`` of a rotation matrix."""
-    return _quaternion_of(_quaternion(rot))  # R = w - (x e23 + y e31 + z e12)
+    return motor_from_rt(rot, np.zeros(3))[:4]
 
 
 def motor_from_rt(rot, trans) -> np.ndarray:
     """Motor ``T R`` of the pose with rotation matrix ``rot`` and translation ``trans``."""
-    r = rotor_from_rotation(rot)
-    t = _vec(trans, 3, "translation")
-    out = np.empty(8)
-    K.translator_rotor(t[0], t[1], t[2], r[0], r[1], r[2], r[3], out)
-    return out
+    R = np.asarray(rot, dtype=float)
+    if R.shape != (3, 3):
+        raise ValueError(f"rotation matrix must have shape (3, 3), got {R.shape}")
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = R, _vec(trans, 3, "translation")
+    return motors_from_matrices(T[None], "pose")[0]
 
 
 def motor_from_matrix(T) -> np.ndarray:
@@ -114,14 +116,7 @@ def motor_from_matrix(T) -> np.ndarray:
     T = np.asarray(T, dtype=float)
     if T.shape != (4, 4):
         raise ValueError(f"homogeneous matrix must have shape (4, 4), got {T.shape}")
-    if not np.all(np.isfinite(T)):
-        raise ValueError("homogeneous matrix contains NaN or inf")
-    if not np.allclose(T[3], [0, 0, 0, 1], atol=1e-9):
-        raise ValueError(f"homogeneous matrix must end with the row [0, 0, 0, 1], got {T[3]}")
-    R = T[:3, :3]
-    if not np.allclose(R @ R.T, np.eye(3), atol=1e-8) or np.linalg.det(R) < 0:
-        raise ValueError("the 3x3 block is not a rotation (R Rᵀ ≠ 1 or det R < 0): not rigid")
-    return motor_from_rt(R, T[:3, 3])
+    return motors_from_matrices(T[None], "homogeneous matrix")[0]
 
 
 def matrix_from_motor(M) -> np.ndarray:
@@ -169,27 +164,6 @@ def motor_product(a, b) -> np.ndarray:
     out = np.empty(8)
     K.motor_mul(_vec(a, 8, "motor"), _vec(b, 8, "motor"), out)
     return out
-
-
-def _quaternion(rot) -> np.ndarray:
-    R = np.asarray(rot, dtype=float)
-    if R.shape != (3, 3):
-        raise ValueError(f"rotation matrix must have shape (3, 3), got {R.shape}")
-    tr = np.trace(R)
-    if tr > 0:
-        s = 2.0 * np.sqrt(tr + 1.0)
-        q = [0.25 * s, (R[2, 1] - R[1, 2]) / s, (R[0, 2] - R[2, 0]) / s, (R[1, 0] - R[0, 1]) / s]
-    elif R[0, 0] > R[1, 1] and R[0, 0] > R[2, 2]:
-        s = 2.0 * np.sqrt(1.0 + R[0, 0] - R[1, 1] - R[2, 2])
-        q = [(R[2, 1] - R[1, 2]) / s, 0.25 * s, (R[0, 1] + R[1, 0]) / s, (R[0, 2] + R[2, 0]) / s]
-    elif R[1, 1] > R[2, 2]:
-        s = 2.0 * np.sqrt(1.0 + R[1, 1] - R[0, 0] - R[2, 2])
-        q = [(R[0, 2] - R[2, 0]) / s, (R[0, 1] + R[1, 0]) / s, 0.25 * s, (R[1, 2] + R[2, 1]) / s]
-    else:
-        s = 2.0 * np.sqrt(1.0 + R[2, 2] - R[0, 0] - R[1, 1])
-        q = [(R[1, 0] - R[0, 1]) / s, (R[0, 2] + R[2, 0]) / s, (R[1, 2] + R[2, 1]) / s, 0.25 * s]
-    q = np.array(q)
-    return q / np.linalg.norm(q)
 
 
 def _rotation(w, x, y, z) -> np.ndarray:

@@ -19,6 +19,7 @@ import numpy as np
 
 from ..algorithms import _inputs
 from ..cga.objects import Geometric, Motor
+from ..cga.poses import motors_from_matrices
 from . import _rows as R
 from ._solve import (
     CONVERGED,
@@ -33,7 +34,6 @@ from ._solve import (
     solve_batch,
     solve_single,
 )
-from .poses import motors_from_matrices
 from .task import Task, stack_for
 
 __all__ = ["IKResult", "inverse_kinematics", "middle_configuration", "solve"]

@@ -29,9 +29,9 @@ import numpy as np
 
 from ..algorithms import _inputs
 from ..cga.objects import Circle, Geometric, Line, Motor, Plane, Point, Sphere
+from ..cga.poses import motors_from_matrices
 from . import _rows as R
 from ._stack import evaluate as _evaluate
-from .poses import motors_from_matrices
 from .primitives import (
     circle_parameters,
     line_parameters,
