@@ -11,7 +11,7 @@ from __future__ import annotations
 from .._jit import core, inline
 from ..kernels import motor_mul
 from ..kernels.rigid import motor_matrix
-from ..multibody.joints import joint_motors, joint_scalars
+from ..multibody.joints import FREE_FLYER, joint_motors, joint_scalars
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from .status import OK
@@ -21,13 +21,23 @@ from .status import OK
 def world_motors(m, q, c, s, tmp8, M, Mw):
     """``Mw[j] = M^w_j`` (n, 8) for every joint frame, ``M[j] = M_j`` (n, 8) on the way;
     ``c, s`` (nq) and ``tmp8`` (8) scratch."""
+    frame_motors(m, q, c, s, tmp8, M, Mw, False)
+
+
+@inline
+def frame_motors(m, q, c, s, tmp8, M, Mw, free_roots_at_rest):
+    """``world_motors``; with ``free_roots_at_rest`` a free-flyer root takes the identity
+    instead of its motor, so that its tree is in the root body's own frame (a quantity that
+    a common rigid motion of the whole tree leaves alone, as M(q)⁻¹, may be computed
+    there)."""
     joint_scalars(q, c, s)  # the scalars of every revolute joint motor (eq. 6)
     joint_motors(m, q, c, s, tmp8, M)  # M_j = X_j M_J(q_j)
     for j in range(m.n):
         p = m.parents[j]
         if p < 0:
+            rest = free_roots_at_rest and m.types[j] == FREE_FLYER
             for k in range(8):
-                Mw[j, k] = M[j, k]  # M^w_j = M_j at the root
+                Mw[j, k] = (1.0 if k == 0 else 0.0) if rest else M[j, k]  # M^w_j = M_j
         else:
             motor_mul(Mw[p], M[j], Mw[j])  # M^w_j = M^w_λ M_j
 

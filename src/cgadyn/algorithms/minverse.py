@@ -1,6 +1,6 @@
 """The inverse mass matrix ``M(q)⁻¹`` from the articulated-body recursion, in O(n nv),
 without forming or factorising M (Pinocchio's ``computeMinverse``); ``docs/derivatives.md``
-derives it (M1-M4).
+derives it (M1-M5).
 
 ``q̈ = M⁻¹ τ`` is ABA (Algorithms 1 and 3) with no velocity and no gravity, and it is linear
 in τ: every quantity of the recursion is a matrix with one column per torque. In world
@@ -18,6 +18,11 @@ over F_j for the columns c from j on:
     M⁻¹[j, c] -= ⟨D_j⁻¹ U_j, A_λ[c]⟩,   A_j[c] = A_λ[c] + S_j M⁻¹[j, c]          (M3)
 
 The entries at and after j's own coordinates make the upper triangle, mirrored (M4).
+
+M⁻¹ does not change when the whole tree moves rigidly, so a tree whose root is a free flyer
+is computed in the root body's own frame (M5): there the root's six S_k are the unit twists,
+each one coefficient, and its pairings ⟨S_j, F_j[c]⟩ and its accelerations S_j M⁻¹[j, c]
+read and write single coefficients instead of taking six-term dot products.
 """
 
 from __future__ import annotations
@@ -27,20 +32,21 @@ import math
 from .._jit import core, inline
 from ..kernels import dot, inertia_apply
 from ..kernels.rigid import rigid_frame, rigid_matrix, rigid_move_inertia, rigid_move_twist
+from ..multibody.joints import FREE_FLYER
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from ._dense import spd_inverse
 from .aba import _articulated
-from .kinematics import world_motors
+from .kinematics import frame_motors
 from .status import OK, SINGULAR, fault
 
 
 @inline
 def minverse_pass(m, q, Minv, k_):
     """``Minv`` (nv, nv) into its upper triangle; a status. ``k_`` the workspace arrays."""
-    Mw, M, Ih, par, F, Sw, U, G, D, Dinv, It, t1, tmp8, c, s = k_
+    Mw, M, Ih, par, F, Sw, U, G, D, Dinv, It, t1, tmp8, c, s, pk, e = k_
     nv = m.nv
-    world_motors(m, q, c, s, tmp8, M, Mw)
+    frame_motors(m, q, c, s, tmp8, M, Mw, True)  # a free root's tree in its own frame (M5)
     for j in range(m.n):
         r, p = rigid_frame(Mw[j])
         for k in range(m.iv[j], m.iv[j + 1]):
@@ -56,6 +62,10 @@ def minverse_pass(m, q, Minv, k_):
                 F[j, col, i] = 0.0
     for j in range(m.n - 1, -1, -1):
         k0, k1, end = m.iv[j], m.iv[j + 1], m.subtree_end[j]
+        if m.parents[j] < 0 and m.types[j] == FREE_FLYER:
+            if not _free_root_backward(Ih[j], Sw, U, D, Dinv, F[j], Minv, k0, end, pk, e):
+                return fault(SINGULAR, j)
+            continue
         for k in range(k0, k1):
             inertia_apply(Ih[j], Sw[k], U[k])  # U_j = Î_j[S_j] (M1)
         omega = 0.0
@@ -104,7 +114,12 @@ def minverse_pass(m, q, Minv, k_):
                         for a in range(k0, k1):
                             x += U[a, i] * Minv[a, col]
                         F[parent, col, i] += x
-        if parent >= 0:
+        if parent >= 0 and k1 - k0 == 1:  # Î_λ += Î_j - U_j D_j⁻¹ U_jᵀ in one pass (M2)
+            for i in range(6):
+                w = U[k0, i]
+                for k in range(6):
+                    Ih[parent, i, k] += Ih[j, i, k] - w * G[k0, k]
+        elif parent >= 0:
             _articulated(Ih[j], U, G, k0, k1, It)  # Ĩ_j = Î_j - U_j D_j⁻¹ U_jᵀ
             for i in range(6):
                 for k in range(6):
@@ -112,6 +127,14 @@ def minverse_pass(m, q, Minv, k_):
     for j in range(m.n):
         k0, k1 = m.iv[j], m.iv[j + 1]
         parent = m.parents[j]
+        if parent < 0 and m.types[j] == FREE_FLYER:
+            for col in range(k0, nv):  # A_j[c] = S_j M⁻¹[j, c], one coefficient each (M3, M5)
+                for i in range(6):
+                    F[j, col, i] = 0.0
+                for a in range(k0, k1):
+                    i, sign = _unit(Sw[a])
+                    F[j, col, i] = sign * Minv[a, col]
+            continue
         if parent >= 0 and k1 - k0 == 1:  # one coordinate, below another joint
             for col in range(k0, nv):
                 x = Minv[k0, col] + dot(G[k0], F[parent, col])  # -⟨D⁻¹U_j, A_λ[c]⟩ (M3)
@@ -129,6 +152,48 @@ def minverse_pass(m, q, Minv, k_):
                     x += Sw[a, i] * Minv[a, col]
                 F[j, col, i] = x  # A_j[c] = A_λ[c] + S_j M⁻¹[j, c]
     return OK
+
+
+@inline
+def _unit(S):
+    """``(i, S[i])`` of a unit twist's one nonzero coefficient."""
+    i = 0
+    for k in range(1, 6):
+        if abs(S[k]) > abs(S[i]):
+            i = k
+    return i, S[i]
+
+
+@inline
+def _free_root_backward(Ih, Sw, U, D, Dinv, F, Minv, k0, end, pk, e):
+    """(M1, M2) for a free-flyer root in its own frame (M5): its coordinates ``k0 .. k0 + 6``
+    have the unit twists S_k, so ``⟨S_a, F[c]⟩`` is one coefficient of F[c] times the
+    pairing of S_a with that blade (``pk`` (2, 6) holds both, ``e`` (6) is scratch); there
+    is no parent to pass anything to. False if D is not positive definite."""
+    for k in range(k0, k0 + 6):
+        inertia_apply(Ih, Sw[k], U[k])  # U_j = Î_j[S_j] (M1)
+    for a in range(6):
+        for b in range(6):
+            D[a, b] = -dot(Sw[k0 + a], U[k0 + b])  # D_j = ⟨S_j, U_j⟩
+    if not spd_inverse(D, 6, Dinv):
+        return False
+    for a in range(6):
+        for b in range(6):
+            Minv[k0 + a, k0 + b] = Dinv[a, b]  # M⁻¹[j, j] = D_j⁻¹ (M2)
+    for b in range(6):  # S_b's one coefficient i and the pairing of S_b with blade i
+        i, _ = _unit(Sw[k0 + b])
+        for k in range(6):
+            e[k] = 1.0 if k == i else 0.0
+        pk[0, b], pk[1, b] = dot(Sw[k0 + b], e), i  # -⟨S_b, F⟩ = pk[0, b] F[i]
+    for col in range(k0 + 6, end):  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
+        for b in range(6):
+            e[b] = pk[0, b] * F[col, int(pk[1, b])]
+        for a in range(6):
+            x = 0.0
+            for b in range(6):
+                x += Dinv[a, b] * e[b]
+            Minv[k0 + a, col] = x
+    return True
 
 
 @inline
@@ -154,14 +219,14 @@ def minverse_core(m, q, Minv, option, work):
 
 @inline
 def workspace_size(n, nq, nv, nl):
-    return 52 * n + 6 * n * nv + 18 * nv + 2 * nq + 132
+    return 52 * n + 6 * n * nv + 18 * nv + 2 * nq + 150
 
 
 @inline
 def _workspace(buf, m):
     """Mw, M (n, 8), Î (n, 6, 6), par (10), F (n, nv, 6) (a wrench or twist per column),
     Sw, U, G (nv, 6), D, D⁻¹, Ĩ (6, 6), t1 (6), tmp8 (8), the joint motors' scalars c, s
-    (nq)."""
+    (nq), a free root's unit coefficients pk (2, 6) and e (6)."""
     Mw, o = ws.carve(buf, 0, (m.n, 8))
     M, o = ws.carve(buf, o, (m.n, 8))
     Ih, o = ws.carve(buf, o, (m.n, 6, 6))
@@ -177,4 +242,6 @@ def _workspace(buf, m):
     tmp8, o = ws.carve(buf, o, (8,))
     c, o = ws.carve(buf, o, (m.nq,))
     s, o = ws.carve(buf, o, (m.nq,))
-    return Mw, M, Ih, par, F, Sw, U, G, D, Dinv, It, t1, tmp8, c, s
+    pk, o = ws.carve(buf, o, (2, 6))
+    e, o = ws.carve(buf, o, (6,))
+    return Mw, M, Ih, par, F, Sw, U, G, D, Dinv, It, t1, tmp8, c, s, pk, e
