@@ -5,7 +5,8 @@ differentiating at ``q̈ = aba(q, v, τ)`` gives (``docs/derivatives.md``, D12)
 
     ∂q̈/∂q = -M⁻¹ ∂τ/∂q,   ∂q̈/∂v = -M⁻¹ ∂τ/∂v,   ∂q̈/∂τ = M⁻¹
 
-with ∂τ/∂q and ∂τ/∂v of ``rnea_derivatives`` at that q̈ and M⁻¹ of ``minverse``. ∂τ/∂q is
+with ∂τ/∂q and ∂τ/∂v of ``rnea_derivatives`` at that q̈, which also gives M (its ∂τ/∂a),
+and M⁻¹ from that M by ``minverse``'s factorisation along the tree (M1-M4). ∂τ/∂q is
 sparse: its entry (k, l) is zero unless k and l lie on one branch, so the products run over
 the coordinates related to each column only.
 """
@@ -17,9 +18,7 @@ from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from .aba import aba_core
 from .aba import workspace_size as aba_workspace
-from .minverse import _workspace as minverse_workspace
-from .minverse import minverse_pass, mirror_upper
-from .minverse import workspace_size as minverse_size
+from .minverse import minverse_from_mass
 from .rnea_derivatives import _workspace as rnea_derivatives_workspace
 from .rnea_derivatives import rnea_derivatives_backward, rnea_derivatives_forward
 from .rnea_derivatives import workspace_size as rnea_derivatives_size
@@ -58,19 +57,19 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
     status = check_configuration(m, q)
     if status != OK:
         return status
-    qdd, o = ws.carve(ws.data_pointer(work), 0, (m.nv,))
-    D, o = ws.carve(ws.data_pointer(work), o, (3, m.nv, m.nv))
-    rest, _ = ws.carve(ws.data_pointer(work), o, (work.shape[0] - o,))
+    qdd, D, rest = _workspace(ws.data_pointer(work), m)
     status = aba_core(m, q, v, tau, f, qdd, option, rest)  # q̈
     if status != OK:
         return status
-    status = minverse_pass(m, q, dtau, minverse_workspace(ws.data_pointer(rest), m))
-    if status != OK:
-        return status
-    mirror_upper(dtau)  # M⁻¹
     k_ = rnea_derivatives_workspace(ws.data_pointer(rest), m)
     rnea_derivatives_forward(m, q, v, qdd, f, k_)
-    rnea_derivatives_backward(m, k_, D[0], D[1], D[2])  # ∂τ/∂q, ∂τ/∂v at q̈
+    rnea_derivatives_backward(m, k_, D[0], D[1], D[2])  # ∂τ/∂q, ∂τ/∂v and M at q̈
+    for i in range(m.nv):
+        for k in range(m.nv):
+            dtau[i, k] = D[2, i, k]
+    status = minverse_from_mass(m, dtau, qdd)  # M⁻¹ (M1-M4); q̈ is no longer needed
+    if status != OK:
+        return status
     times_minus_minv(m, dtau, D[0], D[2], dq)  # -M⁻¹ ∂τ/∂q (D12)
     times_minus_minv(m, dtau, D[1], D[2], dv)  # -M⁻¹ ∂τ/∂v
     status = check_result(dq)
@@ -81,17 +80,17 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
 
 @inline
 def workspace_size(n, nq, nv, nl):
-    return nv + 3 * nv * nv + max(aba_workspace(n, nq, nv, nl), minverse_size(n, nq, nv, nl),
+    return nv + 3 * nv * nv + max(aba_workspace(n, nq, nv, nl),
                                   rnea_derivatives_size(n, nq, nv, nl))
 
 
 @inline
 def _workspace(buf, m):
-    """q̈ (nv), ∂τ/∂q, ∂τ/∂v, M (3, nv, nv) (M's place then serves the products), then the
-    space the three passes share."""
+    """q̈ (nv) (then the scratch row of ``minverse_from_mass``), ∂τ/∂q, ∂τ/∂v, M (3, nv,
+    nv) (M's place then serves the products), then the space aba and the rnea derivatives
+    share."""
     qdd, o = ws.carve(buf, 0, (m.nv,))
     D, o = ws.carve(buf, o, (3, m.nv, m.nv))
-    size = max(aba_workspace(m.n, m.nq, m.nv, m.nl), minverse_size(m.n, m.nq, m.nv, m.nl),
-               rnea_derivatives_size(m.n, m.nq, m.nv, m.nl))
+    size = max(aba_workspace(m.n, m.nq, m.nv, m.nl), rnea_derivatives_size(m.n, m.nq, m.nv, m.nl))
     rest, o = ws.carve(buf, o, (size,))
     return qdd, D, rest

@@ -1,23 +1,24 @@
-"""The inverse mass matrix ``M(q)⁻¹`` from the articulated-body recursion, in O(n nv),
-without forming or factorising M (Pinocchio's ``computeMinverse``); ``docs/derivatives.md``
-derives it (M1-M4).
+"""The inverse mass matrix ``M(q)⁻¹`` from M (``crba``) and its factorisation along the tree;
+``docs/derivatives.md`` derives it (M1-M4).
 
-``q̈ = M⁻¹ τ`` is ABA (Algorithms 1 and 3) with no velocity and no gravity, and it is linear
-in τ: every quantity of the recursion is a matrix with one column per torque. In world
-coordinates (as in ``crba``) the articulated inertias add without moving. Backward pass
-(j = n..1), ``Î_j`` the articulated inertia (eq. 16's sum in one frame), ``F_j`` the bias
-wrench per torque column (nonzero on the coordinates of j's subtree):
+M has the sparsity of the kinematic tree (Featherstone's expanded tree, one node per
+velocity coordinate, ``dof_parent`` λ): ``M[k, i]`` for ``i < k`` is zero unless i
+supports k. Eliminating from the leaves keeps that pattern:
 
-    U_j = Î_j[S_j],   D_j = ⟨S_j, U_j⟩                                          (M1)
-    M⁻¹[j, j] = D_j⁻¹,   M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ for c below j           (M2)
-    F_λ[c] += F_j[c] + U_j M⁻¹[j, c],   Î_λ += Î_j - U_j D_j⁻¹ U_jᵀ
+    M = Lᵀ D L,   L unit lower triangular, L[k, i] ≠ 0 only for i supporting k         (M1)
+    for k = nv-1..0, i = λ(k), λ(λ(k)), ...:
+        L[k, i] = M[k, i] / D_k,   M[i, j] -= L[k, i] M[k, j]   (j = i, λ(i), ...)     (M2)
 
-Forward pass (j = 1..n), ``A_j[c]`` the acceleration of body j per torque column, written
-over F_j for the columns c from j on:
+with ``D_k`` the diagonal left once k's descendants are eliminated (Featherstone's LTDL).
+Then ``Z = M⁻¹`` solves ``L Z = D⁻¹ L⁻ᵀ``, whose right side is upper triangular with
+diagonal ``D⁻¹``; row by row, k = 0..nv-1, from the rows of the coordinates supporting k:
 
-    M⁻¹[j, c] -= ⟨D_j⁻¹ U_j, A_λ[c]⟩,   A_j[c] = A_λ[c] + S_j M⁻¹[j, c]          (M3)
+    Z[k, c] = -Σ_{i supports k} L[k, i] Z[i, c]                  for c < k         (M3)
+    Z[k, k] = D_k⁻¹ - Σ_{i supports k} L[k, i] Z[k, i],   Z[c, k] = Z[k, c]           (M4)
 
-The entries at and after j's own coordinates make the upper triangle, mirrored (M4).
+The cost beyond crba is ``Σ_k k d_k`` (``d_k`` the number of coordinates supporting k), and
+every entry is written once, where the articulated-body recursion (Pinocchio's
+``computeMinverse``) carries a 6-vector per column through every joint.
 """
 
 from __future__ import annotations
@@ -25,156 +26,96 @@ from __future__ import annotations
 import math
 
 from .._jit import core, inline
-from ..kernels import dot, inertia_apply
-from ..kernels.rigid import rigid_frame, rigid_matrix, rigid_move_inertia, rigid_move_twist
 from . import _workspace as ws
-from ._checks import check_configuration, check_result
-from ._dense import spd_inverse
-from .aba import _articulated
-from .kinematics import world_motors
+from ._checks import check_result
+from .crba import crba_core
+from .crba import workspace_size as crba_size
 from .status import OK, SINGULAR, fault
 
 
 @inline
-def minverse_pass(m, q, Minv, k_):
-    """``Minv`` (nv, nv) into its upper triangle; a status. ``k_`` the workspace arrays."""
-    Mw, M, Ih, par, F, Sw, U, G, D, Dinv, It, t1, tmp8, c, s = k_
-    nv = m.nv
-    world_motors(m, q, c, s, tmp8, M, Mw)
-    for j in range(m.n):
-        r, p = rigid_frame(Mw[j])
-        for k in range(m.iv[j], m.iv[j + 1]):
-            rigid_move_twist(r, p, m.S[k], Sw[k])  # S_j in the world (eq. 4)
-        rigid_move_inertia(r, p, m.inertias[j], par)  # I_j in the world (eq. 16)
-        rigid_matrix(par, Ih[j])  # Î_j = I_j
-    for i in range(nv):
-        for k in range(nv):
-            Minv[i, k] = 0.0
-    for j in range(m.n):  # the bias columns each joint's children add into
-        for col in range(m.iv[j], m.subtree_end[j]):
-            for i in range(6):
-                F[j, col, i] = 0.0
-    for j in range(m.n - 1, -1, -1):
-        k0, k1, end = m.iv[j], m.iv[j + 1], m.subtree_end[j]
-        for k in range(k0, k1):
-            inertia_apply(Ih[j], Sw[k], U[k])  # U_j = Î_j[S_j] (M1)
-        omega = 0.0
-        if k1 - k0 == 1:
-            d = -dot(Sw[k0], U[k0])  # D_j = ⟨S_j, U_j⟩
-            omega = 1.0 / d
-            if not (d > 0.0 and math.isfinite(omega)):
-                return fault(SINGULAR, j)
-            Dinv[0, 0] = omega
-        else:
-            for a in range(k0, k1):
-                for b in range(k0, k1):
-                    D[a - k0, b - k0] = -dot(Sw[a], U[b])
-            if not spd_inverse(D, k1 - k0, Dinv):
-                return fault(SINGULAR, j)
-        for a in range(k0, k1):
-            for i in range(6):
-                G[a, i] = 0.0
-            for b in range(k0, k1):
-                w = Dinv[a - k0, b - k0]
-                Minv[a, b] = w  # M⁻¹[j, j] = D_j⁻¹ (M2)
-                for i in range(6):
-                    G[a, i] += w * U[b, i]  # D_j⁻¹ U_j
-        parent = m.parents[j]
-        if k1 - k0 == 1:  # one coordinate: the same with a number for D_j⁻¹
-            for col in range(k1, end):  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
-                Minv[k0, col] = omega * dot(Sw[k0], F[j, col])
-            if parent >= 0:
-                for col in range(k0, end):  # F_λ[c] += F_j[c] + U_j M⁻¹[j, c] (M2)
-                    x = Minv[k0, col]
-                    for i in range(6):
-                        F[parent, col, i] += F[j, col, i] + U[k0, i] * x
-        else:
-            for col in range(k1, end):  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
-                for b in range(k0, k1):
-                    t1[b - k0] = dot(Sw[b], F[j, col])  # -⟨S_j, F_j[c]⟩
-                for a in range(k0, k1):
-                    x = 0.0
-                    for b in range(k0, k1):
-                        x += Dinv[a - k0, b - k0] * t1[b - k0]
-                    Minv[a, col] = x
-            if parent >= 0:
-                for col in range(k0, end):  # F_λ[c] += F_j[c] + U_j M⁻¹[j, c] (M2)
-                    for i in range(6):
-                        x = F[j, col, i]
-                        for a in range(k0, k1):
-                            x += U[a, i] * Minv[a, col]
-                        F[parent, col, i] += x
-        if parent >= 0:
-            _articulated(Ih[j], U, G, k0, k1, It)  # Ĩ_j = Î_j - U_j D_j⁻¹ U_jᵀ
-            for i in range(6):
-                for k in range(6):
-                    Ih[parent, i, k] += It[i, k]  # Î_λ += Ĩ_j, one frame: a sum (M2)
-    for j in range(m.n):
-        k0, k1 = m.iv[j], m.iv[j + 1]
-        parent = m.parents[j]
-        if parent >= 0 and k1 - k0 == 1:  # one coordinate, below another joint
-            for col in range(k0, nv):
-                x = Minv[k0, col] + dot(G[k0], F[parent, col])  # -⟨D⁻¹U_j, A_λ[c]⟩ (M3)
-                Minv[k0, col] = x
-                for i in range(6):
-                    F[j, col, i] = F[parent, col, i] + Sw[k0, i] * x  # A_λ[c] + S_j M⁻¹[j, c]
-            continue
-        for col in range(k0, nv):
-            if parent >= 0:
-                for a in range(k0, k1):
-                    Minv[a, col] += dot(G[a], F[parent, col])  # -⟨D⁻¹U_j, A_λ[c]⟩ (M3)
-            for i in range(6):
-                x = F[parent, col, i] if parent >= 0 else 0.0
-                for a in range(k0, k1):
-                    x += Sw[a, i] * Minv[a, col]
-                F[j, col, i] = x  # A_j[c] = A_λ[c] + S_j M⁻¹[j, c]
-    return OK
+def ltdl(m, H):
+    """``H = M`` into ``Lᵀ D L`` in place (M1, M2): L below the diagonal, D on it; the rest
+    of the lower triangle (pairs on different branches) stays as it was (zero). Returns -1,
+    or the first coordinate whose pivot is not positive."""
+    par = m.dof_parent
+    for k in range(m.nv - 1, -1, -1):
+        d = H[k, k]
+        if not (d > 0.0 and math.isfinite(d)):
+            return k
+        i = par[k]
+        while i >= 0:
+            a = H[k, i] / d  # L[k, i] (M2)
+            j = i
+            while j >= 0:
+                H[i, j] -= a * H[k, j]  # M[i, j] -= L[k, i] M[k, j]
+                j = par[j]
+            H[k, i] = a
+            i = par[i]
+    return -1
 
 
 @inline
-def mirror_upper(X):
-    """Copy the upper triangle of a square matrix onto its lower triangle (M4)."""
-    for i in range(X.shape[0]):
-        for k in range(i):
-            X[i, k] = X[k, i]
+def ltdl_inverse(m, H, lk):
+    """``H = Lᵀ D L`` (``ltdl``'s result) into ``M⁻¹``, full and symmetric, in place (M3,
+    M4); ``lk`` (nv) scratch for the L entries of one row, which that row's result
+    overwrites."""
+    par = m.dof_parent
+    for k in range(m.nv):
+        i = par[k]
+        n = 0
+        while i >= 0:
+            lk[n] = H[k, i]  # L[k, i], i supporting k
+            n += 1
+            i = par[i]
+        x = 1.0 / H[k, k]  # D_k⁻¹
+        if n > 0:
+            i = par[k]
+            a = lk[0]
+            for c in range(k):
+                H[k, c] = -a * H[i, c]  # Z[k, c] = -Σ L[k, i] Z[i, c] (M3)
+            for t in range(1, n):
+                i = par[i]
+                a = lk[t]
+                for c in range(k):
+                    H[k, c] -= a * H[i, c]
+            i = par[k]
+            for t in range(n):
+                x -= lk[t] * H[k, i]  # Z[k, k] = D_k⁻¹ - Σ L[k, i] Z[k, i] (M4)
+                i = par[i]
+        else:
+            for c in range(k):  # a root coordinate: no coordinate supports it
+                H[k, c] = 0.0
+        H[k, k] = x
+        for c in range(k):
+            H[c, k] = H[k, c]  # Z[c, k] = Z[k, c] (M4)
+
+
+@inline
+def minverse_from_mass(m, H, lk):
+    """``H = M`` into ``M⁻¹`` in place (M1-M4); a status (a singular joint when a pivot
+    is not positive)."""
+    k = ltdl(m, H)
+    if k >= 0:
+        return fault(SINGULAR, m.dof_joint[k])
+    ltdl_inverse(m, H, lk)
+    return OK
 
 
 @core
 def minverse_core(m, q, Minv, option, work):
     """``Minv = M(q)⁻¹`` (nv, nv), full and symmetric."""
-    status = check_configuration(m, q)
+    lk, o = ws.carve(ws.data_pointer(work), 0, (m.nv,))
+    rest, _ = ws.carve(ws.data_pointer(work), o, (work.shape[0] - o,))
+    status = crba_core(m, q, Minv, option, rest)  # M (checks q and that M is finite)
     if status != OK:
         return status
-    status = minverse_pass(m, q, Minv, _workspace(ws.data_pointer(work), m))
+    status = minverse_from_mass(m, Minv, lk)
     if status != OK:
         return status
-    mirror_upper(Minv)
     return check_result(Minv)
 
 
 @inline
 def workspace_size(n, nq, nv, nl):
-    return 52 * n + 6 * n * nv + 18 * nv + 2 * nq + 132
-
-
-@inline
-def _workspace(buf, m):
-    """Mw, M (n, 8), Î (n, 6, 6), par (10), F (n, nv, 6) (a wrench or twist per column),
-    Sw, U, G (nv, 6), D, D⁻¹, Ĩ (6, 6), t1 (6), tmp8 (8), the joint motors' scalars c, s
-    (nq)."""
-    Mw, o = ws.carve(buf, 0, (m.n, 8))
-    M, o = ws.carve(buf, o, (m.n, 8))
-    Ih, o = ws.carve(buf, o, (m.n, 6, 6))
-    par, o = ws.carve(buf, o, (10,))
-    F, o = ws.carve(buf, o, (m.n, m.nv, 6))
-    Sw, o = ws.carve(buf, o, (m.nv, 6))
-    U, o = ws.carve(buf, o, (m.nv, 6))
-    G, o = ws.carve(buf, o, (m.nv, 6))
-    D, o = ws.carve(buf, o, (6, 6))
-    Dinv, o = ws.carve(buf, o, (6, 6))
-    It, o = ws.carve(buf, o, (6, 6))
-    t1, o = ws.carve(buf, o, (6,))
-    tmp8, o = ws.carve(buf, o, (8,))
-    c, o = ws.carve(buf, o, (m.nq,))
-    s, o = ws.carve(buf, o, (m.nq,))
-    return Mw, M, Ih, par, F, Sw, U, G, D, Dinv, It, t1, tmp8, c, s
+    return nv + crba_size(n, nq, nv, nl)
