@@ -26,29 +26,40 @@ from .status import OK
 
 
 @inline
-def times_minus_minv(m, Minv, D, T, out):
-    """``out = -M⁻¹ D`` for a ∂τ matrix D. Row l of ``T = outᵀ = -Dᵀ M⁻¹`` (M⁻¹ symmetric)
-    sums the rows of M⁻¹ over the coordinates k related to l only (D[k, l] is zero unless k
-    and l lie on one branch: those of l's joint's subtree and of the joints above it), each
-    a contiguous row; ``T`` (nv, nv) scratch."""
+def times_minus_minv(m, Minv, Dq, Dv, outq, outv):
+    """``outq = -M⁻¹ Dq`` and ``outv = -M⁻¹ Dv`` for the ∂τ matrices Dq, Dv (D12). Row l of
+    the transposes ``-Dᵀ M⁻¹`` (M⁻¹ symmetric) sums the rows of M⁻¹ over the coordinates k
+    related to l only (D[k, l] is zero unless k and l lie on one branch: those of l's
+    joint's subtree and of the joints above it), each a contiguous row read once for both
+    products; the outputs hold the transposes, then are transposed in place."""
     nv = m.nv
     for l in range(nv):
+        tq = outq[l]
+        tv = outv[l]
         for i in range(nv):
-            T[l, i] = 0.0
+            tq[i] = 0.0
+            tv[i] = 0.0
         j = m.dof_joint[l]
         for k in range(m.iv[j], m.subtree_end[j]):  # l's joint and below
-            x = D[k, l]
+            x = Dq[k, l]
+            y = Dv[k, l]
+            r = Minv[k]
             for i in range(nv):
-                T[l, i] -= x * Minv[k, i]
+                tq[i] -= x * r[i]
+                tv[i] -= y * r[i]
         k = m.dof_parent[m.iv[j]]
         while k >= 0:  # the joints above
-            x = D[k, l]
+            x = Dq[k, l]
+            y = Dv[k, l]
+            r = Minv[k]
             for i in range(nv):
-                T[l, i] -= x * Minv[k, i]
+                tq[i] -= x * r[i]
+                tv[i] -= y * r[i]
             k = m.dof_parent[k]
     for i in range(nv):
-        for l in range(nv):
-            out[i, l] = T[l, i]
+        for l in range(i):
+            outq[i, l], outq[l, i] = outq[l, i], outq[i, l]
+            outv[i, l], outv[l, i] = outv[l, i], outv[i, l]
 
 
 @core
@@ -63,15 +74,11 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
         return status
     k_ = rnea_derivatives_workspace(ws.data_pointer(rest), m)
     rnea_derivatives_forward(m, q, v, qdd, f, k_)
-    rnea_derivatives_backward(m, k_, D[0], D[1], D[2])  # ∂τ/∂q, ∂τ/∂v and M at q̈
-    for i in range(m.nv):
-        for k in range(m.nv):
-            dtau[i, k] = D[2, i, k]
+    rnea_derivatives_backward(m, k_, D[0], D[1], dtau)  # ∂τ/∂q, ∂τ/∂v at q̈, and M
     status = minverse_from_mass(m, dtau, qdd)  # M⁻¹ (M1-M4); q̈ is no longer needed
     if status != OK:
         return status
-    times_minus_minv(m, dtau, D[0], D[2], dq)  # -M⁻¹ ∂τ/∂q (D12)
-    times_minus_minv(m, dtau, D[1], D[2], dv)  # -M⁻¹ ∂τ/∂v
+    times_minus_minv(m, dtau, D[0], D[1], dq, dv)  # -M⁻¹ ∂τ/∂q, -M⁻¹ ∂τ/∂v (D12)
     status = check_result(dq)
     if status == OK:
         status = check_result(dv)
@@ -80,17 +87,16 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
 
 @inline
 def workspace_size(n, nq, nv, nl):
-    return nv + 3 * nv * nv + max(aba_workspace(n, nq, nv, nl),
+    return nv + 2 * nv * nv + max(aba_workspace(n, nq, nv, nl),
                                   rnea_derivatives_size(n, nq, nv, nl))
 
 
 @inline
 def _workspace(buf, m):
-    """q̈ (nv) (then the scratch row of ``minverse_from_mass``), ∂τ/∂q, ∂τ/∂v, M (3, nv,
-    nv) (M's place then serves the products), then the space aba and the rnea derivatives
-    share."""
+    """q̈ (nv) (then the scratch row of ``minverse_from_mass``), ∂τ/∂q, ∂τ/∂v (2, nv, nv),
+    then the space aba and the rnea derivatives share."""
     qdd, o = ws.carve(buf, 0, (m.nv,))
-    D, o = ws.carve(buf, o, (3, m.nv, m.nv))
+    D, o = ws.carve(buf, o, (2, m.nv, m.nv))
     size = max(aba_workspace(m.n, m.nq, m.nv, m.nl), rnea_derivatives_size(m.n, m.nq, m.nv, m.nl))
     rest, o = ws.carve(buf, o, (size,))
     return qdd, D, rest
