@@ -5,8 +5,10 @@ differentiating at ``q̈ = aba(q, v, τ)`` gives (``docs/derivatives.md``, D12)
 
     ∂q̈/∂q = -M⁻¹ ∂τ/∂q,   ∂q̈/∂v = -M⁻¹ ∂τ/∂v,   ∂q̈/∂τ = M⁻¹
 
-with ∂τ/∂q and ∂τ/∂v of ``rnea_derivatives`` at that q̈, which also gives M (its ∂τ/∂a),
-and M⁻¹ from that M by ``minverse``'s factorisation along the tree (M1-M4). ∂τ/∂q is
+with ∂τ/∂q and ∂τ/∂v of ``rnea_derivatives`` at that q̈. q̈ itself comes without ABA
+(D13): the forward pass of the rnea derivatives at q̈ = 0 gives M and the bias, q̈ solves
+``M q̈ = τ - τ(q, v, 0)`` by M's factorisation along the tree (M1, M2), which then gives
+M⁻¹ (M3, M4), and the acceleration's part is added to that forward pass. ∂τ/∂q is
 sparse: its entry (k, l) is zero unless k and l lie on one branch, so the products run over
 the coordinates related to each column only.
 """
@@ -139,7 +141,7 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
     """``dq = ∂q̈/∂q``, ``dv = ∂q̈/∂v``, ``dtau = ∂q̈/∂τ = M⁻¹`` (nv, nv) of one sample.
 
     q̈ without ABA: the forward pass of the rnea derivatives at q̈ = 0 gives M and the bias
-    ``τ(q, v, 0)``, so ``q̈ = M⁻¹ (τ - τ(q, v, 0))`` from M's factorisation (M1, M2), which
+    ``τ(q, v, 0)``, so ``q̈ = M⁻¹ (τ - τ(q, v, 0))`` (D13) from M's factorisation (M1, M2), which
     then gives M⁻¹ as well (M3, M4); the forward quantities that involve the acceleration
     are completed with q̈'s part, and the backward pass runs at q̈."""
     status = check_configuration(m, q)
@@ -156,7 +158,7 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
         return fault(SINGULAR, m.dof_joint[k])
     for k in range(m.nv):
         x[k] = tau[k] - b[k]
-    ltdl_solve(m, dtau, x)  # q̈ = M⁻¹ (τ - τ(q, v, 0))
+    ltdl_solve(m, dtau, x)  # q̈ = M⁻¹ (τ - τ(q, v, 0)) (D13)
     accelerate(m, k_, x, Aq)  # the forward pass at q̈
     rnea_derivatives_backward(m, k_, D[0], D[1], D[2])  # ∂τ/∂q, ∂τ/∂v at q̈
     ltdl_inverse(m, dtau, x)  # M⁻¹ (M3, M4); q̈ is no longer needed
