@@ -160,7 +160,7 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
         x[k] = tau[k] - b[k]
     ltdl_solve(m, dtau, x)  # q̈ = M⁻¹ (τ - τ(q, v, 0)) (D13)
     accelerate(m, k_, x, Aq)  # the forward pass at q̈
-    rnea_derivatives_backward(m, k_, D[0], D[1], D[2])  # ∂τ/∂q, ∂τ/∂v at q̈
+    rnea_derivatives_backward(m, k_, D[0], D[1], D[0, :0])  # ∂τ/∂q, ∂τ/∂v at q̈ (M known)
     ltdl_inverse(m, dtau, x)  # M⁻¹ (M3, M4); q̈ is no longer needed
     times_minus_minv(m, dtau, D[0], D[1], dq, dv)  # -M⁻¹ ∂τ/∂q, -M⁻¹ ∂τ/∂v (D12)
     status = check_result(dtau)
@@ -173,17 +173,17 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
 
 @inline
 def workspace_size(n, nq, nv, nl):
-    return 2 * nv + 3 * nv * nv + 22 * n + rnea_derivatives_size(n, nq, nv, nl)
+    return 2 * nv + 2 * nv * nv + 22 * n + rnea_derivatives_size(n, nq, nv, nl)
 
 
 @inline
 def _workspace(buf, m):
     """q̈ (nv) (zero, then q̈, then the scratch row of ``ltdl_inverse``), the bias b (nv),
-    ∂τ/∂q, ∂τ/∂v and M again (3, nv, nv), the composites' copies Ic (n, 10) and Fc (n, 6),
+    ∂τ/∂q, ∂τ/∂v (2, nv, nv), the composites' copies Ic (n, 10) and Fc (n, 6),
     q̈'s part of the accelerations Aq (n, 6), then the rnea derivatives' space."""
     x, o = ws.carve(buf, 0, (m.nv,))
     b, o = ws.carve(buf, o, (m.nv,))
-    D, o = ws.carve(buf, o, (3, m.nv, m.nv))
+    D, o = ws.carve(buf, o, (2, m.nv, m.nv))
     Ic, o = ws.carve(buf, o, (m.n, 10))
     Fc, o = ws.carve(buf, o, (m.n, 6))
     Aq, o = ws.carve(buf, o, (m.n, 6))
