@@ -29,7 +29,7 @@ import numpy as np
 
 from .. import distributed
 from ..multibody.packed import DEFAULT_GRAVITY
-from . import _entries, _inputs
+from . import _entries, _inputs, _pool
 from .errors import explain
 from .table import ALGORITHMS, SIZES
 
@@ -72,8 +72,10 @@ class Entry:
                 self.registered = True
 
     def outputs(self, model, batch: tuple[int, ...]) -> list[np.ndarray]:
+        """Uninitialised outputs; a batch's large ones from ``_pool``."""
         sizes = {"n": model.njoints, "nq": model.nq, "nv": model.nv, "nl": model.nlinks}
-        return [np.empty(batch + tuple(sizes.get(d, d) for d in dims))
+        new = _pool.empty if batch else np.empty
+        return [new(batch + tuple(sizes.get(d, d) for d in dims))
                 for dims in self.algorithm.outputs]
 
     def one(self, model, packed, x: tuple, f, option: int):

@@ -105,8 +105,7 @@ def minverse_from_mass(m, H, lk):
 @core
 def minverse_core(m, q, Minv, option, work):
     """``Minv = M(q)⁻¹`` (nv, nv), full and symmetric."""
-    lk, o = ws.carve(ws.data_pointer(work), 0, (m.nv,))
-    rest, _ = ws.carve(ws.data_pointer(work), o, (work.shape[0] - o,))
+    lk, rest = _workspace(ws.data_pointer(work), m)
     status = crba_core(m, q, Minv, option, rest)  # M (checks q and that M is finite)
     if status != OK:
         return status
@@ -119,3 +118,11 @@ def minverse_core(m, q, Minv, option, work):
 @inline
 def workspace_size(n, nq, nv, nl):
     return nv + crba_size(n, nq, nv, nl)
+
+
+@inline
+def _workspace(buf, m):
+    """One row of L (nv), then crba's workspace."""
+    lk, o = ws.carve(buf, 0, (m.nv,))
+    rest, o = ws.carve(buf, o, (crba_size(m.n, m.nq, m.nv, m.nl),))
+    return lk, rest
