@@ -5,7 +5,10 @@ differentiating at ``q̈ = aba(q, v, τ)`` gives (``docs/derivatives.md``, D12)
 
     ∂q̈/∂q = -M⁻¹ ∂τ/∂q,   ∂q̈/∂v = -M⁻¹ ∂τ/∂v,   ∂q̈/∂τ = M⁻¹
 
-with ∂τ/∂q and ∂τ/∂v of ``rnea_derivatives`` at that q̈ and M⁻¹ of ``minverse``. ∂τ/∂q is
+with ∂τ/∂q and ∂τ/∂v of ``rnea_derivatives`` at that q̈. q̈ itself comes without ABA
+(D13): the forward pass of the rnea derivatives at q̈ = 0 gives M and the bias, q̈ solves
+``M q̈ = τ - τ(q, v, 0)`` by M's factorisation along the tree (L1, L2), which then gives
+M⁻¹ (L3, L4), and the acceleration's part is added to that forward pass. ∂τ/∂q is
 sparse: its entry (k, l) is zero unless k and l lie on one branch, so the products run over
 the coordinates related to each column only.
 """
@@ -13,67 +16,137 @@ the coordinates related to each column only.
 from __future__ import annotations
 
 from .._jit import core, inline
+from ..kernels import dot, twist_cross
+from ..kernels.rigid import rigid_apply
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
-from .aba import aba_core
-from .aba import workspace_size as aba_workspace
-from .minverse import _workspace as minverse_workspace
-from .minverse import minverse_pass, mirror_upper
-from .minverse import workspace_size as minverse_size
+from .ltdl import ltdl, ltdl_inverse, ltdl_solve
 from .rnea_derivatives import _workspace as rnea_derivatives_workspace
 from .rnea_derivatives import rnea_derivatives_backward, rnea_derivatives_forward
 from .rnea_derivatives import workspace_size as rnea_derivatives_size
-from .status import OK
+from .status import OK, SINGULAR, fault
 
 
 @inline
-def times_minus_minv(m, Minv, D, T, out):
-    """``out = -M⁻¹ D`` for a ∂τ matrix D. Row l of ``T = outᵀ = -Dᵀ M⁻¹`` (M⁻¹ symmetric)
-    sums the rows of M⁻¹ over the coordinates k related to l only (D[k, l] is zero unless k
-    and l lie on one branch: those of l's joint's subtree and of the joints above it), each
-    a contiguous row; ``T`` (nv, nv) scratch."""
+def times_minus_minv(m, Minv, Dq, Dv, outq, outv):
+    """``outq = -M⁻¹ Dq`` and ``outv = -M⁻¹ Dv`` for the ∂τ matrices Dq, Dv (D12). Row l of
+    the transposes ``-Dᵀ M⁻¹`` (M⁻¹ symmetric) sums the rows of M⁻¹ over the coordinates k
+    related to l only (D[k, l] is zero unless k and l lie on one branch: those of l's
+    joint's subtree and of the joints above it), each a contiguous row read once for both
+    products; the outputs hold the transposes, then are transposed in place."""
     nv = m.nv
     for l in range(nv):
+        tq = outq[l]
+        tv = outv[l]
         for i in range(nv):
-            T[l, i] = 0.0
+            tq[i] = 0.0
+            tv[i] = 0.0
         j = m.dof_joint[l]
         for k in range(m.iv[j], m.subtree_end[j]):  # l's joint and below
-            x = D[k, l]
+            x = Dq[k, l]
+            y = Dv[k, l]
+            r = Minv[k]
             for i in range(nv):
-                T[l, i] -= x * Minv[k, i]
+                tq[i] -= x * r[i]
+                tv[i] -= y * r[i]
         k = m.dof_parent[m.iv[j]]
         while k >= 0:  # the joints above
-            x = D[k, l]
+            x = Dq[k, l]
+            y = Dv[k, l]
+            r = Minv[k]
             for i in range(nv):
-                T[l, i] -= x * Minv[k, i]
+                tq[i] -= x * r[i]
+                tv[i] -= y * r[i]
             k = m.dof_parent[k]
     for i in range(nv):
-        for l in range(nv):
-            out[i, l] = T[l, i]
+        for l in range(i):
+            outq[i, l], outq[l, i] = outq[l, i], outq[i, l]
+            outv[i, l], outv[l, i] = outv[l, i], outv[i, l]
+
+
+@inline
+def mass_and_bias(m, k_, Ic, Fc, H, b):
+    """From the forward pass at q̈ = 0: the lower triangle of M into ``H`` (D10) and the
+    torques of that pass ``b = τ(q, v, 0)`` (the bias, ``⟨S_k, F^c⟩``), with the
+    composites accumulated in the copies ``Ic`` (n, 10) and ``Fc`` (n, 6) (D7), so that
+    the body inertias and wrenches stay for the passes at q̈."""
+    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H_, t1, t2, tmp8, c, s = k_
+    for j in range(m.n):
+        for i in range(10):
+            Ic[j, i] = Iw[j, i]
+        for i in range(6):
+            Fc[j, i] = F[j, i]
+    for k in range(m.nv - 1, -1, -1):  # children come after their parents
+        j = m.dof_joint[k]
+        w = rigid_apply(Ic[j], Sw[k])  # I^c[S_k], I^c complete
+        i = k
+        while i >= 0:  # k and the coordinates supporting it
+            H[k, i] = -dot(Sw[i], w)  # M[k, i] = ⟨S_i, I^c[S_k]⟩ (D10)
+            i = m.dof_parent[i]
+        b[k] = -dot(Sw[k], Fc[j])  # τ_k = ⟨S_k, F^c⟩
+        p = m.parents[j]
+        if k == m.iv[j] and p >= 0:  # joint j done: its composites into the parent's
+            for i in range(10):
+                Ic[p, i] += Ic[j, i]
+            for i in range(6):
+                Fc[p, i] += Fc[j, i]
+
+
+@inline
+def accelerate(m, k_, qdd, Aq):
+    """Add q̈'s part to the forward pass run at q̈ = 0: ``A_j += Aq_j`` with ``Aq_j = Aq_λ +
+    S_j q̈_j`` (D2; the velocity products do not involve q̈), ``ψ_k += Aq_λ × S_k`` (D4)
+    and ``F_j += I_j[Aq_j]`` (eq. 15); every one is linear in the acceleration."""
+    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H, t1, t2, tmp8, c, s = k_
+    for j in range(m.n):
+        p = m.parents[j]
+        k0, k1 = m.iv[j], m.iv[j + 1]
+        for i in range(6):
+            x = Aq[p, i] if p >= 0 else 0.0
+            for k in range(k0, k1):
+                x += qdd[k] * Sw[k, i]
+            Aq[j, i] = x
+            A[j, i] += x
+        w = rigid_apply(Iw[j], Aq[j])
+        for i in range(6):
+            F[j, i] += w[i]
+        if p >= 0:
+            for k in range(k0, k1):
+                twist_cross(Aq[p], Sw[k], t1)
+                for i in range(6):
+                    Psi[k, i] += t1[i]
 
 
 @core
 def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
-    """``dq = ∂q̈/∂q``, ``dv = ∂q̈/∂v``, ``dtau = ∂q̈/∂τ = M⁻¹`` (nv, nv) of one sample."""
+    """``dq = ∂q̈/∂q``, ``dv = ∂q̈/∂v``, ``dtau = ∂q̈/∂τ = M⁻¹`` (nv, nv) of one sample.
+
+    q̈ without ABA: the forward pass of the rnea derivatives at q̈ = 0 gives M and the bias
+    ``τ(q, v, 0)``, so ``q̈ = M⁻¹ (τ - τ(q, v, 0))`` (D13) from M's factorisation (L1, L2), which
+    then gives M⁻¹ as well (L3, L4); the forward quantities that involve the acceleration
+    are completed with q̈'s part, and the backward pass runs at q̈."""
     status = check_configuration(m, q)
     if status != OK:
         return status
-    qdd, o = ws.carve(ws.data_pointer(work), 0, (m.nv,))
-    D, o = ws.carve(ws.data_pointer(work), o, (3, m.nv, m.nv))
-    rest, _ = ws.carve(ws.data_pointer(work), o, (work.shape[0] - o,))
-    status = aba_core(m, q, v, tau, f, qdd, option, rest)  # q̈
-    if status != OK:
-        return status
-    status = minverse_pass(m, q, dtau, minverse_workspace(ws.data_pointer(rest), m))
-    if status != OK:
-        return status
-    mirror_upper(dtau)  # M⁻¹
+    x, b, D, Ic, Fc, Aq, rest = _workspace(ws.data_pointer(work), m)
+    for k in range(m.nv):
+        x[k] = 0.0
     k_ = rnea_derivatives_workspace(ws.data_pointer(rest), m)
-    rnea_derivatives_forward(m, q, v, qdd, f, k_)
-    rnea_derivatives_backward(m, k_, D[0], D[1], D[2])  # ∂τ/∂q, ∂τ/∂v at q̈
-    times_minus_minv(m, dtau, D[0], D[2], dq)  # -M⁻¹ ∂τ/∂q (D12)
-    times_minus_minv(m, dtau, D[1], D[2], dv)  # -M⁻¹ ∂τ/∂v
-    status = check_result(dq)
+    rnea_derivatives_forward(m, q, v, x, f, k_)  # at q̈ = 0
+    mass_and_bias(m, k_, Ic, Fc, dtau, b)  # M, τ(q, v, 0)
+    k = ltdl(m, dtau)  # M = Lᵀ D L (L1, L2)
+    if k >= 0:
+        return fault(SINGULAR, m.dof_joint[k])
+    for k in range(m.nv):
+        x[k] = tau[k] - b[k]
+    ltdl_solve(m, dtau, x)  # q̈ = M⁻¹ (τ - τ(q, v, 0)) (D13)
+    accelerate(m, k_, x, Aq)  # the forward pass at q̈
+    rnea_derivatives_backward(m, k_, D[0], D[1], D[0, :0])  # ∂τ/∂q, ∂τ/∂v at q̈ (M known)
+    ltdl_inverse(m, dtau, x)  # M⁻¹ (L3, L4); q̈ is no longer needed
+    times_minus_minv(m, dtau, D[0], D[1], dq, dv)  # -M⁻¹ ∂τ/∂q, -M⁻¹ ∂τ/∂v (D12)
+    status = check_result(dtau)
+    if status == OK:
+        status = check_result(dq)
     if status == OK:
         status = check_result(dv)
     return status
@@ -81,17 +154,20 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
 
 @inline
 def workspace_size(n, nq, nv, nl):
-    return nv + 3 * nv * nv + max(aba_workspace(n, nq, nv, nl), minverse_size(n, nq, nv, nl),
-                                  rnea_derivatives_size(n, nq, nv, nl))
+    return 2 * nv + 2 * nv * nv + 22 * n + rnea_derivatives_size(n, nq, nv, nl)
 
 
 @inline
 def _workspace(buf, m):
-    """q̈ (nv), ∂τ/∂q, ∂τ/∂v, M (3, nv, nv) (M's place then serves the products), then the
-    space the three passes share."""
-    qdd, o = ws.carve(buf, 0, (m.nv,))
-    D, o = ws.carve(buf, o, (3, m.nv, m.nv))
-    size = max(aba_workspace(m.n, m.nq, m.nv, m.nl), minverse_size(m.n, m.nq, m.nv, m.nl),
-               rnea_derivatives_size(m.n, m.nq, m.nv, m.nl))
+    """q̈ (nv) (zero, then q̈, then the scratch row of ``ltdl_inverse``), the bias b (nv),
+    ∂τ/∂q, ∂τ/∂v (2, nv, nv), the composites' copies Ic (n, 10) and Fc (n, 6),
+    q̈'s part of the accelerations Aq (n, 6), then the rnea derivatives' space."""
+    x, o = ws.carve(buf, 0, (m.nv,))
+    b, o = ws.carve(buf, o, (m.nv,))
+    D, o = ws.carve(buf, o, (2, m.nv, m.nv))
+    Ic, o = ws.carve(buf, o, (m.n, 10))
+    Fc, o = ws.carve(buf, o, (m.n, 6))
+    Aq, o = ws.carve(buf, o, (m.n, 6))
+    size = rnea_derivatives_size(m.n, m.nq, m.nv, m.nl)
     rest, o = ws.carve(buf, o, (size,))
-    return qdd, D, rest
+    return x, b, D, Ic, Fc, Aq, rest

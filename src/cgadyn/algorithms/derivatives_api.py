@@ -42,7 +42,8 @@ def aba_derivatives(model, q, v, tau, gravity=G, f_ext=None):
 
 
 def minverse(model, q) -> np.ndarray:
-    """``M(q)⁻¹``, full and symmetric, from the articulated-body recursion in O(n nv)."""
+    """``M(q)⁻¹``, full and symmetric, from the articulated-body recursion in O(n nv),
+    without forming M (``docs/derivatives.md``, M1-M5)."""
     out = fast(_MINV, model.packed, q, None, None, None, 0)
     if out.__class__ is np.ndarray:
         return out

@@ -117,13 +117,18 @@ def rnea_derivatives_forward(m, q, v, a, f, k_):
 
 @inline
 def rnea_derivatives_backward(m, k_, dq, dv, da):
-    """The backward pass: composites, P, Q, G, H, and the entries (D8-D11)."""
+    """The backward pass: composites, P, Q, G, H, and the entries (D8-D11); ``da`` (0, nv)
+    when M is not wanted."""
     Mw, M, V, A, h, F, Ic, Idc, Sw, U, Psi, Wv, P, Q, G, H, t1, t2, tmp8, c, s = k_
+    mass = da.shape[0] > 0
     for i in range(m.nv):  # entries of coordinates on different branches stay zero
         for k in range(m.nv):
             dq[i, k] = 0.0
             dv[i, k] = 0.0
-            da[i, k] = 0.0
+    if mass:
+        for i in range(m.nv):
+            for k in range(m.nv):
+                da[i, k] = 0.0
     for j in range(m.n - 1, -1, -1):  # children come after their parents: I^c_j complete
         k0, k1 = m.iv[j], m.iv[j + 1]
         for k in range(k0, k1):  # (D11)
@@ -144,14 +149,16 @@ def rnea_derivatives_backward(m, k_, dq, dv, da):
             for l in range(k0, k1):  # the joint's own coordinates: k at l's joint
                 dq[k, l] = _pair(Psi[l], P[k]) + _pair(U[l], Q[k])  # (D8)
                 dv[k, l] = _pair(Wv[l], P[k]) + _pair(Sw[l], Q[k])  # (D9)
-                da[k, l] = _pair(Sw[l], P[k])  # M (D10)
+                if mass:
+                    da[k, l] = _pair(Sw[l], P[k])  # M (D10)
             l = m.dof_parent[k0]
             while l >= 0:  # the coordinates of every joint above
                 dq[k, l] = _pair(Psi[l], P[k]) + _pair(U[l], Q[k])  # k below l (D8)
                 dq[l, k] = _pair(Sw[l], G[k])  # l above k
                 dv[k, l] = _pair(Wv[l], P[k]) + _pair(Sw[l], Q[k])  # (D9)
                 dv[l, k] = _pair(Sw[l], H[k])
-                da[k, l] = da[l, k] = _pair(Sw[l], P[k])  # (D10)
+                if mass:
+                    da[k, l] = da[l, k] = _pair(Sw[l], P[k])  # (D10)
                 l = m.dof_parent[l]
         parent = m.parents[j]
         if parent >= 0:  # the composites of the parent's subtree (D7)
