@@ -27,6 +27,10 @@ Every core called here (``aba_core``, ``rnea_core``, ``energy_core``) allocates 
 takes a workspace; each rollout owns one. Compiled code never raises: a rollout whose step
 fails (a fault of ABA, or a state that is no longer finite) stops there with a status, and
 the loop records how many steps it completed.
+
+The loop over steps computes no energy: ``energies`` computes the kinetic and potential
+energy of every state reached afterwards, in one parallel call over all states, when a
+``Trajectory``'s energy is first read (a rollout for control needs only q, v, q̈).
 """
 
 from __future__ import annotations
@@ -37,6 +41,7 @@ from numba import prange
 from .._jit import inline, parallel
 from ..algorithms import _workspace as ws
 from ..algorithms._checks import finite
+from ..algorithms._workspace import chunks
 from ..algorithms.aba import aba_core
 from ..algorithms.aba import workspace_size as aba_workspace
 from ..algorithms.energy import energy_core
@@ -131,8 +136,7 @@ def workspace_size(n, nq, nv, nl):
 @inline
 def core_workspace_size(n, nq, nv, nl):
     """The largest workspace of the cores a step calls, shared by them in turn."""
-    return max(aba_workspace(n, nq, nv, nl), rnea_workspace(n, nq, nv, nl),
-               energy_workspace(n, nq, nv, nl))
+    return max(aba_workspace(n, nq, nv, nl), rnea_workspace(n, nq, nv, nl))
 
 
 @inline
@@ -154,17 +158,17 @@ def _scratch(buf, m):
 
 
 @parallel
-def rollouts(packed, method, q0, v0, u, f, flags, gains, q_ref, v_ref, dt, Q, V, A, E,
+def rollouts(packed, method, q0, v0, u, f, flags, gains, q_ref, v_ref, dt, Q, V, A,
              completed, status):
     """``B = q0.shape[0]`` rollouts of ``Q.shape[1] - 1`` steps, in parallel.
 
     ``q0`` (B, nq), ``v0`` (B, nv); ``u`` the open-loop torques (1 or B, steps, nv);
     ``f`` wrenches (0, 1 or B, n, 6); ``gains`` (2, nv) ``K_p, K_d``;
     ``q_ref`` (B, nq), ``v_ref`` (B, nv). Writes ``Q`` (B, steps+1, nq), ``V``, ``A``
-    (B, steps+1, nv), ``E`` (B, steps+1, 2) the kinetic and potential energy, and per rollout
-    the steps ``completed`` and the ``status`` (0, or the fault that stopped it). The
-    acceleration at the last state takes the last open-loop torque. The outputs come in
-    filled with NaN; a rollout that stops leaves NaN after the last state it reached.
+    (B, steps+1, nv), and per rollout the steps ``completed`` and the ``status`` (0, or the
+    fault that stopped it). The acceleration at the last state takes the last open-loop
+    torque. The outputs come in filled with NaN; a rollout that stops leaves NaN after the
+    last state it reached.
     """
     m = unpack(packed)
     B, steps = Q.shape[0], Q.shape[1] - 1
@@ -180,7 +184,6 @@ def rollouts(packed, method, q0, v0, u, f, flags, gains, q_ref, v_ref, dt, Q, V,
         Qb = _rows(Q[b], steps + 1, mb.nq)
         Vb = _rows(V[b], steps + 1, mb.nv)
         Ab = _rows(A[b], steps + 1, mb.nv)
-        Eb = _rows(E[b], steps + 1, 2)
         ub = _rows(u[0], steps, mb.nv)  # shared by all rollouts, or
         if u.shape[0] > 1:
             ub = _rows(u[b], steps, mb.nv)  # this rollout's own
@@ -197,23 +200,18 @@ def rollouts(packed, method, q0, v0, u, f, flags, gains, q_ref, v_ref, dt, Q, V,
         s = OK
         done = 0
         for i in range(steps):
-            s = energy_core(mb, Qb[i], Vb[i], Eb[i], 0, work)
-            if s != OK:
-                break
             s = step(mb, method, Qb[i], Vb[i], ub[i], fb, ctrl, dt, Qb[i + 1], Vb[i + 1],
                      Ab[i], sc, work)
             if s != OK:
                 break
             done = i + 1
         if s == OK:
-            s = energy_core(mb, Qb[steps], Vb[steps], Eb[steps], 0, work)
-        if s == OK:
             s = closed_loop_acceleration(mb, Qb[steps], Vb[steps], ub[steps - 1], fb, ctrl,
                                          Ab[steps], sc, work)
         completed[b] = done
         status[b] = s
         if s != OK:
-            _blank(Qb, Vb, Ab, Eb, done)
+            _blank(Qb, Vb, Ab, done)
 
 
 @inline
@@ -223,11 +221,30 @@ def _rows(x, rows, cols):
 
 
 @inline
-def _blank(Q, V, A, E, done):
+def _blank(Q, V, A, done):
     """NaN in every entry after the last state reached (index ``done``), where a failed
     step may have written part of its result."""
     for i in range(done + 1, Q.shape[0]):
         Q[i, :] = np.nan
         V[i, :] = np.nan
         A[i, :] = np.nan
-        E[i, :] = np.nan
+
+
+@parallel
+def energies(packed, Q, V, last, E, threads):
+    """``E[b, i] = (T, U)`` (``energy_core``) of the states ``Q[b, i], V[b, i]`` that rollout
+    b reached, ``i <= last[b]``, in parallel chunks of the B (steps+1) states; ``E`` comes
+    in filled with NaN, which stays after each rollout's last state (and where a state's
+    energy is not finite)."""
+    m = unpack(packed)
+    B, rows = Q.shape[0], Q.shape[1]
+    size = energy_workspace(m.n, m.nq, m.nv, m.nl)
+    starts, stops = chunks(B * rows, threads)
+    for c in prange(starts.shape[0]):
+        mc = unpack(packed)
+        heap = np.empty(size)
+        work = ws.carve(ws.data_pointer(heap), 0, (size,))[0]
+        for r in range(starts[c], stops[c]):
+            b, i = r // rows, r % rows
+            if i <= last[b]:
+                energy_core(mc, Q[b, i], V[b, i], E[b, i], 0, work)  # a fault leaves NaN

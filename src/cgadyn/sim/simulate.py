@@ -9,6 +9,7 @@ from __future__ import annotations
 import numbers
 import warnings
 
+import numba
 import numpy as np
 
 from .. import distributed
@@ -18,8 +19,8 @@ from ..algorithms.calls import _PARALLEL
 from ..algorithms.status import NONFINITE_RESULT, QUATERNION, SINGULAR, decode
 from ..multibody.packed import DEFAULT_GRAVITY
 from .controllers import PD, GravityCompensation
-from .rollout import EULER, RK4, SEMI_IMPLICIT_EULER, rollouts
-from .trajectory import Trajectory
+from .rollout import EULER, RK4, SEMI_IMPLICIT_EULER, energies, rollouts
+from .trajectory import Deferred, Trajectory
 
 INTEGRATORS = {"rk4": RK4, "semi_implicit_euler": SEMI_IMPLICIT_EULER, "euler": EULER}
 
@@ -76,24 +77,37 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
 
     shape = (B, steps + 1)
     Q, V, A = (np.full(shape + (n,), np.nan) for n in (model.nq, model.nv, model.nv))
-    E = np.full(shape + (2,), np.nan)
     completed = np.zeros(B, dtype=np.int64)
     status = np.zeros(B, dtype=np.int64)
     with _PARALLEL:
         rollouts(packed, INTEGRATORS[integrator], q0, v0, u, f, flags, gains, q_ref, v_ref,
-                 dt, Q, V, A, E, completed, status)
+                 dt, Q, V, A, completed, status)
     message = _message(model, status, completed, dt, steps, batch)
     if message:
         warnings.warn(message, SimulationDiverged, stacklevel=2)
     t = dt * np.arange(steps + 1)
     diverged = status != 0
+    last = np.where(diverged, completed, steps)  # the last state each rollout reached
     if not batch:
-        end = steps + 1 if status[0] == 0 else completed[0] + 1
-        Q, V, A, E, t = Q[0, :end], V[0, :end], A[0, :end], E[0, :end], t[:end]
+        end = int(last[0]) + 1
+        Q, V, A, t = Q[0, :end], V[0, :end], A[0, :end], t[:end]
         completed, diverged = int(completed[0]), bool(diverged[0])
-    return Trajectory(t=t, q=Q, v=V, a=A, kinetic=E[..., 0], potential=E[..., 1],
+    deferred = Deferred(lambda: _energies(packed, Q, V, last))
+    return Trajectory(t=t, q=Q, v=V, a=A, kinetic=deferred, potential=deferred,
                       completed=completed, diverged=diverged,
                       dt=dt, integrator=integrator, message=message)
+
+
+def _energies(packed, Q, V, last):
+    """``(kinetic, potential)`` of the states ``Q``, ``V`` ((B, steps+1, ·), or one
+    rollout's (k, ·)) up to each rollout's ``last`` state, NaN after it: one parallel
+    compiled call (``rollout.energies``)."""
+    Q3, V3 = (np.ascontiguousarray(x.reshape((-1,) + x.shape[-2:])) for x in (Q, V))
+    E = np.full(Q3.shape[:2] + (2,), np.nan)
+    with _PARALLEL:
+        energies(packed, Q3, V3, np.asarray(last, dtype=np.int64), E, numba.get_num_threads())
+    E = E.reshape(Q.shape[:-1] + (2,))
+    return E[..., 0], E[..., 1]
 
 
 def _positive(dt) -> float:

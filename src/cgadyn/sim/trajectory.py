@@ -7,6 +7,46 @@ from dataclasses import dataclass
 import numpy as np
 
 
+class Deferred:
+    """Energies computed when first read: ``compute()`` returns ``(kinetic, potential)``,
+    called at most once (``simulate`` passes one, shared by both fields, so that a rollout
+    whose energy is never read does not pay for it)."""
+
+    def __init__(self, compute):
+        self._compute = compute
+        self._value = None
+
+    def value(self) -> tuple[np.ndarray, np.ndarray]:
+        if self._value is None:
+            self._value = self._compute()
+            self._compute = None
+        return self._value
+
+
+class _Energy:
+    """A field of ``Trajectory`` (``kinetic``, column 0, or ``potential``, column 1) given
+    either as an array or as a ``Deferred`` evaluated on first access (a dataclass field
+    whose default is a descriptor: ``__init__`` stores through ``__set__``)."""
+
+    def __init__(self, column: int):
+        self.column = column
+
+    def __set_name__(self, owner, name):
+        self.slot = "_" + name
+
+    def __get__(self, obj, owner=None):
+        if obj is None:
+            raise AttributeError(self.slot[1:])  # a required field: no default
+        value = obj.__dict__[self.slot]
+        if isinstance(value, Deferred):
+            value = value.value()[self.column]
+            obj.__dict__[self.slot] = value
+        return value
+
+    def __set__(self, obj, value):
+        obj.__dict__[self.slot] = value
+
+
 @dataclass(frozen=True)
 class Trajectory:
     """Rollouts of ``steps`` steps of ``dt`` from ``t = 0``.
@@ -21,14 +61,18 @@ class Trajectory:
     A rollout that stopped holds its states up to the last one reached: one rollout's
     arrays (and ``t``) are cut there, B rollouts keep their common length with NaN after
     each stop (``simulate`` also warns, ``SimulationDiverged``).
+
+    ``kinetic`` and ``potential`` from ``simulate`` are computed when one of them (or
+    ``energy``) is first read, from the states ``q``, ``v`` then held, in one parallel
+    compiled call over all states; the rollout itself computes no energy.
     """
 
     t: np.ndarray
     q: np.ndarray
     v: np.ndarray
     a: np.ndarray
-    kinetic: np.ndarray
-    potential: np.ndarray
+    kinetic: np.ndarray = _Energy(0)
+    potential: np.ndarray = _Energy(1)
     completed: int | np.ndarray
     diverged: bool | np.ndarray
     dt: float
