@@ -13,6 +13,11 @@ to zero (cgadyn and the Pinocchio loop have none of them), torques applied as
 fewer rollouts (it is the slowest by far) and compared per step. Time is the best of
 ``--repeat`` runs; the machine's load average is recorded, since it is shared.
 
+What is timed: ``cgadyn.simulate`` returns q, v and q̈ at every state, as the Pinocchio
+loop and MuJoCo do; a ``Trajectory`` computes its energies only when they are read, so the
+row "cgadyn.simulate, then Trajectory.energy" times the same rollouts with the energy of
+every state read afterwards (one more parallel compiled call), for reference.
+
 Run:  python validation/simulate_benchmark.py [--rollouts 1024] [--steps 1000]
       [--pin-rollouts 16] [--repeat 3] [--dask-rollouts 256]
 """
@@ -36,6 +41,7 @@ from cgadyn.multibody import registry
 
 RESULTS = Path(__file__).resolve().parent / "results"
 DT = 1e-3
+ENERGY = "cgadyn.simulate, then Trajectory.energy (every state)"
 
 
 def best(fn, repeat: int) -> float:
@@ -121,8 +127,13 @@ def main() -> None:
         numba.set_num_threads(t)
         cgadyn.simulate(model, q0, v0, DT, H, tau=taus)
 
+    def cgadyn_energy_case(t):
+        numba.set_num_threads(t)
+        return cgadyn.simulate(model, q0, v0, DT, H, tau=taus).energy
+
     for t in threads:
         cases[("cgadyn.simulate", t, B)] = lambda t=t: cgadyn_case(t)
+        cases[(ENERGY, t, B)] = lambda t=t: cgadyn_energy_case(t)
     cases[("Python loop over pin.aba (RK4)", 1, P)] = lambda: [
         pin_rk4(pm, d, q0[b], v0[b], taus[b], DT) for b in range(P)]
     agree = {}
@@ -216,6 +227,10 @@ def write(rows, dask_rows, agree, load, B, H, P, version, repeat) -> None:
         f"{os.cpu_count()} cores, shared with other jobs: load average {load[0]:.2f} "
         f"before, {load[1]:.2f} after.",
         "",
+        "cgadyn.simulate returns q, v and q̈ at every state (as the other two do); its "
+        "`Trajectory` computes the energies when first read, timed in the row "
+        f"\"{ENERGY}\".",
+        "",
         "| what | threads | rollouts | seconds | µs per rollout-step |",
         "|---|---:|---:|---:|---:|",
     ]
@@ -229,6 +244,12 @@ def write(rows, dask_rows, agree, load, B, H, P, version, repeat) -> None:
             for (w2, t2), v in per_step.items():
                 if w2.startswith("mujoco") and t2 == t:
                     lines.append(f"- {t} thread(s): {w2} / cgadyn = {v / us:.2f}x")
+            with_energy = per_step[(ENERGY, t)]
+            lines.append(f"- {t} thread(s), energy of every state read as well: Python loop "
+                         f"over pin.aba / cgadyn = {loop / with_energy:.1f}x"
+                         + "".join(f"; {w2} / cgadyn = {v / with_energy:.2f}x"
+                                   for (w2, t2), v in per_step.items()
+                                   if w2.startswith("mujoco") and t2 == t))
     if version is None:
         lines.append("- MuJoCo: not installed, not measured.")
     lines += ["", f"Agreement: the state of rollout 0 after {H} steps against the Pinocchio loop "
