@@ -54,6 +54,16 @@ below 2⁴⁷, so the same integers come out compiled and in pure Python."""
 
 
 @inline
+def _first_state(seed, sample):
+    """The generator's first state for a target: seed and sample scattered over the whole
+    range by a multiplicative hash (Knuth's 2654435761), where ``seed · 1000003 + sample``
+    alone started seed 0's first target (every single solve) at state 1, whose first draws
+    are near 0: restarts at the lower limits. Every product stays below 2⁶³."""
+    x = ((seed % MINSTD_MODULUS) * 1000003 + sample) % (MINSTD_MODULUS - 1) + 1  # never 0
+    return x * 2654435761 % MINSTD_MODULUS  # never 0: the modulus is prime, x below it
+
+
+@inline
 def _uniform(state):
     """The next state of the generator and a uniform number in (0, 1)."""
     state = (state * 48271) % MINSTD_MODULUS
@@ -183,7 +193,7 @@ def solve_core(m, q0, lower, upper, tasks, options, sample, q, res, info, work):
     free, o = carve(buf, o, (m.nv,))
     ring, o = carve(buf, o, (STALL_WINDOW + 1,))  # the costs of the last accepted steps
     max_iter, tol, restarts = int(options[MAX_ITER]), options[TOL], int(options[RESTARTS])
-    state = (int(options[SEED]) * 1000003 + sample) % (MINSTD_MODULUS - 1) + 1
+    state = _first_state(int(options[SEED]), sample)
     tol2 = tol * tol
     best = np.inf
     iterations = 0
