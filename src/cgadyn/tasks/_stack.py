@@ -27,7 +27,7 @@ def stack_workspace_size(n, nq, nv):
 
 @inline
 def coop_workspace_size(nv):
-    return 8 * 7 + 12 + 3 * 6 * nv + 3 * 36 + 54
+    return 8 * 4 + 2 * 6 * nv + 2 * 36
 
 
 @inline
@@ -49,31 +49,27 @@ def stack_workspace(buf, m, o):
     Jf, o = carve(buf, o, (6, m.nv))
     J6, o = carve(buf, o, (6, 6))
     t, o = carve(buf, o, (6, 3, 3))
-    cw, o = coop_workspace(buf, m, o)
-    return (M, Mw, c, s, tmp8, (L, F, E, tw, xi, Jf, J6, t), cw), o
+    wk = (L, F, E, tw, xi, Jf, J6, t)
+    cw, o = coop_workspace(buf, m, o, wk)
+    return (M, Mw, c, s, tmp8, wk, cw), o
 
 
 @inline
-def coop_workspace(buf, m, o):
-    """The scratch of the cooperative rows: ``CoopWork`` (L, F1, F2, H, E (8), tw, xi (6),
-    J1 (6, nv), K, K2, K3 (6, 6), t (6, 3, 3)) and the outputs Ma, Mr (8), Ja, Jr (6, nv)."""
-    L, o = carve(buf, o, (8,))
-    F1, o = carve(buf, o, (8,))
+def coop_workspace(buf, m, o, wk):
+    """The scratch of the cooperative rows, ``CoopWork`` (L, F1, F2, H, E (8), tw, xi (6),
+    J1 (6, nv), K, K2, K3 (6, 6), t (6, 3, 3)), and the outputs Ma, Mr (8), Ja, Jr (6, nv):
+    what a one-link task's rows use (``wk``, never at the same time) and F2, H, K2, K3 and
+    the outputs carved from offset ``o``."""
+    L, F, E, tw, xi, Jf, J6, t = wk
     F2, o = carve(buf, o, (8,))
     H, o = carve(buf, o, (8,))
-    E, o = carve(buf, o, (8,))
-    tw, o = carve(buf, o, (6,))
-    xi, o = carve(buf, o, (6,))
-    J1, o = carve(buf, o, (6, m.nv))
-    K, o = carve(buf, o, (6, 6))
     K2, o = carve(buf, o, (6, 6))
     K3, o = carve(buf, o, (6, 6))
-    t, o = carve(buf, o, (6, 3, 3))
     Ma, o = carve(buf, o, (8,))
     Mr, o = carve(buf, o, (8,))
     Ja, o = carve(buf, o, (6, m.nv))
     Jr, o = carve(buf, o, (6, m.nv))
-    return ((L, F1, F2, H, E, tw, xi, J1, K, K2, K3, t), Ma, Ja, Mr, Jr), o
+    return ((L, F, F2, H, E, tw, xi, Jf, J6, K2, K3, t), Ma, Ja, Mr, Jr), o
 
 
 @inline
