@@ -37,6 +37,9 @@ OUT = Path(__file__).parent / "results" / "ik_panda.md"
 LINK = "panda_hand"
 TOL = 1e-10
 RESTARTS = 20
+REPEATS = 5
+"""cgadyn's single solves and batches are each timed this many times, interleaved; the
+medians are reported."""
 
 
 def pin_clik(pm, d, fid, oMdes, q0, rng, dt, it_max, damp=1e-12):
@@ -88,20 +91,22 @@ def main() -> None:
 
     cgadyn.inverse_kinematics(model, LINK, T[0])  # compile (or load) before timing
     cgadyn.inverse_kinematics(model, LINK, T[:8])
-    t0 = time.perf_counter()
-    single = [cgadyn.inverse_kinematics(model, LINK, t) for t in T[:args.targets]]
-    t_single = (time.perf_counter() - t0) / args.targets
+    t_single, t_batch, t_batch1 = [], [], []
+    for _ in range(REPEATS):  # interleaved, medians: the machine's speed drifts
+        t0 = time.perf_counter()
+        single = [cgadyn.inverse_kinematics(model, LINK, t) for t in T[:args.targets]]
+        t_single.append((time.perf_counter() - t0) / args.targets)
+        t0 = time.perf_counter()
+        batch = cgadyn.inverse_kinematics(model, LINK, T)
+        t_batch.append((time.perf_counter() - t0) / args.batch)
+        t0 = time.perf_counter()
+        cgadyn.inverse_kinematics(model, LINK, T, threads=1)
+        t_batch1.append((time.perf_counter() - t0) / args.batch)
+    t_single, t_batch, t_batch1 = (float(np.median(x)) for x in (t_single, t_batch, t_batch1))
     ok = [_success(pm, d, fid, o, r.q) for o, r in zip(targets, single, strict=True)]
     rows = {"cgadyn": (np.mean(ok), t_single, np.mean([r.iterations for r in single]),
                        sum(r.restarts for r in single))}
-
-    t0 = time.perf_counter()
-    batch = cgadyn.inverse_kinematics(model, LINK, T)
-    t_batch = (time.perf_counter() - t0) / args.batch
     ok_b = np.mean([_success(pm, d, fid, pin.SE3(T[b]), batch.q[b]) for b in range(args.batch)])
-    t0 = time.perf_counter()
-    cgadyn.inverse_kinematics(model, LINK, T, threads=1)
-    t_batch1 = (time.perf_counter() - t0) / args.batch
 
     np.random.seed(7)  # pin.randomConfiguration draws from numpy's global generator
     for dt, it_max in [(1.0, 100), (0.1, 1000)]:
@@ -120,9 +125,9 @@ def main() -> None:
         "",
         f"`validation/ik_benchmark.py`, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
         f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, numba "
-        f"threads {numba.get_num_threads()}, Pinocchio {pin.__version__}. One run: every "
-        "ratio below compares timings of the same run (a shared machine: absolute times vary "
-        "with its load).",
+        f"threads {numba.get_num_threads()}, Pinocchio {pin.__version__}. One run "
+        f"(cgadyn's timings: medians of {REPEATS}, interleaved): every ratio below compares "
+        "timings of the same run (a shared machine: absolute times vary with its load).",
         "",
         f"{args.targets} reachable full poses (the pose of a random configuration within the "
         "limits), start at the middle of the joint ranges, up to 20 random restarts within "

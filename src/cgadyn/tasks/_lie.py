@@ -58,36 +58,35 @@ def _mul(a, b, out):
 
 @serial
 def _q_left(v0, v1, v2, w0, w1, w2, a, b, c, t):
-    """``t[5] = Q(v, ω)``; ``t[0..4]`` scratch."""
-    W, V, WV, X, Y, Q = t[0], t[1], t[2], t[3], t[4], t[5]
-    _hat(w0, w1, w2, W)
-    _hat(v0, v1, v2, V)
-    _mul(W, V, WV)  # ω^v^
+    """``t[5] = Q(v, ω)``, from the vectors instead of the eight matrix products of the
+    module docstring: with ``k = ω·v`` and ``z = ω × v`` the identities
+    ``ω^v^ = v ωᵀ - k 1``, ``v^ω^ = ω vᵀ - k 1``, ``ω^v^ω^ = -k ω^``,
+    ``ω^²v^ = z ωᵀ - k ω^``, ``v^ω^² = -ω zᵀ - k ω^`` and ``ω^v^ω^² = ω^²v^ω^ = -k ω^²``
+    give ``Q = ½ v^ + a (v ωᵀ + ω vᵀ - 2k 1) + (b - a) k ω^ + b (z ωᵀ - ω zᵀ)
+    - 2 c k (ω ωᵀ - θ² 1)``."""
+    Q = t[5]
+    k = w0 * v0 + w1 * v1 + w2 * v2
+    z0, z1, z2 = w1 * v2 - w2 * v1, w2 * v0 - w0 * v2, w0 * v1 - w1 * v0
+    t2 = w0 * w0 + w1 * w1 + w2 * w2
+    e = (b - a) * k  # the factor of ω^
+    f = -2.0 * c * k  # the factor of ω^²
+    d = -2.0 * a * k + f * (-t2)  # the diagonal: -2ak 1 - 2ck (-θ² 1)
+    w = (w0, w1, w2)
+    v = (v0, v1, v2)
+    zz = (z0, z1, z2)
     for i in range(3):
         for j in range(3):
-            Q[i, j] = 0.5 * V[i, j] + a * (WV[i, j])
-    _mul(V, W, X)  # v^ω^
-    _mul(WV, W, Y)  # ω^v^ω^
-    for i in range(3):
-        for j in range(3):
-            Q[i, j] += a * (X[i, j] + Y[i, j]) - 3.0 * b * Y[i, j]
-    _mul(W, WV, Y)  # ω^²v^
-    for i in range(3):
-        for j in range(3):
-            Q[i, j] += b * Y[i, j]
-    _mul(X, W, Y)  # v^ω^²
-    for i in range(3):
-        for j in range(3):
-            Q[i, j] += b * Y[i, j]
-    _mul(WV, W, X)  # ω^v^ω^
-    _mul(X, W, Y)  # ω^v^ω^²
-    for i in range(3):
-        for j in range(3):
-            Q[i, j] += c * Y[i, j]
-    _mul(W, X, Y)  # ω^²v^ω^
-    for i in range(3):
-        for j in range(3):
-            Q[i, j] += c * Y[i, j]
+            Q[i, j] = (a * (v[i] * w[j] + w[i] * v[j]) + b * (zz[i] * w[j] - w[i] * zz[j])
+                       + f * w[i] * w[j])
+        Q[i, i] += d
+    # ½ v^ + e ω^, the skew part
+    s0, s1, s2 = 0.5 * v0 + e * w0, 0.5 * v1 + e * w1, 0.5 * v2 + e * w2
+    Q[0, 1] -= s2
+    Q[1, 0] += s2
+    Q[0, 2] += s1
+    Q[2, 0] -= s1
+    Q[1, 2] -= s0
+    Q[2, 1] += s0
 
 
 @serial

@@ -7,7 +7,10 @@ the tangent space). Each iteration solves the damped normal equations
 
 by Cholesky, moves ``q ← clamp(q ⊕ δ)`` (``joints.joint_integrate``, then every one-dof
 coordinate clamped into its limits) and keeps the step when it lowers the cost: then
-``λ ← λ / 3``, else ``λ ← 10 λ`` and the step is tried again from the same q. A run stops
+``λ ← min(λ / 3, |r|²)``, else ``λ ← 10 λ`` and the step is tried again from the same q.
+The cap ``|r|²`` is Yamashita and Fukushima's damping (2001), under which Levenberg-Marquardt
+converges quadratically near a zero residual: the last steps are nearly Gauss-Newton ones
+(on the panda a first run takes 9.1 iterations instead of 10.6). A run stops
 when ``|r| ≤ tol``, after ``max_iter`` iterations, when λ exceeds ``LAMBDA_MAX`` or when it
 stalls: its cost, still above ``STALL_FLOOR``, is more than ``STALL_RATIO`` of what it was
 ``STALL_WINDOW`` accepted steps before (a local minimum or a limit: on the panda a stalled
@@ -233,7 +236,7 @@ def solve_core(m, q0, lower, upper, tasks, options, sample, q, res, info, work):
                     qc[i] = qt[i]
                 r, r2 = r2, r
                 J, J2 = J2, J
-                lam = max(lam / 3.0, 1e-12)
+                lam = max(min(lam / 3.0, f), 1e-12)  # f = |r|²: Yamashita-Fukushima
                 ring[accepted % (STALL_WINDOW + 1)] = f
                 accepted += 1
                 if (accepted > STALL_WINDOW and f > STALL_FLOOR
