@@ -199,6 +199,8 @@ def solve_core(m, q0, lower, upper, tasks, options, sample, q, res, info, work):
     state = _first_state(int(options[SEED]), sample)
     tol2 = tol * tol
     best = np.inf
+    for i in range(nr):
+        res[i] = np.nan
     iterations = 0
     used = 0
     for attempt in range(restarts + 1):
@@ -247,15 +249,14 @@ def solve_core(m, q0, lower, upper, tasks, options, sample, q, res, info, work):
                 lam *= 10.0
                 if lam > LAMBDA_MAX:
                     break
-        if f < best:
+        if f < best:  # r holds the rows at qc
             best = f
             for i in range(m.nq):
                 q[i] = qc[i]
+            for i in range(nr):
+                res[i] = r[i]
         if not best > tol2:
             break
-    stack_rows(m, q, tasks, r, J, sw)
-    for i in range(nr):
-        res[i] = r[i]
     info[CONVERGED] = 1.0 if not best > tol2 else 0.0
     info[RESIDUAL] = math.sqrt(best)
     info[ITERATIONS] = iterations
