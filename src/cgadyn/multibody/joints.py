@@ -153,6 +153,21 @@ def joint_twist(m, j, x, out):
 
 
 @inline
+def unit_axis(S, k):
+    """``i`` when the motion subspace column ``S[k]`` is ``±e_i`` (one coefficient ±1, the
+    others 0: a joint axis along a coordinate axis of its frame, as URDFs mostly write
+    them), else -1. Products with such a column read one coefficient, exactly."""
+    axis = -1
+    for i in range(6):
+        x = S[k, i]
+        if x != 0.0:
+            if axis >= 0 or not (x == 1.0 or x == -1.0):
+                return -1
+            axis = i
+    return axis
+
+
+@inline
 def joint_power(m, j, w, tau):
     """``τ_j = -S_jᵀ · W``: the generalised force of a wrench W on the joint's velocity
     coordinates, by the power pairing (eq. 9)."""
