@@ -42,7 +42,7 @@ from __future__ import annotations
 
 import math
 
-from .._jit import inline, serial
+from .._jit import inline
 from ..algorithms.kinematics import link_motor
 from ..kernels import motor_log, motor_mul, motor_reverse, twist_sandwich
 from ..kernels.layout import physical
@@ -125,7 +125,7 @@ def _point_rate(Jf, k, c0, c1, c2):
             Jf[2, k] + w0 * c1 - w1 * c0)
 
 
-@serial
+@inline
 def task_rows(m, Mw, task, r, J, o, wk):
     """Rows ``o .. o + dim`` of the residual ``r`` and Jacobian ``J`` (·, nv) of one task
     row (module docstring); ``Mw`` the joints' world motors. ``wk``: a ``RowsWork``."""

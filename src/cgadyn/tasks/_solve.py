@@ -22,6 +22,11 @@ deterministic generator seeded per target; free flyers keep their start), at mos
 ``options = [max_iter, tol, restarts, seed, λ0]``; ``info = [converged, |r|, iterations,
 restarts used]``. Nothing is allocated: every array is carved from ``work``
 (``solve_workspace_size``); the batch entry allocates one ``work`` per chunk of targets.
+
+The rows (``_stack.stack_rows``, ``_rows.task_rows``) and the step are inlined into
+``solve_core``: as calls, handing over the model's and the workspace's views cost about as
+much as the arithmetic of an iteration (on the panda a batch takes 21.5 instead of 36 µs a
+target on one thread; the solver compiles in about 25 s more).
 """
 
 from __future__ import annotations
@@ -119,7 +124,7 @@ def _cholesky_solve(A, n, b, x):
     return True
 
 
-@serial
+@inline
 def _step(m, q, lower, upper, J, r, lam, A, g, d, free):
     """``d = -(Jᵀ J + λ 1)⁻¹ Jᵀ r`` over the free coordinates (the columns of J that
     ``free`` keeps): a coordinate at a limit whose step would leave it is held (an active
@@ -270,7 +275,7 @@ def solve_single(packed, q0, lower, upper, tasks, options, q, res, info):
     m = unpack(packed)
     nr = stack_dim(tasks)
     work = np.empty(solve_workspace_size(m.n, m.nq, m.nv, nr))
-    return solve_core(m, q0, lower, upper, tasks, options, 0, q, res, info, work)
+    return solve_core(m, q0, lower, upper, tasks, options, np.int64(0), q, res, info, work)
 
 
 @parallel

@@ -81,7 +81,7 @@ def stack_dim(tasks):
     return nr
 
 
-@serial
+@inline
 def stack_rows(m, q, tasks, r, J, sw):
     """``r`` (nr) and ``J`` (nr, nv) of the stack at q; ``sw`` from ``stack_workspace``."""
     M, Mw, c, s, tmp8, wk, (cw, Ma, Ja, Mr, Jr) = sw
