@@ -131,7 +131,7 @@ def main() -> None:
         "",
         f"`validation/ik_benchmark.py`, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
         f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, numba "
-        f"threads {numba.get_num_threads()}, Pinocchio {pin.__version__}. One run "
+        f"threads {threads}, Pinocchio {pin.__version__}. One run "
         f"(cgadyn's timings: best of {REPEATS}, interleaved): every ratio below compares "
         "timings of the same run (a shared machine: absolute times vary with its load).",
         "",
@@ -153,15 +153,13 @@ def main() -> None:
         f"- A batch of {args.batch} targets in one compiled call: {1e6 * t_batch:.1f} µs per "
         f"target, success {100 * ok_b:.2f} %; single solves "
         f"{1e6 * t_single:.1f} µs: the batch is **{t_single / t_batch:.2f}x** faster per "
-        f"target (on {numba.get_num_threads()} threads). The same batch on one thread: "
+        f"target (on {threads} threads). The same batch on one thread: "
         f"{1e6 * t_batch1:.1f} µs per target ({t_single / t_batch1:.2f}x): what a single "
         "call adds is its Python side (argument checks, the task, the result).",
         f"- {threads} threads against one in this run: {t_batch1 / t_batch:.2f}x. The batch "
         f"splits into one contiguous chunk a thread, with {', '.join(map(str, shares))} "
         f"iterations: at most {sum(shares) / max(shares):.2f}x from the split. The batch's "
-        f"ratio to single solves is {t_single / t_batch1:.2f} times what the threads give; "
-        "on this 2-core VM, shared with other jobs, two threads gave between 1.3x and 1.9x "
-        "from one run to the next.",
+        f"ratio to single solves is {t_single / t_batch1:.2f} times what the threads give.",
         "",
     ]
     OUT.write_text("\n".join(lines))

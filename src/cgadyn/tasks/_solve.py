@@ -275,6 +275,7 @@ def solve_single(packed, q0, lower, upper, tasks, options, q, res, info):
     m = unpack(packed)
     nr = stack_dim(tasks)
     work = np.empty(solve_workspace_size(m.n, m.nq, m.nv, nr))
+    # sample 0 as an int64, not a literal: the batch's signature, so solve_core compiles once
     return solve_core(m, q0, lower, upper, tasks, options, np.int64(0), q, res, info, work)
 
 
