@@ -24,6 +24,7 @@ from cgadyn.cga.conventions import (
     motor_product,
 )
 from cgadyn.multibody import (
+    FREE_FLYER,
     PRISMATIC,
     REVOLUTE,
     REVOLUTE_UNBOUNDED,
@@ -33,6 +34,7 @@ from cgadyn.multibody import (
     robot_path,
     robots,
 )
+from cgadyn.multibody.joints import unit_axes
 from cgadyn.multibody.registry import OWN_ROBOTS_DIR, refused
 
 OWN = sorted(p.stem for p in OWN_ROBOTS_DIR.glob("*.urdf"))
@@ -201,6 +203,28 @@ def test_axes_must_pass_through_the_joint_frame_origin(kind, stray):
     axes[j, stray] = 0.1
     with pytest.raises(ValueError, match=rf"axes\[{j}\] .*{kind}.*through the joint frame"):
         dataclasses.replace(m, axes=axes)
+
+
+def test_inertias_must_be_rigid():
+    """The recursions read a body's inertia from its ten parameters (``kernels.rigid``),
+    so a 6x6 that is not a rigid body's is refused, naming the body."""
+    m = load("prismatic_tree")
+    inertias = m.inertias.copy()
+    inertias[1, 3, 3] *= 1.5  # one of the three masses of the linear block
+    with pytest.raises(ValueError, match=r"inertias\[1\] .* not a rigid body's inertia"):
+        dataclasses.replace(m, inertias=inertias)
+
+
+def test_unit_axes():
+    """A one-dof joint's column ±e_i gives i, any other column and a free flyer's -1."""
+    S = np.array([[0, 0, -1.0, 0, 0, 0], [0, 0, 0, 0, 1.0, 0], [0, 0.6, 0.8, 0, 0, 0],
+                  [0, 0, 2.0, 0, 0, 0]] + [list(r) for r in np.eye(6)])
+    types = np.array([REVOLUTE, PRISMATIC, REVOLUTE, REVOLUTE, FREE_FLYER])
+    assert unit_axes(S, types).tolist() == [2, 4, -1, -1] + [-1] * 6
+    m = load("prismatic_tree")
+    k = np.arange(m.nv)
+    axes = m.unit_axes
+    assert np.all(np.abs(m.motion_subspace[k[axes >= 0], axes[axes >= 0]]) == 1.0)
 
 
 def test_dtypes_and_shapes():

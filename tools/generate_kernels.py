@@ -391,17 +391,28 @@ def adjoint_apply(transpose: bool) -> Kernel:
     return Kernel(name, ["x", "v", "out"], doc, body, exprs)
 
 
-def inertia_congruence(accumulate: bool = False) -> Kernel:
+def inertia_congruence(accumulate: bool = False, downdate: bool = False) -> Kernel:
     """out = X I Xᵀ (or out += X I Xᵀ) for a symmetric I, upper triangle computed and
-    mirrored."""
+    mirrored; ``downdate``: out += X (I - w gᵀ) Xᵀ, the upper triangle of I - w gᵀ formed
+    as it is loaded."""
     x = _adjoint_pattern()
     xs = [[sp.Symbol(f"x{i}{j}") if x[i][j] != 0 else 0 for j in range(6)] for i in range(6)]
     isym = [[sp.Symbol(f"i{min(k, j)}{max(k, j)}") for j in range(6)] for k in range(6)]
     used = sorted({str(e) for row in xs for e in row if e != 0})
     body = [("load", used, "x", [(int(u[1]), int(u[2])) for u in used])]
+    exprs = []
+    if downdate:
+        body += [load("w", w6), load("g", symbols("g", 6))]
     for k in range(6):
-        names = [f"i{k}{j}" for j in range(k, 6)]
+        names = [f"{'r' if downdate else 'i'}{k}{j}" for j in range(k, 6)]
         body.append(("load", names, "inertia", [(k, j) for j in range(k, 6)]))
+    if downdate:
+        body.append(("comment", "I - w gᵀ, upper triangle"))
+        for k in range(6):
+            for j in range(k, 6):
+                e = sp.Symbol(f"r{k}{j}") - sp.Symbol(f"w{k}") * sp.Symbol(f"g{j}")
+                exprs.append(e)
+                body.append(("let", f"i{k}{j}", e))
     # X is block upper triangular, [[X11, X12], [0, X22]]; I = [[A, B], [Bᵀ, C]]:
     #   X I Xᵀ = [[X11 A X11ᵀ + Y X12ᵀ + X12 Zᵀ, Y X22ᵀ], [., X22 C X22ᵀ]]
     # with Z = X11 B and Y = Z + X12 C: 207 multiplications instead of 270.
@@ -412,7 +423,6 @@ def inertia_congruence(accumulate: bool = False) -> Kernel:
     A = [[isym[i][j] for j in range(3)] for i in range(3)]
     B = [[isym[i][j + 3] for j in range(3)] for i in range(3)]
     C = [[isym[i + 3][j + 3] for j in range(3)] for i in range(3)]
-    exprs = []
 
     def emit(name, e):
         exprs.append(e)
@@ -451,6 +461,16 @@ def inertia_congruence(accumulate: bool = False) -> Kernel:
     for i in r3:
         for j in range(i, 3):
             store(i + 3, j + 3, sum(X22[i][k] * U[k][j] for k in r3))
+    if downdate:
+        return Kernel(
+            "inertia_congruence_downdate_add", ["x", "inertia", "w", "g", "out"],
+            "``out += M * (I - w gᵀ)`` (eq. 16) from the wrench adjoint X of M, for\n"
+            "    ``I - w gᵀ`` symmetric (its upper triangle is read): the articulated inertia\n"
+            "    ``Ĩ = Î - U Gᵀ`` of a one-dof joint (Algorithm 1, second line, with\n"
+            "    ``G = U / D``) moved into its parent's, formed as ``Î`` is loaded so that\n"
+            "    it never goes through memory. ``inertia_congruence_add`` otherwise.",
+            body, exprs,
+        )
     if accumulate:
         return Kernel(
             "inertia_congruence_add", ["x", "inertia", "out"],
@@ -539,6 +559,7 @@ KERNELS = [
     lambda: adjoint_apply(transpose=True),
     inertia_congruence,
     lambda: inertia_congruence(accumulate=True),
+    lambda: inertia_congruence(accumulate=True, downdate=True),
 ]
 
 HEADER = '''"""Explicit-formula kernels of CGA G(4,1) for motors, twists, wrenches and inertias.

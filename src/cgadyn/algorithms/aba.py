@@ -28,8 +28,20 @@ Second forward pass (j = 1..n), with V̇_0 = -g::
     V̇_j  = V̄_j + S_j q̈_j
 
 A one-dof joint whose S_j is ±e_i (an axis along one of its frame's axes, as URDFs mostly
-write them: ``joints.unit_axis``) takes U_j, τ̂_j and D_j from coefficient i of Î_j and Ŵ_j:
-the same numbers without the products (a twelfth of ABA's time on the panda).
+write them: the packed model's ``unit_axis``, from ``joints.unit_axes``) takes U_j, τ̂_j
+and D_j from coefficient i of Î_j and Ŵ_j, and adds S_j q̈_j to coefficient i of V̇_j: the
+same numbers without the products (a twelfth of ABA's time on the panda).
+
+A one-dof joint never forms Ĩ_j (its stores and loads cost a twelfth of ABA's time):
+``inertia_congruence_downdate_add`` moves ``Î_j - U_j G_jᵀ`` into the parent's inertia,
+forming it as ``Î_j`` is loaded, and the bias wrench takes
+``Ĩ_j[c_j] = Î_j[c_j] + U_j (G_jᵀ · c_j)``::
+
+    W̄_j  = Ŵ_j + Î_j[c_j] + U_j (ũ_j + G_jᵀ · c_j)
+    Î_λ += M_j * (Î_j - U_j G_jᵀ)                eq. (16)
+
+the same numbers up to rounding. The body inertia in Ŵ_j is applied from its ten
+parameters (``kernels.rigid``: a body's inertia is rigid).
 
 A D_j that is not positive definite (a subtree without mass, or without inertia along the
 joint's motion) is a fault at joint j. As in ``rnea``, each joint's sandwich is expanded
@@ -48,11 +60,13 @@ from ..kernels import (
     dot,
     inertia_apply,
     inertia_congruence_add,
+    inertia_congruence_downdate_add,
     twist_cross,
     twist_cross_wrench,
     wrench_adjoint,
 )
-from ..multibody.joints import joint_motors, joint_scalars, joint_twist, unit_axis
+from ..kernels.rigid import rigid_apply, rigid_parameters
+from ..multibody.joints import joint_motors, joint_scalars, joint_twist
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from ._dense import spd_inverse
@@ -86,14 +100,15 @@ def aba_core(m, q, v, tau, f, qdd, option, work):
         for k in range(6):  # Î_j = I_j
             for l in range(6):
                 Ih[j, k, l] = m.inertias[j, k, l]
-        inertia_apply(m.inertias[j], V[j], tmp)
+        tmp[0], tmp[1], tmp[2], tmp[3], tmp[4], tmp[5] = rigid_apply(
+            rigid_parameters(m.inertias[j]), V[j])  # I_j[V_j], I_j rigid
         twist_cross_wrench(V[j], tmp, Wh[j])  # Ŵ_j = V_j × I_j[V_j]
         if f.shape[0] > 0:
             for k in range(6):
                 Wh[j, k] -= f[j, k]
     for j in range(n - 1, -1, -1):
         k0, k1 = m.iv[j], m.iv[j + 1]
-        axis = unit_axis(S, k0) if k1 - k0 == 1 else -1
+        axis = m.unit_axis[k0]
         if axis >= 0:  # S_j = ±e_i: the products below read coefficient i (``dot`` is -Σ)
             sign = S[k0, axis]
             for l in range(6):
@@ -128,7 +143,15 @@ def aba_core(m, q, v, tau, f, qdd, option, work):
                     for l in range(6):
                         G[a, l] += w * U[b, l]  # G_j = U_j D_j⁻¹
         p = m.parents[j]
-        if p >= 0:
+        if p < 0:
+            continue
+        if k1 - k0 == 1:  # Ĩ_j = Î_j - U_j G_jᵀ only inside the congruence
+            inertia_apply(Ih[j], C[j], tmp)  # Î_j[c_j]
+            w = ut[k0] + dot(C[j], G[k0])  # ũ_j + G_jᵀ · c_j
+            for k in range(6):  # W̄_j = Ŵ_j + Î_j[c_j] + U_j (ũ_j + G_jᵀ · c_j)
+                tmp[k] += Wh[j, k] + U[k0, k] * w
+            inertia_congruence_downdate_add(Ad[j], Ih[j], U[k0], G[k0], Ih[p])  # eq. (16)
+        else:
             _articulated(Ih[j], U, G, k0, k1, It)  # Ĩ_j = Î_j - U_j G_jᵀ
             inertia_apply(It, C[j], tmp)
             for k in range(6):  # W̄_j = Ŵ_j + Ĩ_j[c_j] + U_j ũ_j
@@ -136,10 +159,10 @@ def aba_core(m, q, v, tau, f, qdd, option, work):
             for a in range(k0, k1):
                 for k in range(6):
                     tmp[k] += U[a, k] * ut[a]
-            adjoint_apply(Ad[j], tmp, tmp2)  # M_j W̄_j ~M_j
             inertia_congruence_add(Ad[j], It, Ih[p])  # Î_λ += M_j * Ĩ_j, eq. (16)
-            for k in range(6):
-                Wh[p, k] += tmp2[k]
+        adjoint_apply(Ad[j], tmp, tmp2)  # M_j W̄_j ~M_j
+        for k in range(6):
+            Wh[p, k] += tmp2[k]
     for j in range(n):  # V now holds the accelerations V̇_j, V̇_0 = -g
         p = m.parents[j]
         if p < 0:
@@ -153,24 +176,20 @@ def aba_core(m, q, v, tau, f, qdd, option, work):
             qdd[a] = ut[a] + dot(tmp, G[a])  # q̈_j = ũ_j + G_jᵀ · V̄_j
         for k in range(6):
             V[j, k] = tmp[k]
-        for a in range(k0, k1):
-            for k in range(6):
-                V[j, k] += qdd[a] * S[a, k]  # V̇_j = V̄_j + S_j q̈_j
+        axis = m.unit_axis[k0]
+        if axis >= 0:  # S_j = ±e_i
+            V[j, axis] += qdd[k0] * S[k0, axis]  # V̇_j = V̄_j + S_j q̈_j
+        else:
+            for a in range(k0, k1):
+                for k in range(6):
+                    V[j, k] += qdd[a] * S[a, k]  # V̇_j = V̄_j + S_j q̈_j
     return check_result(qdd)
 
 
 @inline
 def _articulated(Ih, U, G, k0, k1, It):
-    """``Ĩ = Î - U Gᵀ`` (Algorithm 1, second line), symmetric, for the joint's coordinates
-    ``k0..k1``: a one-dof joint by the scalar formula ``Î - W_B (Ω W_B)ᵀ``, in one pass (a
-    quarter of ABA's time goes here, and a loop over one coordinate inside it costs a
-    fifth more)."""
-    if k1 - k0 == 1:
-        for k in range(6):
-            w = U[k0, k]
-            for l in range(k, 6):
-                It[k, l] = It[l, k] = Ih[k, l] - w * G[k0, l]
-        return
+    """``Ĩ = Î - U Gᵀ`` (Algorithm 1, second line), symmetric, for a joint of several
+    coordinates ``k0..k1`` (one-dof joints form it inside the congruence)."""
     for k in range(6):
         for l in range(k, 6):
             It[k, l] = Ih[k, l]

@@ -37,6 +37,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from .._jit import inline
 from ..kernels import (
     dot,
@@ -152,19 +154,20 @@ def joint_twist(m, j, x, out):
             out[i] += x[k] * m.S[k, i]
 
 
-@inline
-def unit_axis(S, k):
-    """``i`` when the motion subspace column ``S[k]`` is ``±e_i`` (one coefficient ±1, the
-    others 0: a joint axis along a coordinate axis of its frame, as URDFs mostly write
-    them), else -1. Products with such a column read one coefficient, exactly."""
-    axis = -1
-    for i in range(6):
-        x = S[k, i]
-        if x != 0.0:
-            if axis >= 0 or not (x == 1.0 or x == -1.0):
-                return -1
-            axis = i
-    return axis
+def unit_axes(S: np.ndarray, joint_types: np.ndarray) -> np.ndarray:
+    """int64 (nv,): for each velocity coordinate of a one-dof joint whose motion subspace
+    column ``S[k]`` is ``±e_i`` (one coefficient ±1, the others 0: an axis along a
+    coordinate axis of its frame, as URDFs mostly write them), ``i``; -1 for any other
+    (and for the coordinates of a free flyer). Products with such a column read one
+    coefficient, exactly; the packed model stores these so that compiled code need not
+    look for them on every call."""
+    one_dof = np.repeat([NV[t] == 1 for t in joint_types], [NV[t] for t in joint_types])
+    out = np.full(len(S), -1, dtype=np.int64)
+    for k, column in enumerate(np.asarray(S, dtype=np.float64)):
+        nonzero = np.flatnonzero(column)
+        if one_dof[k] and len(nonzero) == 1 and abs(column[nonzero[0]]) == 1.0:
+            out[k] = nonzero[0]
+    return out
 
 
 @inline
@@ -179,6 +182,8 @@ def joint_power(m, j, w, tau):
 def quaternion_error(m, q):
     """The first free-flyer joint whose quaternion's norm is not within
     ``QUATERNION_TOLERANCE`` of 1, or -1."""
+    if m.nq == m.nv:  # only a free flyer has nq_j != nv_j: none here
+        return -1
     for j in range(m.types.shape[0]):
         if m.types[j] == FREE_FLYER:
             i = m.iq[j] + 3

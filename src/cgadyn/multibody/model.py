@@ -18,7 +18,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .joints import FREE_FLYER, KIND_TYPE, NQ, NV, PRISMATIC, TYPE_NAMES
+from .joints import FREE_FLYER, KIND_TYPE, NQ, NV, PRISMATIC, TYPE_NAMES, unit_axes
 from .packed import pack
 
 JOINT_KINDS = tuple(KIND_TYPE)
@@ -198,10 +198,28 @@ class Model:
                                  f"joint {p}'s subtree was already closed")
             open_path.append(j)
         self._check_axes()
+        self._check_inertias()
         if np.any((self.link_joint < -1) | (self.link_joint >= n)):
             raise ValueError("link_joint entries must lie in [-1, n)")
         if len(set(self.joint_names)) != n:
             raise ValueError("joint names must be unique")
+
+    def _check_inertias(self):
+        """Each body's inertia is a rigid body's: the recursions read it from its ten
+        parameters (``kernels.rigid``). In Pinocchio's order ``[v, ω]`` that is the
+        symmetric ``[[m 1, -m [c]×], [m [c]×, Ī_O]]``."""
+        from ..cga.conventions import inertia_to_pinocchio
+
+        for j, P in enumerate(inertia_to_pinocchio(self.inertias)):
+            tol = 1e-9 * max(1.0, float(np.abs(P).max()))
+            skew = P[:3, 3:]
+            if not (np.abs(P[:3, :3] - P[0, 0] * np.eye(3)).max() <= tol
+                    and np.abs(skew + skew.T).max() <= tol and np.abs(P - P.T).max() <= tol):
+                raise ValueError(
+                    f"Model.inertias[{j}] (body of joint {self.joint_names[j]!r}) is not a "
+                    f"rigid body's inertia: expected, in Pinocchio's order [v, ω], the "
+                    f"symmetric [[m 1, -m [c]x], [m [c]x, I]], got "
+                    f"{np.round(P, 6).tolist()}")
 
     def _check_axes(self):
         """Joint axes pass through the joint frame's origin (URDF's convention): a revolute
@@ -263,6 +281,14 @@ class Model:
             if p >= 0:
                 last[p] = max(last[p], last[j])
         out = self.idx_v[last + 1].astype(np.int64)
+        out.flags.writeable = False
+        return out
+
+    @cached_property
+    def unit_axes(self) -> np.ndarray:
+        """int64 (nv,): i where a one-dof joint's motion subspace column is ``±e_i``, else -1
+        (``multibody.joints.unit_axes``)."""
+        out = unit_axes(self.motion_subspace, self.joint_types)
         out.flags.writeable = False
         return out
 

@@ -9,6 +9,7 @@ wide)::
 
     ints:   n, nq, nv, nl, length | parents (n) | types (n) | iq (n + 1) | iv (n + 1)
             | dof_parent (nv) | dof_joint (nv) | subtree_end (n) | link_joint (nl)
+            | unit_axis (nv)
     floats: placements (n, 8) | S (nv, 6) | inertias (n, 6, 6) | base acceleration (6)
             | link_placements (nl, 8)
 
@@ -18,8 +19,10 @@ nq and nv); ``dof_parent`` the velocity coordinate each one hangs from in the tr
 coordinates (Featherstone's expanded tree: a multi-dof joint is a chain of its
 coordinates, the first hanging from the parent joint's last), -1 at the root, and
 ``dof_joint`` the joint of each coordinate, ``subtree_end`` one past the last coordinate of
-each joint's subtree (contiguous: joints are in depth-first order); ``S`` the motion
-subspace of every velocity coordinate (``multibody.joints``).
+each joint's subtree (contiguous: joints are in depth-first order), ``unit_axis`` the
+index i of a one-dof joint's coordinate whose ``S`` is ``±e_i``, else -1
+(``multibody.joints.unit_axes``); ``S`` the motion subspace of every velocity coordinate
+(``multibody.joints``).
 The base acceleration is ``V̇_0 = -g`` as a twist (gravity as a fictitious acceleration of
 the world, as Pinocchio keeps ``model.gravity``); ``with_gravity`` makes a copy for
 another gravity.
@@ -41,14 +44,14 @@ HEADER = 5
 
 ModelView = namedtuple("ModelView", [
     "n", "nq", "nv", "nl", "parents", "types", "iq", "iv", "dof_parent", "dof_joint",
-    "subtree_end", "link_joint",
+    "subtree_end", "link_joint", "unit_axis",
     "placements", "S", "inertias", "gravity", "link_placements"])
 """The model as compiled code reads it: sizes and views into the packed buffer.
 ``gravity`` is the base acceleration ``V̇_0 = -g`` (a twist)."""
 
 
 def _ints(n: int, nv: int, nl: int) -> int:
-    return HEADER + 3 * n + 2 * (n + 1) + 2 * nv + nl
+    return HEADER + 3 * n + 2 * (n + 1) + 3 * nv + nl
 
 
 def base_acceleration(gravity) -> np.ndarray:
@@ -66,7 +69,7 @@ def pack(model, gravity=DEFAULT_GRAVITY) -> np.ndarray:
     ints = np.concatenate([[n, model.nq, model.nv, nl, length], model.parents,
                            model.joint_types, model.idx_q, model.idx_v, model.dof_parent,
                            model.dof_joint, model.subtree_end,
-                           model.link_joint]).astype(np.int64)
+                           model.link_joint, model.unit_axes]).astype(np.int64)
     out = np.concatenate([ints.view(np.float64)] + [np.ravel(a) for a in floats])
     assert out.shape == (length,)
     return out
@@ -96,10 +99,11 @@ def unpack(packed):
     dof_joint, o = carve(as_int64(at), o, (nv,))
     subtree_end, o = carve(as_int64(at), o, (n,))
     link_joint, o = carve(as_int64(at), o, (nl,))
+    unit_axis, o = carve(as_int64(at), o, (nv,))
     placements, o = carve(at, o, (n, 8))
     S, o = carve(at, o, (nv, 6))
     inertias, o = carve(at, o, (n, 6, 6))
     gravity, o = carve(at, o, (6,))
     link_placements, o = carve(at, o, (nl, 8))
     return ModelView(n, nq, nv, nl, parents, types, iq, iv, dof_parent, dof_joint, subtree_end,
-                     link_joint, placements, S, inertias, gravity, link_placements)
+                     link_joint, unit_axis, placements, S, inertias, gravity, link_placements)
