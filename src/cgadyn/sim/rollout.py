@@ -64,6 +64,8 @@ def closed_loop_acceleration(m, q, v, u, f, ctrl, qdd, sc, work):
     """``qdd = ABA(q, v, u + τ_ctrl(q, v))`` (the module's first equations); ``ctrl`` the
     controller ``(flags, gains (2, nv), q_ref (nq), v_ref (nv))``. A status."""
     flags, gains, q_ref, v_ref = ctrl
+    if flags == 0:  # no feedback: τ = τ_ol
+        return aba_core(m, q, v, u, f, qdd, 0, work)
     tau, g, dq, zero, none, tmp = sc[2], sc[3], sc[4], sc[5], sc[6], sc[7]
     for k in range(m.nv):
         tau[k] = u[k]
@@ -84,6 +86,11 @@ def closed_loop_acceleration(m, q, v, u, f, ctrl, qdd, sc, work):
 @inline
 def _advance(m, q, v, h, tmp, dq, out):
     """``out = q ⊕ h v`` (``dq`` receives ``h v``)."""
+    if m.nq == m.nv:  # no free flyer (``joints.quaternion_error``): a sum, coordinate-wise
+        for k in range(m.nv):
+            dq[k] = h * v[k]
+            out[k] = q[k] + dq[k]
+        return
     for k in range(m.nv):
         dq[k] = h * v[k]
     for j in range(m.n):
@@ -192,7 +199,8 @@ def rollouts(packed, method, q0, v0, u, f, flags, gains, q_ref, v_ref, dt, Q, V,
             fb = _rows(f[0], mb.n, 6)
         elif f.shape[0] > 1:
             fb = _rows(f[b], mb.n, 6)
-        ctrl = (flags, gains, _rows(q_ref[b], 1, mb.nq)[0], _rows(v_ref[b], 1, mb.nv)[0])
+        ctrl = (flags, _rows(gains, 2, mb.nv), _rows(q_ref[b], 1, mb.nq)[0],
+                _rows(v_ref[b], 1, mb.nv)[0])
         for k in range(mb.nq):
             Qb[0, k] = q0[b, k]
         for k in range(mb.nv):
