@@ -19,7 +19,7 @@ row "cgadyn.simulate, then Trajectory.energy" times the same rollouts with the e
 every state read afterwards (one more parallel compiled call), for reference.
 
 Run:  python validation/simulate_benchmark.py [--rollouts 1024] [--steps 1000]
-      [--pin-rollouts 16] [--repeat 3] [--dask-rollouts 256]
+      [--pin-rollouts 16] [--repeat 5] [--dask-rollouts 256]
 """
 
 from __future__ import annotations
@@ -107,7 +107,7 @@ def main() -> None:
     p.add_argument("--rollouts", type=int, default=1024)
     p.add_argument("--steps", type=int, default=1000)
     p.add_argument("--pin-rollouts", type=int, default=16)
-    p.add_argument("--repeat", type=int, default=3)
+    p.add_argument("--repeat", type=int, default=5)
     p.add_argument("--dask-rollouts", type=int, default=256)
     args = p.parse_args()
     B, H = args.rollouts, args.steps
