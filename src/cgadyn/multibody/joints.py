@@ -179,10 +179,17 @@ def joint_power(m, j, w, tau):
 
 
 @inline
+def has_free_flyer(m):
+    """Whether the model has a free flyer: the only joint type whose nq_j (7) differs from
+    its nv_j (6), so ``nq != nv`` says it without a scan of the joints."""
+    return m.nq != m.nv
+
+
+@inline
 def quaternion_error(m, q):
     """The first free-flyer joint whose quaternion's norm is not within
     ``QUATERNION_TOLERANCE`` of 1, or -1."""
-    if m.nq == m.nv:  # only a free flyer has nq_j != nv_j: none here
+    if not has_free_flyer(m):
         return -1
     for j in range(m.types.shape[0]):
         if m.types[j] == FREE_FLYER:
