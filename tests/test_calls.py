@@ -137,6 +137,24 @@ def test_outputs_are_fresh_arrays():
     np.testing.assert_array_equal(b, cgadyn.rnea(PANDA, Q, V, A))
 
 
+def test_batch_outputs_share_one_block_without_overlap():
+    rng = np.random.default_rng(7)
+    q, v, a = (rng.uniform(-1, 1, (5, 9)) for _ in range(3))
+    outs = cgadyn.rnea_derivatives(PANDA, q, v, a)
+    assert [o.shape for o in outs] == [(5, PANDA.nv, PANDA.nv)] * 3
+    for i, x in enumerate(outs):
+        assert x.flags.c_contiguous and x.ctypes.data % 64 == 0
+        for y in outs[i + 1:]:
+            assert not np.shares_memory(x, y)
+    ref = [o.copy() for o in outs]
+    outs[0][:] = np.nan  # the other results are not touched
+    for x, y in zip(outs[1:], ref[1:], strict=True):
+        np.testing.assert_array_equal(x, y)
+    single = cgadyn.rnea_derivatives(PANDA, q[3], v[3], a[3])
+    for x, y in zip(ref, single, strict=True):
+        np.testing.assert_array_equal(x[3], y)
+
+
 @njit
 def _unpacked(packed):
     m = unpack(packed)
