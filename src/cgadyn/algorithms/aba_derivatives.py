@@ -8,9 +8,7 @@ differentiating at ``q̈ = aba(q, v, τ)`` gives (``docs/derivatives.md``, D12)
 with ∂τ/∂q and ∂τ/∂v of ``rnea_derivatives`` at that q̈. q̈ itself comes without ABA
 (D13): the forward pass of the rnea derivatives at q̈ = 0 gives M and the bias, q̈ solves
 ``M q̈ = τ - τ(q, v, 0)`` by M's factorisation along the tree (L1, L2), which then gives
-M⁻¹ (L3, L4), and the acceleration's part is added to that forward pass. ∂τ/∂q is
-sparse: its entry (k, l) is zero unless k and l lie on one branch, so the products run over
-the coordinates related to each column only.
+M⁻¹ (L3, L4), and the acceleration's part is added to that forward pass.
 """
 
 from __future__ import annotations
@@ -28,40 +26,35 @@ from .status import OK, SINGULAR, fault
 
 
 @inline
-def times_minus_minv(m, Minv, Dq, Dv, outq, outv):
-    """``outq = -M⁻¹ Dq`` and ``outv = -M⁻¹ Dv`` for the ∂τ matrices Dq, Dv (D12). Row l of
-    the transposes ``-Dᵀ M⁻¹`` (M⁻¹ symmetric) sums the rows of M⁻¹ over the coordinates k
-    related to l only (D[k, l] is zero unless k and l lie on one branch: those of l's
-    joint's subtree and of the joints above it), each a contiguous row read once for both
-    products; the outputs hold the transposes, then are transposed in place."""
+def times_minus_minv(m, Minv, X, outq, outv, acc):
+    """``outq = -M⁻¹ ∂τ/∂q`` and ``outv = -M⁻¹ ∂τ/∂v`` (D12), from ``X = [∂τ/∂q  ∂τ/∂v]``
+    (nv, 2nv), the two side by side so that one sweep over a row of X serves both. Row i
+    of the result is ``-Σ_k M⁻¹[i, k] X[k]``, accumulated in ``acc`` (2nv) four rows of X
+    at a time: each pass over ``acc`` then does four multiply-adds per load and store, in
+    loops of 2nv that the compiler vectorises. The product is dense: X's zeros (entries of
+    coordinates on different branches) cost less than the branches that would skip them."""
     nv = m.nv
-    for l in range(nv):
-        tq = outq[l]
-        tv = outv[l]
-        for i in range(nv):
-            tq[i] = 0.0
-            tv[i] = 0.0
-        j = m.dof_joint[l]
-        for k in range(m.iv[j], m.subtree_end[j]):  # l's joint and below
-            x = Dq[k, l]
-            y = Dv[k, l]
-            r = Minv[k]
-            for i in range(nv):
-                tq[i] -= x * r[i]
-                tv[i] -= y * r[i]
-        k = m.dof_parent[m.iv[j]]
-        while k >= 0:  # the joints above
-            x = Dq[k, l]
-            y = Dv[k, l]
-            r = Minv[k]
-            for i in range(nv):
-                tq[i] -= x * r[i]
-                tv[i] -= y * r[i]
-            k = m.dof_parent[k]
+    w = 2 * nv
     for i in range(nv):
-        for l in range(i):
-            outq[i, l], outq[l, i] = outq[l, i], outq[i, l]
-            outv[i, l], outv[l, i] = outv[l, i], outv[i, l]
+        r = Minv[i]
+        for c in range(w):
+            acc[c] = 0.0
+        k = 0
+        while k + 4 <= nv:
+            a0, a1, a2, a3 = r[k], r[k + 1], r[k + 2], r[k + 3]
+            x0, x1, x2, x3 = X[k], X[k + 1], X[k + 2], X[k + 3]
+            for c in range(w):
+                acc[c] -= a0 * x0[c] + a1 * x1[c] + a2 * x2[c] + a3 * x3[c]
+            k += 4
+        while k < nv:
+            a0 = r[k]
+            x0 = X[k]
+            for c in range(w):
+                acc[c] -= a0 * x0[c]
+            k += 1
+        for c in range(nv):
+            outq[i, c] = acc[c]
+            outv[i, c] = acc[nv + c]
 
 
 @inline
@@ -128,7 +121,7 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
     status = check_configuration(m, q)
     if status != OK:
         return status
-    x, b, D, Ic, Fc, Aq, rest = _workspace(ws.data_pointer(work), m)
+    x, b, X, acc, Ic, Fc, Aq, rest = _workspace(ws.data_pointer(work), m)
     for k in range(m.nv):
         x[k] = 0.0
     k_ = rnea_derivatives_workspace(ws.data_pointer(rest), m)
@@ -141,9 +134,10 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
         x[k] = tau[k] - b[k]
     ltdl_solve(m, dtau, x)  # q̈ = M⁻¹ (τ - τ(q, v, 0)) (D13)
     accelerate(m, k_, x, Aq)  # the forward pass at q̈
-    rnea_derivatives_backward(m, k_, D[0], D[1], D[0, :0])  # ∂τ/∂q, ∂τ/∂v at q̈ (M known)
+    nv = m.nv
+    rnea_derivatives_backward(m, k_, X[:, :nv], X[:, nv:], X[:0])  # ∂τ/∂q, ∂τ/∂v at q̈ (M known)
     ltdl_inverse(m, dtau, x)  # M⁻¹ (L3, L4); q̈ is no longer needed
-    times_minus_minv(m, dtau, D[0], D[1], dq, dv)  # -M⁻¹ ∂τ/∂q, -M⁻¹ ∂τ/∂v (D12)
+    times_minus_minv(m, dtau, X, dq, dv, acc)  # -M⁻¹ ∂τ/∂q, -M⁻¹ ∂τ/∂v (D12)
     status = check_result(dtau)
     if status == OK:
         status = check_result(dq)
@@ -154,20 +148,22 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
 
 @inline
 def workspace_size(n, nq, nv, nl):
-    return 2 * nv + 2 * nv * nv + 22 * n + rnea_derivatives_size(n, nq, nv, nl)
+    return 4 * nv + 2 * nv * nv + 22 * n + rnea_derivatives_size(n, nq, nv, nl)
 
 
 @inline
 def _workspace(buf, m):
     """q̈ (nv) (zero, then q̈, then the scratch row of ``ltdl_inverse``), the bias b (nv),
-    ∂τ/∂q, ∂τ/∂v (2, nv, nv), the composites' copies Ic (n, 10) and Fc (n, 6),
-    q̈'s part of the accelerations Aq (n, 6), then the rnea derivatives' space."""
+    ``X = [∂τ/∂q  ∂τ/∂v]`` (nv, 2nv) and the row ``acc`` (2nv) of their product with M⁻¹,
+    the composites' copies Ic (n, 10) and Fc (n, 6), q̈'s part of the accelerations Aq
+    (n, 6), then the rnea derivatives' space."""
     x, o = ws.carve(buf, 0, (m.nv,))
     b, o = ws.carve(buf, o, (m.nv,))
-    D, o = ws.carve(buf, o, (2, m.nv, m.nv))
+    X, o = ws.carve(buf, o, (m.nv, 2 * m.nv))
+    acc, o = ws.carve(buf, o, (2 * m.nv,))
     Ic, o = ws.carve(buf, o, (m.n, 10))
     Fc, o = ws.carve(buf, o, (m.n, 6))
     Aq, o = ws.carve(buf, o, (m.n, 6))
     size = rnea_derivatives_size(m.n, m.nq, m.nv, m.nl)
     rest, o = ws.carve(buf, o, (size,))
-    return x, b, D, Ic, Fc, Aq, rest
+    return x, b, X, acc, Ic, Fc, Aq, rest
