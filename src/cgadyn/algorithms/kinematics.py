@@ -43,6 +43,18 @@ def frame_motors(m, q, c, s, tmp8, M, Mw, free_roots_at_rest):
 
 
 @inline
+def unit_coefficient(S):
+    """``(i, S[i])`` of a unit twist's one nonzero coefficient: a free-flyer root's S_k in
+    its own frame (``frame_motors`` with ``free_roots_at_rest``), whose pairing with a
+    wrench W is then ``⟨S_k, W⟩ = S[i] W[i]``."""
+    i = 0
+    for k in range(1, 6):
+        if abs(S[k]) > abs(S[i]):
+            i = k
+    return i, S[i]
+
+
+@inline
 def link_motor(m, Mw, i, out):
     """``out = M^w_link`` of link frame ``i`` from the joints' world motors."""
     j = m.link_joint[i]

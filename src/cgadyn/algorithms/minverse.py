@@ -37,7 +37,7 @@ from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from ._dense import spd_inverse
 from .aba import _articulated
-from .kinematics import frame_motors
+from .kinematics import frame_motors, unit_coefficient
 from .status import OK, SINGULAR, fault
 
 
@@ -132,7 +132,7 @@ def minverse_pass(m, q, Minv, k_):
                 for i in range(6):
                     F[j, col, i] = 0.0
                 for a in range(k0, k1):
-                    i, sign = _unit(Sw[a])
+                    i, sign = unit_coefficient(Sw[a])
                     F[j, col, i] = sign * Minv[a, col]
             continue
         if parent >= 0 and k1 - k0 == 1:  # one coordinate, below another joint
@@ -155,16 +155,6 @@ def minverse_pass(m, q, Minv, k_):
 
 
 @inline
-def _unit(S):
-    """``(i, S[i])`` of a unit twist's one nonzero coefficient."""
-    i = 0
-    for k in range(1, 6):
-        if abs(S[k]) > abs(S[i]):
-            i = k
-    return i, S[i]
-
-
-@inline
 def _free_root_backward(Ih, Sw, U, D, Dinv, F, Minv, k0, end, pk, e):
     """(M1, M2) for a free-flyer root in its own frame (M5): its coordinates ``k0 .. k0 + 6``
     have the unit twists S_k, so ``⟨S_a, F[c]⟩`` is one coefficient of F[c] times the
@@ -181,7 +171,7 @@ def _free_root_backward(Ih, Sw, U, D, Dinv, F, Minv, k0, end, pk, e):
         for b in range(6):
             Minv[k0 + a, k0 + b] = Dinv[a, b]  # M⁻¹[j, j] = D_j⁻¹ (M2)
     for b in range(6):  # S_b's one coefficient i and the pairing of S_b with blade i
-        i, _ = _unit(Sw[k0 + b])
+        i, _ = unit_coefficient(Sw[k0 + b])
         for k in range(6):
             e[k] = 1.0 if k == i else 0.0
         pk[0, b], pk[1, b] = dot(Sw[k0 + b], e), i  # -⟨S_b, F⟩ = pk[0, b] F[i]

@@ -1,8 +1,8 @@
-"""Analytic derivatives of inverse dynamics: ∂τ/∂q, ∂τ/∂v and ∂τ/∂a = M(q), in world
-coordinates. The derivation, with the equation numbers cited here, is in
-``docs/derivatives.md``.
+"""Analytic derivatives of inverse dynamics: ∂τ/∂q, ∂τ/∂v and ∂τ/∂a = M(q), in one fixed
+frame (the world, or a free-flyer root's, D14). The derivation, with the equation numbers
+cited here, is in ``docs/derivatives.md``.
 
-Everything is expressed in the world frame, where a quantity X carried by the bodies below
+Everything is expressed in one fixed frame, where a quantity X carried by the bodies below
 joint L moves under a change of the joint's coordinate l as ``∂X/∂q_l = S_l × X`` (D1). The
 twists and accelerations of the bodies below L move so, up to the terms that the parent's
 motion brings (D3, D4); the body wrenches follow (D6) and, summed over subtrees, the
@@ -21,12 +21,16 @@ composites of its subtree (inertia ``I^c``, its rate ``İ^c``, momentum ``h^c``,
 I^c[ψ_k] + İ^c[u_k] + u_k × h^c``, ``H_k = I^c[w_k] + İ^c[S_k] + S_k × h^c`` (D11). ⟨·,·⟩ is
 the power pairing of eq. (9), ``⟨V, W⟩ = -V · W``. The rigid inertias and their rates are
 kept as ten parameters (``kernels.rigid``): in one frame the composites are plain sums.
+
+A free-flyer root is computed in its own frame, frozen at q (D14): the torques and their
+derivatives are pairings, which a common motion of the whole tree leaves alone, and there
+the root's six S_k are unit twists, so that their pairings read one coefficient.
 """
 
 from __future__ import annotations
 
 from .._jit import core, inline
-from ..kernels import dot, twist_cross, twist_cross_wrench, wrench_sandwich
+from ..kernels import twist_cross, twist_cross_wrench, twist_sandwich_rev, wrench_sandwich
 from ..kernels.rigid import (
     rigid_apply,
     rigid_frame,
@@ -34,9 +38,10 @@ from ..kernels.rigid import (
     rigid_move_twist,
     rigid_rate,
 )
+from ..multibody.joints import FREE_FLYER
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
-from .kinematics import world_motors
+from .kinematics import frame_motors, unit_coefficient
 from .status import OK
 
 
@@ -47,36 +52,44 @@ def _set(t, out):
 
 
 @inline
-def _add(t, out):
-    """Add a 6-tuple to ``out``."""
-    out[0] += t[0]
-    out[1] += t[1]
-    out[2] += t[2]
-    out[3] += t[3]
-    out[4] += t[4]
-    out[5] += t[5]
+def _set_column(t, X, k):
+    """Write a 6-tuple into column k of ``X`` (6, nv)."""
+    X[0, k], X[1, k], X[2, k], X[3, k], X[4, k], X[5, k] = t[0], t[1], t[2], t[3], t[4], t[5]
 
 
 @inline
-def _pair(x, w):
-    """The power pairing ``⟨V, W⟩ = -V · W`` of a twist and a wrench (eq. 9)."""
-    return -dot(x, w)
+def _column(X, k):
+    """Column k of ``X`` (6, nv) as a 6-tuple."""
+    return X[0, k], X[1, k], X[2, k], X[3, k], X[4, k], X[5, k]
+
+
+@inline
+def _pair(x, W, k):
+    """The power pairing ``⟨x, W_k⟩ = -x · W_k`` (eq. 9) of a twist (a 6-tuple) with
+    column k of ``W`` (6, nv): the twist and wrench coefficients pair one to one."""
+    return (x[0] * W[0, k] + x[1] * W[1, k] + x[2] * W[2, k] + x[3] * W[3, k]
+            + x[4] * W[4, k] + x[5] * W[5, k])
 
 
 @inline
 def rnea_derivatives_forward(m, q, v, a, f, k_):
-    """The forward pass: world motors, axes, inertias and their rates, twists, accelerations,
+    """The forward pass: motors, axes, inertias and their rates, twists, accelerations,
     momenta and body wrenches, and the per-coordinate twists u, ψ, w; into the workspace
-    arrays of ``k_`` (see ``_workspace``)."""
-    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H, t1, t2, tmp8, c, s = k_
-    world_motors(m, q, c, s, tmp8, M, Mw)  # M^w_j
+    arrays of ``k_`` (see ``_workspace``). In the world frame, or a free-flyer root's (D14)."""
+    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, St, Ut, Psit, Wt, P, Q, G, H, g, t1, t2, tmp8, \
+        c, s = k_
+    frame_motors(m, q, c, s, tmp8, M, Mw, True)  # M^w_j, a free root at the identity (D14)
     for j in range(m.n):
         r, p = rigid_frame(Mw[j])
         k0, k1 = m.iv[j], m.iv[j + 1]
         for k in range(k0, k1):
-            rigid_move_twist(r, p, m.S[k], Sw[k])  # S_k in the world (eq. 4)
-        rigid_move_inertia(r, p, m.inertias[j], Iw[j])  # I_j in the world (eq. 16)
+            rigid_move_twist(r, p, m.S[k], Sw[k])  # S_k in the frame (eq. 4)
+        rigid_move_inertia(r, p, m.inertias[j], Iw[j])  # I_j in the frame (eq. 16)
         parent = m.parents[j]
+        if parent < 0 and m.types[j] == FREE_FLYER:
+            twist_sandwich_rev(M[j], m.gravity, g)  # A_0 = -g seen from the root (D14)
+        elif parent < 0:
+            _set(m.gravity, g)  # A_0 = -g
         for i in range(6):
             t1[i] = 0.0  # S_j q̇_j
             t2[i] = 0.0  # S_j q̈_j
@@ -87,13 +100,13 @@ def rnea_derivatives_forward(m, q, v, a, f, k_):
         for i in range(6):  # V_j = V_λ + S_j q̇_j (D2)
             V[j, i] = t1[i] if parent < 0 else V[parent, i] + t1[i]
         twist_cross(V[j], t1, A[j])  # V_j × S_j q̇_j: Ṡ_j = V_j × S_j
-        for i in range(6):  # A_j = A_λ + V_j × S_j q̇_j + S_j q̈_j, A_0 = -g (D2)
-            A[j, i] += t2[i] + (m.gravity[i] if parent < 0 else A[parent, i])
+        for i in range(6):  # A_j = A_λ + V_j × S_j q̇_j + S_j q̈_j (D2)
+            A[j, i] += t2[i] + (g[i] if parent < 0 else A[parent, i])
         for k in range(k0, k1):
-            if parent < 0:  # the world does not move: u = 0, ψ = A_0 × S
+            if parent < 0:  # the base does not move: u = 0, ψ = A_0 × S
                 for i in range(6):
                     U[k, i] = 0.0
-                twist_cross(m.gravity, Sw[k], Psi[k])
+                twist_cross(g, Sw[k], Psi[k])
             else:
                 twist_cross(V[parent], Sw[k], U[k])  # u_k = V_λ × S_k (D3)
                 twist_cross(A[parent], Sw[k], Psi[k])
@@ -117,49 +130,44 @@ def rnea_derivatives_forward(m, q, v, a, f, k_):
 
 @inline
 def rnea_derivatives_backward(m, k_, dq, dv, da):
-    """The backward pass: composites, P, Q, G, H, and the entries (D8-D11); ``da`` (0, nv)
-    when M is not wanted."""
-    Mw, M, V, A, h, F, Ic, Idc, Sw, U, Psi, Wv, P, Q, G, H, t1, t2, tmp8, c, s = k_
+    """The backward pass: composites and P, Q, G, H (D7, D11), then the entries (D8-D10);
+    ``da`` (0, nv) when M is not wanted. Every array by coordinate is read as rows over
+    the coordinates (column k of ``St``, ``P``, ... is coordinate k's), so that the
+    entries of a coordinate l with the contiguous range of coordinates at or below its
+    joint are loops over columns, which the compiler vectorises."""
+    Mw, M, V, A, h, F, Ic, Idc, Sw, U, Psi, Wv, St, Ut, Psit, Wt, P, Q, G, H, g, t1, t2, tmp8, \
+        c, s = k_
+    nv = m.nv
     mass = da.shape[0] > 0
-    for i in range(m.nv):  # entries of coordinates on different branches stay zero
-        for k in range(m.nv):
+    for i in range(nv):  # entries of coordinates on different branches stay zero
+        for k in range(nv):
             dq[i, k] = 0.0
             dv[i, k] = 0.0
     if mass:
-        for i in range(m.nv):
-            for k in range(m.nv):
+        for i in range(nv):
+            for k in range(nv):
                 da[i, k] = 0.0
+    for k in range(nv):
+        for i in range(6):
+            St[i, k] = Sw[k, i]
+            Ut[i, k] = U[k, i]
+            Psit[i, k] = Psi[k, i]
+            Wt[i, k] = Wv[k, i]
     for j in range(m.n - 1, -1, -1):  # children come after their parents: I^c_j complete
-        k0, k1 = m.iv[j], m.iv[j + 1]
-        for k in range(k0, k1):  # (D11)
-            _set(rigid_apply(Ic[j], Sw[k]), P[k])  # P_k = I^c[S_k]
-            _set(rigid_apply(Idc[j], Sw[k]), t2)  # İ^c[S_k]
+        for k in range(m.iv[j], m.iv[j + 1]):  # (D11)
+            _set_column(rigid_apply(Ic[j], Sw[k]), P, k)  # P_k = I^c[S_k]
+            w = rigid_apply(Idc[j], Sw[k])  # İ^c[S_k]
+            x = rigid_apply(Ic[j], Wv[k])  # I^c[w_k]
             twist_cross_wrench(Sw[k], h[j], t1)  # S_k × h^c
             for i in range(6):
-                Q[k, i] = t2[i] - t1[i]  # Q_k = İ^c[S_k] - S_k × h^c
-                H[k, i] = t2[i] + t1[i]
-            _add(rigid_apply(Ic[j], Wv[k]), H[k])  # H_k = I^c[w_k] + İ^c[S_k] + S_k × h^c
-            twist_cross_wrench(Sw[k], F[j], G[k])  # S_k × F^c
-            _add(rigid_apply(Ic[j], Psi[k]), G[k])  # + I^c[ψ_k]
-            _add(rigid_apply(Idc[j], U[k]), G[k])  # + İ^c[u_k]
-            twist_cross_wrench(U[k], h[j], t1)
+                Q[i, k] = w[i] - t1[i]  # Q_k = İ^c[S_k] - S_k × h^c
+                H[i, k] = x[i] + w[i] + t1[i]  # H_k = I^c[w_k] + İ^c[S_k] + S_k × h^c
+            w = rigid_apply(Ic[j], Psi[k])  # I^c[ψ_k]
+            x = rigid_apply(Idc[j], U[k])  # İ^c[u_k]
+            twist_cross_wrench(Sw[k], F[j], t1)  # S_k × F^c
+            twist_cross_wrench(U[k], h[j], t2)  # u_k × h^c
             for i in range(6):
-                G[k, i] += t1[i]  # + u_k × h^c
-        for k in range(k0, k1):
-            for l in range(k0, k1):  # the joint's own coordinates: k at l's joint
-                dq[k, l] = _pair(Psi[l], P[k]) + _pair(U[l], Q[k])  # (D8)
-                dv[k, l] = _pair(Wv[l], P[k]) + _pair(Sw[l], Q[k])  # (D9)
-                if mass:
-                    da[k, l] = _pair(Sw[l], P[k])  # M (D10)
-            l = m.dof_parent[k0]
-            while l >= 0:  # the coordinates of every joint above
-                dq[k, l] = _pair(Psi[l], P[k]) + _pair(U[l], Q[k])  # k below l (D8)
-                dq[l, k] = _pair(Sw[l], G[k])  # l above k
-                dv[k, l] = _pair(Wv[l], P[k]) + _pair(Sw[l], Q[k])  # (D9)
-                dv[l, k] = _pair(Sw[l], H[k])
-                if mass:
-                    da[k, l] = da[l, k] = _pair(Sw[l], P[k])  # (D10)
-                l = m.dof_parent[l]
+                G[i, k] = t1[i] + w[i] + x[i] + t2[i]  # G_k
         parent = m.parents[j]
         if parent >= 0:  # the composites of the parent's subtree (D7)
             for i in range(10):
@@ -168,6 +176,40 @@ def rnea_derivatives_backward(m, k_, dq, dv, da):
             for i in range(6):
                 h[parent, i] += h[j, i]
                 F[parent, i] += F[j, i]
+    for j in range(m.n):
+        k0, k1, end = m.iv[j], m.iv[j + 1], m.subtree_end[j]  # j's subtree: k0 .. end
+        root = m.parents[j] < 0  # u_l = 0
+        free = root and m.types[j] == FREE_FLYER  # S_l a unit twist (D14)
+        for l in range(k0, k1):
+            psi, w = _column(Psit, l), _column(Wt, l)
+            if free:  # ⟨S_l, W⟩ = S_l[i] W[i]
+                i, x = unit_coefficient(Sw[l])
+                for k in range(k0, end):  # k at or below l (D8, D9)
+                    dq[k, l] = _pair(psi, P, k)
+                    dv[k, l] = _pair(w, P, k) + x * Q[i, k]
+                for k in range(k1, end):  # l above k
+                    dq[l, k] = x * G[i, k]
+                    dv[l, k] = x * H[i, k]
+                if mass:
+                    for k in range(k0, end):
+                        da[l, k] = da[k, l] = x * P[i, k]  # (D10)
+                continue
+            S = _column(St, l)
+            if root:
+                for k in range(k0, end):  # k at or below l (D8, D9)
+                    dq[k, l] = _pair(psi, P, k)
+                    dv[k, l] = _pair(w, P, k) + _pair(S, Q, k)
+            else:
+                u = _column(Ut, l)
+                for k in range(k0, end):  # k at or below l (D8, D9)
+                    dq[k, l] = _pair(psi, P, k) + _pair(u, Q, k)
+                    dv[k, l] = _pair(w, P, k) + _pair(S, Q, k)
+            for k in range(k1, end):  # l above k (D8, D9)
+                dq[l, k] = _pair(S, G, k)
+                dv[l, k] = _pair(S, H, k)
+            if mass:
+                for k in range(k0, end):
+                    da[l, k] = da[k, l] = _pair(S, P, k)  # (D10)
 
 
 @core
@@ -188,14 +230,14 @@ def rnea_derivatives_core(m, q, v, a, f, dq, dv, da, option, work):
 
 @inline
 def workspace_size(n, nq, nv, nl):
-    return 60 * n + 48 * nv + 2 * nq + 20
+    return 60 * n + 72 * nv + 2 * nq + 26
 
 
 @inline
 def _workspace(buf, m):
     """Mw, M (n, 8); V, A, h, F (n, 6); Iw, İ (n, 10) (the composites accumulate in place);
-    Sw, U, Ψ, Wv, P, Q, G, H (nv, 6); t1, t2 (6), tmp8 (8), the joint motors' scalars c, s
-    (nq)."""
+    Sw, U, Ψ, Wv (nv, 6); the same by coefficient St, Ut, Ψt, Wt and P, Q, G, H (6, nv);
+    the base acceleration g, t1, t2 (6), tmp8 (8), the joint motors' scalars c, s (nq)."""
     Mw, o = ws.carve(buf, 0, (m.n, 8))
     M, o = ws.carve(buf, o, (m.n, 8))
     V, o = ws.carve(buf, o, (m.n, 6))
@@ -208,13 +250,19 @@ def _workspace(buf, m):
     U, o = ws.carve(buf, o, (m.nv, 6))
     Psi, o = ws.carve(buf, o, (m.nv, 6))
     Wv, o = ws.carve(buf, o, (m.nv, 6))
-    P, o = ws.carve(buf, o, (m.nv, 6))
-    Q, o = ws.carve(buf, o, (m.nv, 6))
-    G, o = ws.carve(buf, o, (m.nv, 6))
-    H, o = ws.carve(buf, o, (m.nv, 6))
+    St, o = ws.carve(buf, o, (6, m.nv))
+    Ut, o = ws.carve(buf, o, (6, m.nv))
+    Psit, o = ws.carve(buf, o, (6, m.nv))
+    Wt, o = ws.carve(buf, o, (6, m.nv))
+    P, o = ws.carve(buf, o, (6, m.nv))
+    Q, o = ws.carve(buf, o, (6, m.nv))
+    G, o = ws.carve(buf, o, (6, m.nv))
+    H, o = ws.carve(buf, o, (6, m.nv))
+    g, o = ws.carve(buf, o, (6,))
     t1, o = ws.carve(buf, o, (6,))
     t2, o = ws.carve(buf, o, (6,))
     tmp8, o = ws.carve(buf, o, (8,))
     c, o = ws.carve(buf, o, (m.nq,))
     s, o = ws.carve(buf, o, (m.nq,))
-    return Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H, t1, t2, tmp8, c, s
+    return (Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, St, Ut, Psit, Wt, P, Q, G, H, g, t1, t2,
+            tmp8, c, s)
