@@ -155,6 +155,35 @@ def test_batch_outputs_share_one_block_without_overlap():
         np.testing.assert_array_equal(x[3], y)
 
 
+def test_a_dropped_batch_block_is_reused_and_a_live_one_never():
+    rng = np.random.default_rng(8)
+    q, v, a = (rng.uniform(-1, 1, (1024, 9)) for _ in range(3))  # 2 MiB of results
+    first = cgadyn.rnea_derivatives(PANDA, q, v, a)
+    address = first[0].ctypes.data
+    ref = [x.copy() for x in first]
+    del first
+    again = cgadyn.rnea_derivatives(PANDA, q, v, a)
+    assert again[0].ctypes.data == address  # the dropped block, with the same numbers
+    for x, y in zip(again, ref, strict=True):
+        np.testing.assert_array_equal(x, y)
+    row = again[2][5]  # one view of one result keeps the whole block alive
+    del again
+    other = cgadyn.rnea_derivatives(PANDA, -q, v, a)
+    assert not np.shares_memory(other[0], row)
+    np.testing.assert_array_equal(row, ref[2][5])
+
+
+def test_kept_blocks_stay_under_their_bound(monkeypatch):
+    from cgadyn.algorithms import _blocks
+
+    monkeypatch.setattr(_blocks, "KEEP_BYTES", 6 << 20)
+    rng = np.random.default_rng(9)
+    for b in (700, 900, 1100, 1300):  # 1.3 to 2.4 MiB each
+        q = rng.uniform(-1, 1, (b, 9))
+        assert cgadyn.rnea_derivatives(PANDA, q, q, q)[0].shape == (b, 9, 9)
+        assert _blocks.kept_bytes() <= 6 << 20
+
+
 @njit
 def _unpacked(packed):
     m = unpack(packed)

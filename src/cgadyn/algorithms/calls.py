@@ -30,7 +30,7 @@ import numpy as np
 
 from .. import distributed
 from ..multibody.packed import DEFAULT_GRAVITY
-from . import _entries, _inputs
+from . import _blocks, _entries, _inputs
 from .errors import explain
 from .table import ALGORITHMS, SIZES
 
@@ -73,19 +73,22 @@ class Entry:
                 self.registered = True
 
     def outputs(self, model, batch: tuple[int, ...]) -> list[np.ndarray]:
-        """Fresh output arrays. Several outputs are views of one block, each starting on a
-        64-byte boundary: freed together, separate arrays of a few MiB would go back to
-        the kernel and cost a page fault per 4 KiB on the next batch (about a quarter of
-        the rnea derivatives' time on the panda), where one block of 4 MiB or more is
-        mapped in huge pages (numpy asks for them)."""
+        """Output arrays with undefined contents. Several outputs are views of one block,
+        each starting on a 64-byte boundary: freed together, separate arrays of a few MiB
+        would go back to the kernel and cost a page fault per 4 KiB on the next batch
+        (about a quarter of the rnea derivatives' time on the panda), where one block of
+        4 MiB or more is mapped in huge pages (numpy asks for them). A batch's block is one
+        that an earlier batch returned and its caller dropped, where there is one
+        (``_blocks``)."""
         sizes = {"n": model.njoints, "nq": model.nq, "nv": model.nv, "nl": model.nlinks}
         shapes = [batch + tuple(sizes.get(d, d) for d in dims)
                   for dims in self.algorithm.outputs]
-        if len(shapes) == 1:
-            return [np.empty(shapes[0])]
+        if not batch:
+            if len(shapes) == 1:
+                return [np.empty(shapes[0])]
         counts = [math.prod(shape) for shape in shapes]
         starts = np.cumsum([0] + [-(-c // 8) * 8 for c in counts])  # 8 floats: 64 bytes
-        raw = np.empty(int(starts[-1]) + 8)
+        raw = _blocks.block(int(starts[-1]) + 8)
         skip = (-raw.ctypes.data % 64) // 8
         return [raw[skip + o:skip + o + c].reshape(shape)
                 for o, c, shape in zip(starts[:-1], counts, shapes, strict=True)]
