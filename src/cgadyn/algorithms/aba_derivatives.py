@@ -63,8 +63,7 @@ def mass_and_bias(m, k_, Ic, Fc, H, b):
     torques of that pass ``b = τ(q, v, 0)`` (the bias, ``⟨S_k, F^c⟩``), with the
     composites accumulated in the copies ``Ic`` (n, 10) and ``Fc`` (n, 6) (D7), so that
     the body inertias and wrenches stay for the passes at q̈."""
-    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, St, Ut, Psit, Wt, P, Q, G, H_, g, t1, t2, tmp8, \
-        c, s = k_
+    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H_, g, t1, t2, tmp8, c, s = k_
     for j in range(m.n):
         for i in range(10):
             Ic[j, i] = Iw[j, i]
@@ -91,8 +90,7 @@ def accelerate(m, k_, qdd, Aq):
     """Add q̈'s part to the forward pass run at q̈ = 0: ``A_j += Aq_j`` with ``Aq_j = Aq_λ +
     S_j q̈_j`` (D2; the velocity products do not involve q̈), ``ψ_k += Aq_λ × S_k`` (D4)
     and ``F_j += I_j[Aq_j]`` (eq. 15); every one is linear in the acceleration."""
-    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, St, Ut, Psit, Wt, P, Q, G, H, g, t1, t2, tmp8, \
-        c, s = k_
+    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H, g, t1, t2, tmp8, c, s = k_
     for j in range(m.n):
         p = m.parents[j]
         k0, k1 = m.iv[j], m.iv[j + 1]

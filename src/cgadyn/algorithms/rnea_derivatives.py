@@ -58,9 +58,9 @@ def _set_column(t, X, k):
 
 
 @inline
-def _column(X, k):
-    """Column k of ``X`` (6, nv) as a 6-tuple."""
-    return X[0, k], X[1, k], X[2, k], X[3, k], X[4, k], X[5, k]
+def _row(X, k):
+    """Row k of ``X`` (nv, 6) as a 6-tuple."""
+    return X[k, 0], X[k, 1], X[k, 2], X[k, 3], X[k, 4], X[k, 5]
 
 
 @inline
@@ -76,8 +76,7 @@ def rnea_derivatives_forward(m, q, v, a, f, k_):
     """The forward pass: motors, axes, inertias and their rates, twists, accelerations,
     momenta and body wrenches, and the per-coordinate twists u, ψ, w; into the workspace
     arrays of ``k_`` (see ``_workspace``). In the world frame, or a free-flyer root's (D14)."""
-    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, St, Ut, Psit, Wt, P, Q, G, H, g, t1, t2, tmp8, \
-        c, s = k_
+    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H, g, t1, t2, tmp8, c, s = k_
     frame_motors(m, q, c, s, tmp8, M, Mw, True)  # M^w_j, a free root at the identity (D14)
     for j in range(m.n):
         r, p = rigid_frame(Mw[j])
@@ -131,12 +130,11 @@ def rnea_derivatives_forward(m, q, v, a, f, k_):
 @inline
 def rnea_derivatives_backward(m, k_, dq, dv, da):
     """The backward pass: composites and P, Q, G, H (D7, D11), then the entries (D8-D10);
-    ``da`` (0, nv) when M is not wanted. Every array by coordinate is read as rows over
-    the coordinates (column k of ``St``, ``P``, ... is coordinate k's), so that the
-    entries of a coordinate l with the contiguous range of coordinates at or below its
-    joint are loops over columns, which the compiler vectorises."""
-    Mw, M, V, A, h, F, Ic, Idc, Sw, U, Psi, Wv, St, Ut, Psit, Wt, P, Q, G, H, g, t1, t2, tmp8, \
-        c, s = k_
+    ``da`` (0, nv) when M is not wanted. P, Q, G, H are kept by coefficient, as six rows
+    over the coordinates (column k is coordinate k's), so that the entries of a
+    coordinate l with the contiguous range of coordinates at or below its joint are loops
+    over columns, which the compiler vectorises; l's own twists are six numbers each."""
+    Mw, M, V, A, h, F, Ic, Idc, Sw, U, Psi, Wv, P, Q, G, H, g, t1, t2, tmp8, c, s = k_
     nv = m.nv
     mass = da.shape[0] > 0
     for i in range(nv):  # entries of coordinates on different branches stay zero
@@ -147,12 +145,6 @@ def rnea_derivatives_backward(m, k_, dq, dv, da):
         for i in range(nv):
             for k in range(nv):
                 da[i, k] = 0.0
-    for k in range(nv):
-        for i in range(6):
-            St[i, k] = Sw[k, i]
-            Ut[i, k] = U[k, i]
-            Psit[i, k] = Psi[k, i]
-            Wt[i, k] = Wv[k, i]
     for j in range(m.n - 1, -1, -1):  # children come after their parents: I^c_j complete
         for k in range(m.iv[j], m.iv[j + 1]):  # (D11)
             _set_column(rigid_apply(Ic[j], Sw[k]), P, k)  # P_k = I^c[S_k]
@@ -181,7 +173,7 @@ def rnea_derivatives_backward(m, k_, dq, dv, da):
         root = m.parents[j] < 0  # u_l = 0
         free = root and m.types[j] == FREE_FLYER  # S_l a unit twist (D14)
         for l in range(k0, k1):
-            psi, w = _column(Psit, l), _column(Wt, l)
+            psi, w = _row(Psi, l), _row(Wv, l)
             if free:  # ⟨S_l, W⟩ = S_l[i] W[i]
                 i, x = unit_coefficient(Sw[l])
                 for k in range(k0, end):  # k at or below l (D8, D9)
@@ -194,13 +186,13 @@ def rnea_derivatives_backward(m, k_, dq, dv, da):
                     for k in range(k0, end):
                         da[l, k] = da[k, l] = x * P[i, k]  # (D10)
                 continue
-            S = _column(St, l)
+            S = _row(Sw, l)
             if root:
                 for k in range(k0, end):  # k at or below l (D8, D9)
                     dq[k, l] = _pair(psi, P, k)
                     dv[k, l] = _pair(w, P, k) + _pair(S, Q, k)
             else:
-                u = _column(Ut, l)
+                u = _row(U, l)
                 for k in range(k0, end):  # k at or below l (D8, D9)
                     dq[k, l] = _pair(psi, P, k) + _pair(u, Q, k)
                     dv[k, l] = _pair(w, P, k) + _pair(S, Q, k)
@@ -230,14 +222,14 @@ def rnea_derivatives_core(m, q, v, a, f, dq, dv, da, option, work):
 
 @inline
 def workspace_size(n, nq, nv, nl):
-    return 60 * n + 72 * nv + 2 * nq + 26
+    return 60 * n + 48 * nv + 2 * nq + 26
 
 
 @inline
 def _workspace(buf, m):
     """Mw, M (n, 8); V, A, h, F (n, 6); Iw, İ (n, 10) (the composites accumulate in place);
-    Sw, U, Ψ, Wv (nv, 6); the same by coefficient St, Ut, Ψt, Wt and P, Q, G, H (6, nv);
-    the base acceleration g, t1, t2 (6), tmp8 (8), the joint motors' scalars c, s (nq)."""
+    Sw, U, Ψ, Wv (nv, 6); P, Q, G, H by coefficient (6, nv); the base acceleration g,
+    t1, t2 (6), tmp8 (8), the joint motors' scalars c, s (nq)."""
     Mw, o = ws.carve(buf, 0, (m.n, 8))
     M, o = ws.carve(buf, o, (m.n, 8))
     V, o = ws.carve(buf, o, (m.n, 6))
@@ -250,10 +242,6 @@ def _workspace(buf, m):
     U, o = ws.carve(buf, o, (m.nv, 6))
     Psi, o = ws.carve(buf, o, (m.nv, 6))
     Wv, o = ws.carve(buf, o, (m.nv, 6))
-    St, o = ws.carve(buf, o, (6, m.nv))
-    Ut, o = ws.carve(buf, o, (6, m.nv))
-    Psit, o = ws.carve(buf, o, (6, m.nv))
-    Wt, o = ws.carve(buf, o, (6, m.nv))
     P, o = ws.carve(buf, o, (6, m.nv))
     Q, o = ws.carve(buf, o, (6, m.nv))
     G, o = ws.carve(buf, o, (6, m.nv))
@@ -264,5 +252,5 @@ def _workspace(buf, m):
     tmp8, o = ws.carve(buf, o, (8,))
     c, o = ws.carve(buf, o, (m.nq,))
     s, o = ws.carve(buf, o, (m.nq,))
-    return (Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, St, Ut, Psit, Wt, P, Q, G, H, g, t1, t2,
+    return (Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H, g, t1, t2,
             tmp8, c, s)
