@@ -83,9 +83,8 @@ class Entry:
         sizes = {"n": model.njoints, "nq": model.nq, "nv": model.nv, "nl": model.nlinks}
         shapes = [batch + tuple(sizes.get(d, d) for d in dims)
                   for dims in self.algorithm.outputs]
-        if not batch:
-            if len(shapes) == 1:
-                return [np.empty(shapes[0])]
+        if not batch and len(shapes) == 1:
+            return [np.empty(shapes[0])]
         counts = [math.prod(shape) for shape in shapes]
         starts = np.cumsum([0] + [-(-c // 8) * 8 for c in counts])  # 8 floats: 64 bytes
         raw = _blocks.block(int(starts[-1]) + 8)

@@ -25,6 +25,13 @@ def world_motors(m, q, c, s, tmp8, M, Mw):
 
 
 @inline
+def free_root(m, j):
+    """True when joint j is a free flyer at the root of its tree: ``frame_motors`` with
+    ``free_roots_at_rest`` puts its tree in the root body's own frame (M5, D14)."""
+    return m.parents[j] < 0 and m.types[j] == FREE_FLYER
+
+
+@inline
 def frame_motors(m, q, c, s, tmp8, M, Mw, free_roots_at_rest):
     """``world_motors``; with ``free_roots_at_rest`` a free-flyer root takes the identity
     instead of its motor, so that its tree is in the root body's own frame (a quantity that
@@ -35,7 +42,7 @@ def frame_motors(m, q, c, s, tmp8, M, Mw, free_roots_at_rest):
     for j in range(m.n):
         p = m.parents[j]
         if p < 0:
-            rest = free_roots_at_rest and m.types[j] == FREE_FLYER
+            rest = free_roots_at_rest and free_root(m, j)
             for k in range(8):
                 Mw[j, k] = (1.0 if k == 0 else 0.0) if rest else M[j, k]  # M^w_j = M_j
         else:

@@ -32,12 +32,11 @@ import math
 from .._jit import core, inline
 from ..kernels import dot, inertia_apply
 from ..kernels.rigid import rigid_frame, rigid_matrix, rigid_move_inertia, rigid_move_twist
-from ..multibody.joints import FREE_FLYER
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from ._dense import spd_inverse
 from .aba import _articulated
-from .kinematics import frame_motors, unit_coefficient
+from .kinematics import frame_motors, free_root, unit_coefficient
 from .status import OK, SINGULAR, fault
 
 
@@ -62,7 +61,7 @@ def minverse_pass(m, q, Minv, k_):
                 F[j, col, i] = 0.0
     for j in range(m.n - 1, -1, -1):
         k0, k1, end = m.iv[j], m.iv[j + 1], m.subtree_end[j]
-        if m.parents[j] < 0 and m.types[j] == FREE_FLYER:
+        if free_root(m, j):
             if not _free_root_backward(Ih[j], Sw, U, D, Dinv, F[j], Minv, k0, end, pk, e):
                 return fault(SINGULAR, j)
             continue
@@ -127,7 +126,7 @@ def minverse_pass(m, q, Minv, k_):
     for j in range(m.n):
         k0, k1 = m.iv[j], m.iv[j + 1]
         parent = m.parents[j]
-        if parent < 0 and m.types[j] == FREE_FLYER:
+        if free_root(m, j):
             for col in range(k0, nv):  # A_j[c] = S_j M⁻¹[j, c], one coefficient each (M3, M5)
                 for i in range(6):
                     F[j, col, i] = 0.0
