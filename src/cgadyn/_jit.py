@@ -28,7 +28,6 @@ memory instead, with one warning, and works the same (only slower to start).
 
 from __future__ import annotations
 
-import os
 import threading
 import warnings
 from collections.abc import Callable
@@ -44,37 +43,61 @@ _CACHE = [True]
 """Whether numba can cache on disk: True until a decoration finds no cache location."""
 
 
-def _cache_dirs() -> list[Path]:
-    """Where numba may keep the package's compiled code: ``__pycache__`` beside the
-    sources, and its mirror of the package's path under ``NUMBA_CACHE_DIR``."""
-    dirs = [d for d in PACKAGE.rglob("__pycache__") if d.is_dir()]
-    root = os.environ.get("NUMBA_CACHE_DIR")
-    if root:
-        mirror = Path(root) / str(PACKAGE).lstrip(os.sep)
-        if mirror.is_dir():
-            dirs += [mirror, *(d for d in mirror.rglob("*") if d.is_dir())]
-    return dirs
+STAMP = "cgadyn-sources.txt"
+"""The file, in each directory of cached machine code, naming the sources it was built from."""
+
+
+def _cache_dirs() -> list[list[Path]]:
+    """Where numba may keep the machine code of the package's compiled functions: for every
+    directory of sources, the directories numba's locators derive from it, in the order it
+    tries them: under ``NUMBA_CACHE_DIR`` where that is set, ``__pycache__``, under the
+    user-wide cache (the last two: the source directory's name and a SHA-1 of its whole
+    path, numba's ``get_suitable_cache_subpath``)."""
+    from numba.core import config
+    from numba.core.caching import UserProvidedCacheLocator
+    from numba.misc.appdirs import AppDirs
+
+    user = Path(AppDirs(appname="numba", appauthor=False).user_cache_dir)
+    found = []
+    for src in [PACKAGE, *(d for d in PACKAGE.rglob("*") if d.is_dir())]:
+        if src.name == "__pycache__" or not any(src.glob("*.py")):
+            continue
+        sub = UserProvidedCacheLocator.get_suitable_cache_subpath(str(src / "__init__.py"))
+        given = [Path(config.CACHE_DIR) / sub] if config.CACHE_DIR else []
+        found.append([*given, src / "__pycache__", user / sub])
+    return found
 
 
 def _heal() -> None:
-    """Delete the package's cached machine code if it was compiled from other sources."""
-    stamp = PACKAGE / "__pycache__" / "numba-sources.txt"
-    try:
-        if stamp.read_text() == compiled_fingerprint():
-            return
-    except OSError:
-        pass
-    for d in _cache_dirs():
-        for f in [*d.glob("*.nbi"), *d.glob("*.nbc")]:
+    """Delete the package's cached machine code wherever it was compiled from other sources.
+
+    Every cache directory carries its own stamp (``STAMP``), so that one last used by other
+    sources (under another ``NUMBA_CACHE_DIR``, say) is healed when it is used again. The
+    first directory numba will try is made now and stamped, so that the code numba caches
+    there later is known to be this code's."""
+    stamp = compiled_fingerprint()
+    for dirs in _cache_dirs():
+        try:
+            dirs[0].mkdir(parents=True, exist_ok=True)
+        except OSError:
+            pass  # not writable: numba tries the next one
+        for d in dirs:
             try:
-                f.unlink()
+                if (d / STAMP).read_text() == stamp:
+                    continue
             except OSError:
                 pass
-    try:
-        stamp.parent.mkdir(exist_ok=True)
-        stamp.write_text(compiled_fingerprint())
-    except OSError:
-        pass  # read-only: numba will not cache here either
+            if not d.is_dir():
+                continue
+            for f in [*d.glob("*.nbi"), *d.glob("*.nbc")]:
+                try:
+                    f.unlink()
+                except OSError:
+                    pass
+            try:
+                (d / STAMP).write_text(stamp)
+            except OSError:
+                pass  # read-only: numba will not cache here either
 
 
 _heal()

@@ -1,0 +1,58 @@
+"""Cached machine code never outlives the sources it was compiled from, in any of numba's
+cache directories.
+
+numba keys a cached function on its own file only; an edit to a kernel it inlines from
+another file leaves the cached function as it was. ``cgadyn._jit`` heals this at import. The
+scenario: a copy of the package computes under one ``NUMBA_CACHE_DIR``, then under another;
+an inlined kernel (the joint scalars, in ``multibody/joints.py``, not the file of the
+algorithm) is edited; each directory, used again, must give the edited code's numbers.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+import cgadyn
+
+SCRIPT = """
+import numpy as np
+import cgadyn
+model = cgadyn.load("double_pendulum")
+print(repr(cgadyn.rnea(model, np.array([0.3, -0.2]), np.zeros(2), np.zeros(2)).tolist()))
+"""
+EDIT = ("        x = q[k]\n", "        x = q[k] + 0.5\n")
+"""The joint scalars of ``q + 0.5``: the torques of another configuration."""
+
+
+def _run(tmp_path: Path, cache: Path) -> list[float]:
+    env = {**os.environ, "PYTHONPATH": str(tmp_path), "PYTHONDONTWRITEBYTECODE": "1",
+           "NUMBA_CACHE_DIR": str(cache), "CGADYN_CACHE_DIR": str(tmp_path / "models")}
+    run = subprocess.run([sys.executable, "-c", SCRIPT], env=env, capture_output=True,
+                         text=True, timeout=600, cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    return eval(run.stdout.strip().splitlines()[-1])
+
+
+def test_an_edited_kernel_heals_every_cache_directory(tmp_path: Path):
+    package = Path(cgadyn.__file__).parent
+    copy = tmp_path / "cgadyn"
+    shutil.copytree(package, copy, ignore=shutil.ignore_patterns("__pycache__", "*.so"))
+    model = cgadyn.load("double_pendulum")
+    before = cgadyn.rnea(model, [0.3, -0.2], [0.0, 0.0], [0.0, 0.0])
+    after = cgadyn.rnea(model, [0.8, 0.3], [0.0, 0.0], [0.0, 0.0])
+    assert not np.allclose(before, after)  # the edit shows in the numbers
+    first, second = tmp_path / "numba_a", tmp_path / "numba_b"
+    assert np.allclose(_run(tmp_path, first), before, rtol=0, atol=1e-12)
+    assert np.allclose(_run(tmp_path, second), before, rtol=0, atol=1e-12)
+    joints = copy / "multibody" / "joints.py"
+    text = joints.read_text()
+    assert text.count(EDIT[0]) == 1
+    joints.write_text(text.replace(*EDIT))
+    assert np.allclose(_run(tmp_path, first), after, rtol=0, atol=1e-12)
+    assert np.allclose(_run(tmp_path, second), after, rtol=0, atol=1e-12)
