@@ -31,6 +31,7 @@ import math
 
 from .._jit import core, inline
 from ..kernels import dot, inertia_apply
+from ..kernels.layout import coefficients
 from ..kernels.rigid import rigid_frame, rigid_matrix, rigid_move_inertia, rigid_move_twist
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
@@ -61,7 +62,7 @@ def minverse_pass(m, q, Minv, k_):
                 F[j, col, i] = 0.0
     for j in range(m.n - 1, -1, -1):
         k0, k1, end = m.iv[j], m.iv[j + 1], m.subtree_end[j]
-        if free_root(m, j):
+        if free_root(m.parents[j], m.types[j]):
             if not _free_root_backward(Ih[j], Sw, U, D, Dinv, F[j], Minv, k0, end, pk, e):
                 return fault(SINGULAR, j)
             continue
@@ -90,13 +91,14 @@ def minverse_pass(m, q, Minv, k_):
                     G[a, i] += w * U[b, i]  # D_j⁻¹ U_j
         parent = m.parents[j]
         if k1 - k0 == 1:  # one coordinate: the same with a number for D_j⁻¹
+            s_j, u_j = coefficients(Sw[k0]), coefficients(U[k0])  # in registers
             for col in range(k1, end):  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
-                Minv[k0, col] = omega * dot(Sw[k0], F[j, col])
+                Minv[k0, col] = omega * dot(s_j, F[j, col])
             if parent >= 0:
                 for col in range(k0, end):  # F_λ[c] += F_j[c] + U_j M⁻¹[j, c] (M2)
                     x = Minv[k0, col]
                     for i in range(6):
-                        F[parent, col, i] += F[j, col, i] + U[k0, i] * x
+                        F[parent, col, i] += F[j, col, i] + u_j[i] * x
         else:
             for col in range(k1, end):  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
                 for b in range(k0, k1):
@@ -126,7 +128,7 @@ def minverse_pass(m, q, Minv, k_):
     for j in range(m.n):
         k0, k1 = m.iv[j], m.iv[j + 1]
         parent = m.parents[j]
-        if free_root(m, j):
+        if free_root(parent, m.types[j]):
             for col in range(k0, nv):  # A_j[c] = S_j M⁻¹[j, c], one coefficient each (M3, M5)
                 for i in range(6):
                     F[j, col, i] = 0.0
@@ -135,11 +137,12 @@ def minverse_pass(m, q, Minv, k_):
                     F[j, col, i] = sign * Minv[a, col]
             continue
         if parent >= 0 and k1 - k0 == 1:  # one coordinate, below another joint
+            g_j, s_j = coefficients(G[k0]), coefficients(Sw[k0])  # in registers
             for col in range(k0, nv):
-                x = Minv[k0, col] + dot(G[k0], F[parent, col])  # -⟨D⁻¹U_j, A_λ[c]⟩ (M3)
+                x = Minv[k0, col] + dot(g_j, F[parent, col])  # -⟨D⁻¹U_j, A_λ[c]⟩ (M3)
                 Minv[k0, col] = x
                 for i in range(6):
-                    F[j, col, i] = F[parent, col, i] + Sw[k0, i] * x  # A_λ[c] + S_j M⁻¹[j, c]
+                    F[j, col, i] = F[parent, col, i] + s_j[i] * x  # A_λ[c] + S_j M⁻¹[j, c]
             continue
         for col in range(k0, nv):
             if parent >= 0:

@@ -33,6 +33,14 @@ def physical(x):
 
 
 @inline
+def coefficients(x):
+    """The six coefficients of a twist or wrench, as a tuple: values that a compiled loop
+    keeps in registers while it stores into other arrays (read from ``x`` in the loop, they
+    would be loaded again after every store, which might have changed them)."""
+    return x[0], x[1], x[2], x[3], x[4], x[5]
+
+
+@inline
 def bivector(a1, a2, a3, b1, b2, b3):
     """The twist or wrench coefficients of physical ``(ω, v)`` or ``(n, f)``, as a tuple."""
     return S0 * a1, S1 * a2, S2 * a3, S3 * b1, S4 * b2, S5 * b3
