@@ -31,6 +31,7 @@ from __future__ import annotations
 
 from .._jit import core, inline
 from ..kernels import twist_cross, twist_cross_wrench, twist_sandwich_rev, wrench_sandwich
+from ..kernels.layout import coefficients
 from ..kernels.rigid import (
     rigid_apply,
     rigid_frame,
@@ -54,12 +55,6 @@ def _set(t, out):
 def _set_column(t, X, k):
     """Write a 6-tuple into column k of ``X`` (6, nv)."""
     X[0, k], X[1, k], X[2, k], X[3, k], X[4, k], X[5, k] = t[0], t[1], t[2], t[3], t[4], t[5]
-
-
-@inline
-def _row(X, k):
-    """Row k of ``X`` (nv, 6) as a 6-tuple."""
-    return X[k, 0], X[k, 1], X[k, 2], X[k, 3], X[k, 4], X[k, 5]
 
 
 @inline
@@ -172,7 +167,7 @@ def rnea_derivatives_backward(m, k_, dq, dv, da):
         root = m.parents[j] < 0  # u_l = 0
         free = free_root(m.parents[j], m.types[j])  # S_l a unit twist (D14)
         for l in range(k0, k1):
-            psi, w = _row(Psi, l), _row(Wv, l)
+            psi, w = coefficients(Psi[l]), coefficients(Wv[l])
             if free:  # ⟨S_l, W⟩ = S_l[i] W[i]
                 i, x = unit_coefficient(Sw[l])
                 for k in range(k0, end):  # k at or below l (D8, D9)
@@ -185,13 +180,13 @@ def rnea_derivatives_backward(m, k_, dq, dv, da):
                     for k in range(k0, end):
                         da[l, k] = da[k, l] = x * P[i, k]  # (D10)
                 continue
-            S = _row(Sw, l)
+            S = coefficients(Sw[l])
             if root:
                 for k in range(k0, end):  # k at or below l (D8, D9)
                     dq[k, l] = _pair(psi, P, k)
                     dv[k, l] = _pair(w, P, k) + _pair(S, Q, k)
             else:
-                u = _row(U, l)
+                u = coefficients(U[l])
                 for k in range(k0, end):  # k at or below l (D8, D9)
                     dq[k, l] = _pair(psi, P, k) + _pair(u, Q, k)
                     dv[k, l] = _pair(w, P, k) + _pair(S, Q, k)
