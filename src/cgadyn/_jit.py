@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numba
 
-from ._sources import PACKAGE, compiled_fingerprint
+from ._sources import compiled_fingerprint, compiled_sources
 
 __all__ = ["caching", "core", "inline", "native", "parallel", "serial"]
 
@@ -49,19 +49,18 @@ STAMP = "cgadyn-sources.txt"
 
 def _cache_dirs() -> list[list[Path]]:
     """Where numba may keep the machine code of the package's compiled functions: for every
-    directory of sources, the directories numba's locators derive from it, in the order it
-    tries them: under ``NUMBA_CACHE_DIR`` where that is set, ``__pycache__``, under the
-    user-wide cache (the last two: the source directory's name and a SHA-1 of its whole
-    path, numba's ``get_suitable_cache_subpath``)."""
+    directory of compiled sources (``_sources.compiled_sources``), the directories numba's
+    locators derive from it, in the order numba tries them: under ``NUMBA_CACHE_DIR`` where
+    that is set, ``__pycache__``, under the user-wide cache. Under the two caches, numba
+    names the directory by the source directory's name and a SHA-1 of its whole path
+    (``get_suitable_cache_subpath``)."""
     from numba.core import config
     from numba.core.caching import UserProvidedCacheLocator
     from numba.misc.appdirs import AppDirs
 
     user = Path(AppDirs(appname="numba", appauthor=False).user_cache_dir)
     found = []
-    for src in [PACKAGE, *(d for d in PACKAGE.rglob("*") if d.is_dir())]:
-        if src.name == "__pycache__" or not any(src.glob("*.py")):
-            continue
+    for src in sorted({path.parent for path in compiled_sources()}):
         sub = UserProvidedCacheLocator.get_suitable_cache_subpath(str(src / "__init__.py"))
         given = [Path(config.CACHE_DIR) / sub] if config.CACHE_DIR else []
         found.append([*given, src / "__pycache__", user / sub])

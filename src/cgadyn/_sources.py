@@ -22,16 +22,23 @@ _COMPILED = (b"_jit import", b"njit", b"cfunc")
 """What marks a file that holds compiled code."""
 
 
+def _holds_compiled_code(path: Path) -> bool:
+    return path.name == "_jit.py" or any(m in path.read_bytes() for m in _COMPILED)
+
+
+@cache
+def compiled_sources() -> tuple[Path, ...]:
+    """The package's files that hold compiled code, in order."""
+    return tuple(p for p in sorted(PACKAGE.rglob("*.py")) if _holds_compiled_code(p))
+
+
 def _digest(only_compiled: bool) -> str:
     from . import __version__
 
     h = hashlib.sha256(__version__.encode())
-    for path in sorted(PACKAGE.rglob("*.py")):
-        text = path.read_bytes()
-        if only_compiled and path.name != "_jit.py" and not any(m in text for m in _COMPILED):
-            continue
+    for path in compiled_sources() if only_compiled else sorted(PACKAGE.rglob("*.py")):
         h.update(str(path.relative_to(PACKAGE)).encode())
-        h.update(text)
+        h.update(path.read_bytes())
     return h.hexdigest()
 
 

@@ -79,7 +79,7 @@ def rnea_derivatives_forward(m, q, v, a, f, k_):
             rigid_move_twist(r, p, m.S[k], Sw[k])  # S_k in the frame (eq. 4)
         rigid_move_inertia(r, p, m.inertias[j], Iw[j])  # I_j in the frame (eq. 16)
         parent = m.parents[j]
-        if free_root(m.parents[j], m.types[j]):
+        if free_root(parent, m.types[j]):
             twist_sandwich_rev(M[j], m.gravity, g)  # A_0 = -g seen from the root (D14)
         elif parent < 0:
             _set(m.gravity, g)  # A_0 = -g
@@ -164,8 +164,9 @@ def rnea_derivatives_backward(m, k_, dq, dv, da):
                 F[parent, i] += F[j, i]
     for j in range(m.n):
         k0, k1, end = m.iv[j], m.iv[j + 1], m.subtree_end[j]  # j's subtree: k0 .. end
-        root = m.parents[j] < 0  # u_l = 0
-        free = free_root(m.parents[j], m.types[j])  # S_l a unit twist (D14)
+        parent = m.parents[j]
+        root = parent < 0  # u_l = 0
+        free = free_root(parent, m.types[j])  # S_l a unit twist (D14)
         for l in range(k0, k1):
             psi, w = coefficients(Psi[l]), coefficients(Wv[l])
             if free:  # ⟨S_l, W⟩ = S_l[i] W[i]
