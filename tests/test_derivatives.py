@@ -7,9 +7,13 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
+from numba import njit
 
 import cgadyn
 from cgadyn import oracle
+from cgadyn.algorithms.aba_derivatives import solve_by_factors
+from cgadyn.algorithms.ltdl import supports
+from cgadyn.multibody.packed import unpack
 
 ROBOTS = ["panda", "ur5", "double_pendulum_continuous", "prismatic_tree", "solo12", "talos"]
 GRAVITY = (0.3, -1.0, -9.0)
@@ -118,6 +122,28 @@ def test_batches_equal_single_calls(robot):
         for many, one in zip(batch, single, strict=True):
             for x, y in zip(many, one, strict=True):
                 assert rel(x[b], y) < 1e-12
+
+
+@njit
+def _route(packed):
+    m = unpack(packed)
+    return supports(m), solve_by_factors(m)
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_forward_dynamics_derivatives_route_by_the_tree(name):
+    """D15: the tests above run aba_derivatives on chains (panda, ur5) through the product
+    with M⁻¹ and on branched trees (talos) through L5-L6; ``supports`` is L's count below
+    the diagonal, Σ_k d_k, checked against a walk of ``dof_parent``."""
+    model = cgadyn.load(name)
+    walk = 0
+    for k in range(model.nv):
+        i = model.dof_parent[k]
+        while i >= 0:
+            walk, i = walk + 1, model.dof_parent[i]
+    count, by_factors = _route(model.packed)
+    assert count == walk
+    assert by_factors == {"panda": False, "ur5": False, "talos": True}.get(name, by_factors)
 
 
 def test_bad_input_is_named():

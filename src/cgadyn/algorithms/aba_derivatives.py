@@ -18,7 +18,7 @@ from ..kernels import dot, twist_cross
 from ..kernels.rigid import rigid_apply
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
-from .ltdl import ltdl, ltdl_inverse, ltdl_solve
+from .ltdl import ltdl, ltdl_inverse, ltdl_solve, ltdl_solve_rows, supports
 from .rnea_derivatives import _workspace as rnea_derivatives_workspace
 from .rnea_derivatives import rnea_derivatives_backward, rnea_derivatives_forward
 from .rnea_derivatives import workspace_size as rnea_derivatives_size
@@ -55,6 +55,14 @@ def times_minus_minv(m, Minv, X, outq, outv, acc):
         for c in range(nv):
             outq[i, c] = acc[c]
             outv[i, c] = acc[nv + c]
+
+
+@inline
+def solve_by_factors(m):
+    """D15's choice of route to ``-M⁻¹ X``: True when L5-L6's row operations,
+    ``2 (Σ_k d_k + nv)`` with the copy of the result, are fewer than 0.6 nv² (a branched
+    tree), False for a chain or nearly one, whose product with M⁻¹ runs faster."""
+    return 10 * (supports(m) + m.nv) < 3 * m.nv * m.nv
 
 
 @inline
@@ -136,8 +144,15 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
     accelerate(m, k_, x, Aq)  # the forward pass at q̈
     nv = m.nv
     rnea_derivatives_backward(m, k_, X[:, :nv], X[:, nv:], X[:0])  # ∂τ/∂q, ∂τ/∂v at q̈ (M known)
-    ltdl_inverse(m, dtau, x)  # M⁻¹ (L3, L4); q̈ is no longer needed
-    times_minus_minv(m, dtau, X, dq, dv, acc)  # -M⁻¹ ∂τ/∂q, -M⁻¹ ∂τ/∂v (D12)
+    if solve_by_factors(m):  # a branched tree: solve by M's factors (D15)
+        ltdl_solve_rows(m, dtau, X, -1.0)  # -M⁻¹ ∂τ/∂q, -M⁻¹ ∂τ/∂v (D12, L5, L6)
+        for i in range(nv):
+            for c in range(nv):
+                dq[i, c], dv[i, c] = X[i, c], X[i, nv + c]
+        ltdl_inverse(m, dtau, x)  # M⁻¹ (L3, L4); q̈ is no longer needed
+    else:  # a chain, or nearly: the product with M⁻¹ (D15)
+        ltdl_inverse(m, dtau, x)  # M⁻¹ (L3, L4); q̈ is no longer needed
+        times_minus_minv(m, dtau, X, dq, dv, acc)  # -M⁻¹ ∂τ/∂q, -M⁻¹ ∂τ/∂v (D12)
     status = check_result(dtau)
     if status == OK:
         status = check_result(dq)

@@ -1,7 +1,7 @@
 """M's factorisation along the tree and its inverse from it (Featherstone's LTDL):
-``aba_derivatives`` has M already (the rnea derivatives' ∂τ/∂a) and gets q̈ and M⁻¹ from it
-(``docs/derivatives.md``, L1-L4 and D13); ``minverse`` alone runs the articulated-body
-recursion instead (M1-M5).
+``aba_derivatives`` has M already (the rnea derivatives' ∂τ/∂a) and gets q̈, M⁻¹ and, on a
+branched tree, ``-M⁻¹ [∂τ/∂q  ∂τ/∂v]`` from it (``docs/derivatives.md``, L1-L6, D13 and
+D15); ``minverse`` alone runs the articulated-body recursion instead (M1-M5).
 
 M has the sparsity of the kinematic tree (Featherstone's expanded tree, one node per
 velocity coordinate, ``dof_parent`` λ): ``M[k, i]`` for ``i < k`` is zero unless i
@@ -18,7 +18,15 @@ k = 0..nv-1, from the rows of the coordinates supporting k:
     Z[k, c] = -Σ_{i supports k} L[k, i] Z[i, c]                  for c < k         (L3)
     Z[k, k] = D_k⁻¹ - Σ_{i supports k} L[k, i] Z[k, i],   Z[c, k] = Z[k, c]           (L4)
 
-The cost is ``Σ_k k d_k`` (``d_k`` the number of coordinates supporting k).
+The cost is ``Σ_k k d_k`` (``d_k`` the number of coordinates supporting k). A matrix X of
+right-hand sides (rows are coordinates) is solved, ``Y = s M⁻¹ X``, by the same two sweeps
+on whole rows, the first pulling from the coordinates below i (i+1 .. e_i, contiguous in
+the tree's order), the second from those supporting k:
+
+    W[i] = X[i] - Σ_{k below i} L[k, i] W[k]                     for i = nv-1..0     (L5)
+    Y[k] = s D_k⁻¹ W[k] - Σ_{i supports k} L[k, i] Y[i]          for k = 0..nv-1     (L6)
+
+at ``2 Σ_k d_k + nv`` row operations, against nv² for the product with M⁻¹.
 """
 
 from __future__ import annotations
@@ -27,7 +35,7 @@ import math
 
 from .._jit import inline
 
-__all__ = ["ltdl", "ltdl_inverse", "ltdl_solve"]
+__all__ = ["ltdl", "ltdl_inverse", "ltdl_solve", "ltdl_solve_rows", "supports"]
 
 
 @inline
@@ -105,3 +113,72 @@ def ltdl_solve(m, H, x):
         while i >= 0:
             x[k] -= H[k, i] * x[i]
             i = par[i]
+
+
+@inline
+def supports(m):
+    """``Σ_k d_k``, the number of pairs (k, i) with i supporting k: L's entries below the
+    diagonal, ``e_i - i - 1`` coordinates below each i."""
+    n = 0
+    for i in range(m.nv):
+        n += m.subtree_end[m.dof_joint[i]] - i - 1
+    return n
+
+
+@inline
+def ltdl_solve_rows(m, H, X, scale):
+    """``X = scale M⁻¹ X`` for right-hand sides X (nv, w), with ``H = Lᵀ D L`` (L5, L6):
+    each sweep over a row of X takes up to four other rows at once, in loops of w that the
+    compiler vectorises."""
+    for i in range(m.nv - 1, -1, -1):  # W[i] = X[i] - Σ_{k below i} L[k, i] W[k] (L5)
+        k, e = i + 1, m.subtree_end[m.dof_joint[i]]
+        while k + 4 <= e:
+            _subtract4(X[i], H[k, i], X[k], H[k + 1, i], X[k + 1], H[k + 2, i], X[k + 2],
+                       H[k + 3, i], X[k + 3])
+            k += 4
+        if k + 2 <= e:
+            _subtract2(X[i], H[k, i], X[k], H[k + 1, i], X[k + 1])
+            k += 2
+        if k < e:
+            _subtract1(X[i], H[k, i], X[k])
+    par = m.dof_parent
+    for k in range(m.nv):  # Y[k] = s D_k⁻¹ W[k] - Σ_{i supports k} L[k, i] Y[i] (L6)
+        r, d = X[k], scale / H[k, k]
+        for c in range(r.shape[0]):
+            r[c] *= d
+        i = par[k]
+        while i >= 0:  # the supporting coordinates i, i1, i2, i3 in turn
+            i1 = par[i]
+            i2 = par[i1] if i1 >= 0 else -1
+            i3 = par[i2] if i2 >= 0 else -1
+            if i3 >= 0:
+                _subtract4(r, H[k, i], X[i], H[k, i1], X[i1], H[k, i2], X[i2], H[k, i3], X[i3])
+                i = par[i3]
+            elif i1 >= 0:
+                _subtract2(r, H[k, i], X[i], H[k, i1], X[i1])
+                i = i2
+            else:
+                _subtract1(r, H[k, i], X[i])
+                i = -1
+
+
+@inline
+def _subtract4(r, a0, x0, a1, x1, a2, x2, a3, x3):
+    """``r -= a0 x0 + a1 x1 + a2 x2 + a3 x3`` on rows: four multiply-adds per load and store
+    of r."""
+    for c in range(r.shape[0]):
+        r[c] -= a0 * x0[c] + a1 * x1[c] + a2 * x2[c] + a3 * x3[c]
+
+
+@inline
+def _subtract2(r, a0, x0, a1, x1):
+    """``r -= a0 x0 + a1 x1`` on rows."""
+    for c in range(r.shape[0]):
+        r[c] -= a0 * x0[c] + a1 * x1[c]
+
+
+@inline
+def _subtract1(r, a0, x0):
+    """``r -= a0 x0`` on rows."""
+    for c in range(r.shape[0]):
+        r[c] -= a0 * x0[c]
