@@ -1,4 +1,6 @@
-"""Small dense linear algebra for compiled cores: the inverse of a joint's inertia D_j."""
+"""Small dense linear algebra for compiled cores: the inverse of a joint's inertia D_j, and
+row operations ``r -= Σ a_t x_t`` over up to four rows at once (four multiply-adds per
+load and store of r, in loops the compiler vectorises)."""
 
 from __future__ import annotations
 
@@ -29,3 +31,25 @@ def spd_inverse(a, k, out):
                     a[i, j] -= f * a[p, j]
                     out[i, j] -= f * out[p, j]
     return True
+
+
+@inline
+def rows_subtract4(r, a0, x0, a1, x1, a2, x2, a3, x3):
+    """``r -= a0 x0 + a1 x1 + a2 x2 + a3 x3`` on rows: four multiply-adds per load and store
+    of r."""
+    for c in range(r.shape[0]):
+        r[c] -= a0 * x0[c] + a1 * x1[c] + a2 * x2[c] + a3 * x3[c]
+
+
+@inline
+def rows_subtract2(r, a0, x0, a1, x1):
+    """``r -= a0 x0 + a1 x1`` on rows."""
+    for c in range(r.shape[0]):
+        r[c] -= a0 * x0[c] + a1 * x1[c]
+
+
+@inline
+def rows_subtract1(r, a0, x0):
+    """``r -= a0 x0`` on rows."""
+    for c in range(r.shape[0]):
+        r[c] -= a0 * x0[c]

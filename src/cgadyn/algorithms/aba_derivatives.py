@@ -18,6 +18,7 @@ from ..kernels import dot, twist_cross
 from ..kernels.rigid import rigid_apply
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
+from ._dense import rows_subtract1, rows_subtract4
 from .ltdl import ltdl, ltdl_inverse, ltdl_solve, ltdl_solve_rows, supports
 from .rnea_derivatives import _workspace as rnea_derivatives_workspace
 from .rnea_derivatives import rnea_derivatives_backward, rnea_derivatives_forward
@@ -41,16 +42,11 @@ def times_minus_minv(m, Minv, X, outq, outv, acc):
             acc[c] = 0.0
         k = 0
         while k + 4 <= nv:
-            a0, a1, a2, a3 = r[k], r[k + 1], r[k + 2], r[k + 3]
-            x0, x1, x2, x3 = X[k], X[k + 1], X[k + 2], X[k + 3]
-            for c in range(w):
-                acc[c] -= a0 * x0[c] + a1 * x1[c] + a2 * x2[c] + a3 * x3[c]
+            rows_subtract4(acc, r[k], X[k], r[k + 1], X[k + 1], r[k + 2], X[k + 2], r[k + 3],
+                           X[k + 3])
             k += 4
         while k < nv:
-            a0 = r[k]
-            x0 = X[k]
-            for c in range(w):
-                acc[c] -= a0 * x0[c]
+            rows_subtract1(acc, r[k], X[k])
             k += 1
         for c in range(nv):
             outq[i, c] = acc[c]

@@ -34,6 +34,8 @@ from __future__ import annotations
 import math
 
 from .._jit import inline
+from . import _workspace as ws
+from ._dense import rows_subtract1, rows_subtract2, rows_subtract4
 
 __all__ = ["ltdl", "ltdl_inverse", "ltdl_solve", "ltdl_solve_rows", "supports"]
 
@@ -98,21 +100,8 @@ def ltdl_inverse(m, H, lk):
 
 @inline
 def ltdl_solve(m, H, x):
-    """``x = M⁻¹ x`` with ``H = Lᵀ D L`` (L1, L2): ``Lᵀ y = x`` from the leaves, ``D⁻¹``,
-    then ``L z = y`` from the root."""
-    par = m.dof_parent
-    for k in range(m.nv - 1, -1, -1):
-        i = par[k]
-        while i >= 0:
-            x[i] -= H[k, i] * x[k]
-            i = par[i]
-    for k in range(m.nv):
-        x[k] /= H[k, k]
-    for k in range(m.nv):
-        i = par[k]
-        while i >= 0:
-            x[k] -= H[k, i] * x[i]
-            i = par[i]
+    """``x = M⁻¹ x`` with ``H = Lᵀ D L`` (L1, L2): L5-L6 on x as one column."""
+    ltdl_solve_rows(m, H, ws.carve(ws.data_pointer(x), 0, (m.nv, 1))[0], 1.0)
 
 
 @inline
@@ -133,14 +122,14 @@ def ltdl_solve_rows(m, H, X, scale):
     for i in range(m.nv - 1, -1, -1):  # W[i] = X[i] - Σ_{k below i} L[k, i] W[k] (L5)
         k, e = i + 1, m.subtree_end[m.dof_joint[i]]
         while k + 4 <= e:
-            _subtract4(X[i], H[k, i], X[k], H[k + 1, i], X[k + 1], H[k + 2, i], X[k + 2],
+            rows_subtract4(X[i], H[k, i], X[k], H[k + 1, i], X[k + 1], H[k + 2, i], X[k + 2],
                        H[k + 3, i], X[k + 3])
             k += 4
         if k + 2 <= e:
-            _subtract2(X[i], H[k, i], X[k], H[k + 1, i], X[k + 1])
+            rows_subtract2(X[i], H[k, i], X[k], H[k + 1, i], X[k + 1])
             k += 2
         if k < e:
-            _subtract1(X[i], H[k, i], X[k])
+            rows_subtract1(X[i], H[k, i], X[k])
     par = m.dof_parent
     for k in range(m.nv):  # Y[k] = s D_k⁻¹ W[k] - Σ_{i supports k} L[k, i] Y[i] (L6)
         r, d = X[k], scale / H[k, k]
@@ -152,33 +141,11 @@ def ltdl_solve_rows(m, H, X, scale):
             i2 = par[i1] if i1 >= 0 else -1
             i3 = par[i2] if i2 >= 0 else -1
             if i3 >= 0:
-                _subtract4(r, H[k, i], X[i], H[k, i1], X[i1], H[k, i2], X[i2], H[k, i3], X[i3])
+                rows_subtract4(r, H[k, i], X[i], H[k, i1], X[i1], H[k, i2], X[i2], H[k, i3], X[i3])
                 i = par[i3]
             elif i1 >= 0:
-                _subtract2(r, H[k, i], X[i], H[k, i1], X[i1])
+                rows_subtract2(r, H[k, i], X[i], H[k, i1], X[i1])
                 i = i2
             else:
-                _subtract1(r, H[k, i], X[i])
+                rows_subtract1(r, H[k, i], X[i])
                 i = -1
-
-
-@inline
-def _subtract4(r, a0, x0, a1, x1, a2, x2, a3, x3):
-    """``r -= a0 x0 + a1 x1 + a2 x2 + a3 x3`` on rows: four multiply-adds per load and store
-    of r."""
-    for c in range(r.shape[0]):
-        r[c] -= a0 * x0[c] + a1 * x1[c] + a2 * x2[c] + a3 * x3[c]
-
-
-@inline
-def _subtract2(r, a0, x0, a1, x1):
-    """``r -= a0 x0 + a1 x1`` on rows."""
-    for c in range(r.shape[0]):
-        r[c] -= a0 * x0[c] + a1 * x1[c]
-
-
-@inline
-def _subtract1(r, a0, x0):
-    """``r -= a0 x0`` on rows."""
-    for c in range(r.shape[0]):
-        r[c] -= a0 * x0[c]
