@@ -124,6 +124,22 @@ def test_batches_equal_single_calls(robot):
                 assert rel(x[b], y) < 1e-12
 
 
+def test_minverse_batches_in_groups_of_samples(robot):
+    """A batch's minverse runs W samples at once (minverse_lanes) and the rest of each
+    thread's chunk one at a time: every sample equals its single call, and a fault inside
+    a group is reported at its own sample, as a single call reports it."""
+    model, _, _ = robot
+    s = oracle.sample(model, 37, 5)  # two chunks of 19 and 18: groups of 8 and tails
+    batch = cgadyn.minverse(model, s.q)
+    for b in range(37):
+        assert rel(batch[b], cgadyn.minverse(model, s.q[b])) < 1e-12
+    if model.nq > model.nv:  # a free flyer: a zero quaternion inside the second group
+        q = s.q.copy()
+        q[13, 3:7] = 0.0
+        with pytest.raises(ValueError, match=r"q\[13, 3:7\].*norm 0"):
+            cgadyn.minverse(model, q)
+
+
 @njit
 def _route(packed):
     m = unpack(packed)

@@ -9,7 +9,8 @@ Each record of ``src/cgadyn/algorithms/table.py`` gets three entry points around
   a C function (``numba.cfunc``) that ``cgadyn._native`` calls with the arrays' data, sizes
   read from the packed model's header;
 - ``<name>_batch(packed, inputs..., [f,] outputs..., option, threads)``: (B, ...) samples in
-  parallel chunks, one heap workspace per chunk; checks the shapes.
+  parallel chunks, one heap workspace per chunk; checks the shapes. A record with a
+  ``group`` module hands each chunk to that module's ``<name>_group``.
 
 They differ between algorithms only in names and arities, and numba caches compiled code
 per function of a real file, so they are written out here rather than made by a closure
@@ -101,6 +102,7 @@ def entries(alg) -> str:
         f"    batch = {inputs[0]}.shape[0]",
         "    if (" + "\n            or ".join(checks) + "):",
         "        return WRONG_SHAPE",
+        f"    size = {alg.name}_group_workspace(m.n, m.nq, m.nv, m.nl)" if alg.group else
         f"    size = {ws}",
         "    starts, stops = chunks(batch, threads)",
         "    status = np.zeros(starts.shape[0], dtype=np.int64)",
@@ -108,6 +110,16 @@ def entries(alg) -> str:
         "        mc = unpack(packed)",
         "        work = np.empty(size)",
     ]
+    if alg.group:
+        assert not alg.forces, alg.name
+        lines += [
+            f"        s = {alg.name}_group(mc, {', '.join(args)}, starts[c], stops[c], option,"
+            " work)",
+            "        if s != OK:",
+            "            status[c] = s",
+        ]
+        lines += _gather()
+        return "\n".join(lines)
     if alg.forces:
         lines.append("        none = np.empty((0, 6))")
     lines.append("        for b in range(starts[c], stops[c]):")
@@ -118,12 +130,18 @@ def entries(alg) -> str:
         "            if s != OK:",
         "                status[c] = at_sample(s, b)",
         "                break",
+    ]
+    return "\n".join(lines + _gather())
+
+
+def _gather() -> list[str]:
+    """The end of a batch entry: the first chunk's fault, or OK."""
+    return [
         "    for c in range(starts.shape[0]):",
         "        if status[c] != OK:",
         "            return status[c]",
         "    return OK",
     ]
-    return "\n".join(lines)
 
 
 HEADER = '''"""Compiled entry points of the algorithms of ``table.py``: one sample, C, batch.
@@ -161,6 +179,9 @@ def generate() -> str:
     imports = "\n".join(
         f"from .{alg.module} import {alg.core}\nfrom .{alg.module} import workspace_size as "
         f"{alg.name}_workspace" for alg in sorted(table.ALGORITHMS, key=lambda a: a.module))
+    imports += "".join(
+        f"\nfrom .{alg.group} import {alg.name}_group\nfrom .{alg.group} import workspace_size "
+        f"as {alg.name}_group_workspace" for alg in table.ALGORITHMS if alg.group)
     return HEADER.format(imports=imports) + "".join(
         entries(alg) + "\n" for alg in table.ALGORITHMS)
 

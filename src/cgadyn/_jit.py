@@ -10,7 +10,10 @@ its role:
 - ``serial``: any other compiled function;
 - ``parallel``: a batch entry, its samples split over numba's threads with ``prange``;
 - ``native(signature)``: a C-callable entry point (``numba.cfunc``) that ``cgadyn._native``
-  calls with raw pointers (see ``docs/architecture.md``).
+  calls with raw pointers (see ``docs/architecture.md``);
+- ``intrinsic``: an operation written in LLVM IR (``numba.extending.intrinsic``), for the
+  vector instructions of ``kernels/lanes.py``, which numba's optimiser does not form by
+  itself (its superword vectoriser is off by default).
 
 Every one uses numpy's error model: a float division by zero gives inf or NaN (which the
 algorithms report as a status) instead of raising, since compiled code must not raise.
@@ -34,10 +37,11 @@ from collections.abc import Callable
 from pathlib import Path
 
 import numba
+from numba.extending import intrinsic
 
 from ._sources import compiled_fingerprint, compiled_sources
 
-__all__ = ["caching", "core", "inline", "native", "parallel", "serial"]
+__all__ = ["caching", "core", "inline", "intrinsic", "native", "parallel", "serial"]
 
 _CACHE = [True]
 """Whether numba can cache on disk: True until a decoration finds no cache location."""

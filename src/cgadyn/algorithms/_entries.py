@@ -37,6 +37,8 @@ from .rnea import rnea_core
 from .rnea import workspace_size as rnea_workspace
 from .rnea_derivatives import rnea_derivatives_core
 from .rnea_derivatives import workspace_size as rnea_derivatives_workspace
+from .minverse_lanes import minverse_group
+from .minverse_lanes import workspace_size as minverse_group_workspace
 from ._workspace import STACK_FLOATS, chunks, stack_buffer
 from .status import OK, WRONG_SHAPE, at_sample
 
@@ -369,17 +371,15 @@ def minverse_batch(packed, q, o0, option, threads):
     if (q.shape[1] != m.nq
             or o0.shape[0] != batch):
         return WRONG_SHAPE
-    size = minverse_workspace(m.n, m.nq, m.nv, m.nl)
+    size = minverse_group_workspace(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):
         mc = unpack(packed)
         work = np.empty(size)
-        for b in range(starts[c], stops[c]):
-            s = minverse_core(mc, q[b], o0[b], option, work)
-            if s != OK:
-                status[c] = at_sample(s, b)
-                break
+        s = minverse_group(mc, q, o0, starts[c], stops[c], option, work)
+        if s != OK:
+            status[c] = s
     for c in range(starts.shape[0]):
         if status[c] != OK:
             return status[c]

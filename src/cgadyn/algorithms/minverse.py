@@ -42,17 +42,24 @@ from .status import OK, SINGULAR, fault
 
 
 @inline
-def minverse_pass(m, q, Minv, k_):
-    """``Minv`` (nv, nv) into its upper triangle; a status. ``k_`` the workspace arrays."""
-    Mw, M, Ih, par, F, Sw, U, G, D, Dinv, It, t1, tmp8, c, s, pk, e = k_
-    nv = m.nv
-    frame_motors(m, q, c, s, tmp8, M, Mw, True)  # a free root's tree in its own frame (M5)
+def world_axes_inertias(m, q, c, s, tmp8, M, Mw, par, Sw, Ih):
+    """``Sw`` (nv, 6) the joints' S_k and ``Ih`` (n, 6, 6) the bodies' I_j in the world, a
+    free root's tree in its own frame (M5); the other arrays are scratch."""
+    frame_motors(m, q, c, s, tmp8, M, Mw, True)
     for j in range(m.n):
         r, p = rigid_frame(Mw[j])
         for k in range(m.iv[j], m.iv[j + 1]):
             rigid_move_twist(r, p, m.S[k], Sw[k])  # S_j in the world (eq. 4)
         rigid_move_inertia(r, p, m.inertias[j], par)  # I_j in the world (eq. 16)
         rigid_matrix(par, Ih[j])  # Î_j = I_j
+
+
+@inline
+def minverse_pass(m, q, Minv, k_):
+    """``Minv`` (nv, nv) into its upper triangle; a status. ``k_`` the workspace arrays."""
+    Mw, M, Ih, par, F, Sw, U, G, D, Dinv, It, t1, tmp8, c, s, pk, e = k_
+    nv = m.nv
+    world_axes_inertias(m, q, c, s, tmp8, M, Mw, par, Sw, Ih)
     for i in range(nv):
         for k in range(nv):
             Minv[i, k] = 0.0

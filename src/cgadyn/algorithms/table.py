@@ -30,7 +30,10 @@ class Algorithm:
     ``forces``: whether it takes external wrenches ``f_ext`` (one per joint);
     ``outputs``: the shape of each result array of one sample;
     ``option``: what the integer option carries, if anything;
-    ``nonfinite``: what a non-finite result from finite inputs means.
+    ``nonfinite``: what a non-finite result from finite inputs means;
+    ``group``: the module of a ``<name>_group(m, inputs..., outputs..., start, stop, option,
+    work) -> status`` that a batch calls on each chunk of samples instead of the core on
+    each sample (it computes several samples at once), with its own ``workspace_size``.
     """
 
     name: str
@@ -40,6 +43,7 @@ class Algorithm:
     forces: bool = False
     option: str = ""
     nonfinite: str = "an overflow"
+    group: str = ""
 
     @property
     def core(self) -> str:
@@ -58,7 +62,8 @@ ALGORITHMS = (
     Algorithm("aba_derivatives", "aba_derivatives", (Q, V, TAU), (("nv", "nv"),) * 3,
               forces=True, nonfinite="an overflow, or a nearly singular articulated inertia"),
     Algorithm("minverse", "minverse", (Q,), (("nv", "nv"),),
-              nonfinite="an overflow, or a nearly singular articulated inertia"),
+              nonfinite="an overflow, or a nearly singular articulated inertia",
+              group="minverse_lanes"),
     Algorithm("motors", "kinematics", (Q,), (("n", 8), ("nl", 8))),
     Algorithm("placements", "kinematics", (Q,), (("nl", 4, 4),)),
     Algorithm("jacobian", "jacobian", (Q,), ((6, "nv"),), option="4 link + frame"),

@@ -1,0 +1,251 @@
+"""``minverse`` on a batch: M1-M3 of ``minverse.py`` for ``W`` samples at once.
+
+Every sample of a batch runs the same recursion; only the numbers differ. Here the samples
+of a group of ``W`` are laid side by side (element ``x`` of sample ``l`` at ``x * W + l``),
+so that each multiply-add of M1-M3 is one vector instruction on the group
+(``kernels/lanes.py``) instead of ``W`` scalar ones. The arithmetic is the scalar pass's,
+line for line: the same sums in the same order, so the numbers agree to rounding.
+
+Each sample's S_k and I_j in the world (eqs. 4 and 16, M5) are computed one sample at a
+time, by the scalar pass's own ``world_axes_inertias``, and laid into the group. A group
+in which any sample fails a check (a quaternion, a pivot D_j that is not positive, a result
+that is not finite) is computed again one sample at a time by ``minverse_core``, which
+reports the first fault exactly as a single call does; so do the samples after the last
+whole group.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .._jit import core, inline
+from ..kernels.lanes import (
+    W,
+    add,
+    div,
+    fma,
+    fnma,
+    gather,
+    lane,
+    load,
+    mul,
+    scatter,
+    splat,
+    store,
+    sub,
+)
+from . import _workspace as ws
+from ._checks import check_configuration
+from .minverse import minverse_core, mirror_upper, world_axes_inertias
+from .minverse import workspace_size as scalar_size
+from .status import OK, at_sample
+
+
+@core
+def minverse_group(m, q, Minv, start, stop, option, work):
+    """``Minv[b] = M(q[b])⁻¹`` for the samples ``start .. stop`` of a batch; a status (at
+    the sample of the first fault)."""
+    size = scalar_size(m.n, m.nq, m.nv, m.nl)
+    k_ = _workspace(ws.data_pointer(work), size, m)
+    b = start
+    while b + W <= stop:
+        if not _group(m, q, Minv, b, k_):
+            for l in range(W):  # again one at a time, for the exact fault
+                s = minverse_core(m, q[b + l], Minv[b + l], option, work)
+                if s != OK:
+                    return at_sample(s, b + l)
+        b += W
+    for i in range(b, stop):
+        s = minverse_core(m, q[i], Minv[i], option, work)
+        if s != OK:
+            return at_sample(s, i)
+    return OK
+
+
+@inline
+def _group(m, q, Minv, b, k_):
+    """Samples ``b .. b + W``; False if one of them needs the one-at-a-time path. ``Minv``
+    is C-contiguous (the batch's output, allocated by ``calls``)."""
+    Mw, M, par, Sw, Ih, tmp8, c, s, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl = k_
+    n, nv = m.n, m.nv
+    for l in range(W):
+        if check_configuration(m, q[b + l]) != OK:
+            return False
+        world_axes_inertias(m, q[b + l], c, s, tmp8, M, Mw, par, Sw[l * nv:(l + 1) * nv],
+                            Ih[l * n:(l + 1) * n])
+    for x in range(nv * 6):  # the samples side by side
+        store(Sl, x * W, gather(Sw, x, nv * 6))
+    for x in range(n * 36):
+        store(Il, x * W, gather(Ih, x, n * 36))
+    if not _lanes_pass(m, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl):
+        return False
+    bad = splat(0.0)
+    for r in range(nv):  # each sample's upper triangle
+        for col in range(r, nv):
+            x = load(Ml, (r * nv + col) * W)
+            bad = fma(x, splat(0.0), bad)  # NaN where x is not finite
+            scatter(Minv, (b * nv + r) * nv + col, nv * nv, x)
+    for l in range(W):
+        if lane(bad, l) != 0.0:
+            return False
+        mirror_upper(Minv[b + l])  # (M4), within one sample's matrix
+    return True
+
+
+@core
+def _lanes_pass(m, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl):
+    """M1-M3 on ``W`` samples (``minverse_pass`` with a vector for every number): the upper
+    triangle of M⁻¹ into ``Ml``; False if a pivot of some D_j is not positive. Offsets:
+    S_k, U_k, G_k at ``(k*6 + i)*W``, Î_j at ``((j*6 + i)*6 + a)*W``, F_j[c] at
+    ``((j*nv + c)*6 + i)*W``, M⁻¹[r, c] at ``(r*nv + c)*W``, D_j, D_j⁻¹ at ``(a*6 + b)*W``.
+    A sum over a joint's coordinates (a loop of unknown length) accumulates in memory: a
+    vector carried from one such iteration to the next would be taken apart into its
+    numbers and put together again on every pass."""
+    nv = m.nv
+    zero = splat(0.0)
+    for x in range(nv * nv):
+        store(Ml, x * W, zero)
+    for j in range(m.n):  # the bias columns each joint's children add into
+        for x in range((j * nv + m.iv[j]) * 6, (j * nv + m.subtree_end[j]) * 6):
+            store(Fl, x * W, zero)
+    for j in range(m.n - 1, -1, -1):
+        k0, k1, end = m.iv[j], m.iv[j + 1], m.subtree_end[j]
+        nd = k1 - k0
+        for k in range(k0, k1):  # U_j = Î_j[S_j] (M1)
+            for i in range(6):
+                store(Ul, (k * 6 + i) * W, _dot6(Il, ((j * 6 + i) * 6) * W, Sl, k * 6 * W))
+        for a in range(nd):  # D_j = ⟨S_j, U_j⟩
+            for e in range(nd):
+                store(Dl, (a * 6 + e) * W, _dot6(Sl, (k0 + a) * 6 * W, Ul, (k0 + e) * 6 * W))
+        if not _spd_inverse(Dl, nd, Pl):
+            return False
+        for a in range(nd):
+            for e in range(nd):  # M⁻¹[j, j] = D_j⁻¹ (M2)
+                store(Ml, ((k0 + a) * nv + k0 + e) * W, load(Pl, (a * 6 + e) * W))
+            for i in range(6):  # G_j = D_j⁻¹ U_j
+                o = ((k0 + a) * 6 + i) * W
+                store(Gl, o, zero)
+                for e in range(nd):
+                    x = fma(load(Pl, (a * 6 + e) * W), load(Ul, ((k0 + e) * 6 + i) * W),
+                            load(Gl, o))
+                    store(Gl, o, x)
+        for col in range(k1, end):  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
+            for e in range(nd):
+                store(Tl, e * W, _dot6(Sl, (k0 + e) * 6 * W, Fl, (j * nv + col) * 6 * W))
+            for a in range(nd):
+                o = ((k0 + a) * nv + col) * W
+                store(Ml, o, zero)
+                for e in range(nd):
+                    store(Ml, o, fnma(load(Pl, (a * 6 + e) * W), load(Tl, e * W), load(Ml, o)))
+        parent = m.parents[j]
+        if parent < 0:
+            continue
+        for col in range(k0, end):  # F_λ[c] += F_j[c] + U_j M⁻¹[j, c] (M2)
+            for i in range(6):
+                o, f = ((parent * nv + col) * 6 + i) * W, ((j * nv + col) * 6 + i) * W
+                store(Fl, o, add(load(Fl, o), load(Fl, f)))
+            for a in range(k0, k1):
+                x = load(Ml, (a * nv + col) * W)
+                for i in range(6):
+                    o = ((parent * nv + col) * 6 + i) * W
+                    store(Fl, o, fma(load(Ul, (a * 6 + i) * W), x, load(Fl, o)))
+        for x in range(36):  # Î_λ += Î_j - U_j D_j⁻¹ U_jᵀ (M2)
+            o = (parent * 36 + x) * W
+            store(Il, o, add(load(Il, o), load(Il, (j * 36 + x) * W)))
+        for a in range(k0, k1):
+            for i in range(6):
+                u = load(Ul, (a * 6 + i) * W)
+                for e in range(6):
+                    o = ((parent * 6 + i) * 6 + e) * W
+                    store(Il, o, fnma(u, load(Gl, (a * 6 + e) * W), load(Il, o)))
+    for j in range(m.n):
+        k0, k1, parent = m.iv[j], m.iv[j + 1], m.parents[j]
+        for col in range(k0, nv):
+            for i in range(6):  # A_j[c] = A_λ[c] + S_j M⁻¹[j, c] (M3), first A_λ[c]
+                o = ((j * nv + col) * 6 + i) * W
+                if parent >= 0:
+                    store(Fl, o, load(Fl, ((parent * nv + col) * 6 + i) * W))
+                else:
+                    store(Fl, o, zero)
+            for a in range(k0, k1):
+                o = (a * nv + col) * W
+                if parent >= 0:  # M⁻¹[j, c] -= ⟨D⁻¹U_j, A_λ[c]⟩ (M3)
+                    x = _dot6(Gl, a * 6 * W, Fl, (parent * nv + col) * 6 * W)
+                    store(Ml, o, sub(load(Ml, o), x))
+                x = load(Ml, o)
+                for i in range(6):
+                    f = ((j * nv + col) * 6 + i) * W
+                    store(Fl, f, fma(load(Sl, (a * 6 + i) * W), x, load(Fl, f)))
+    return True
+
+
+@core
+def _dot6(X, x, Y, y):
+    """``Σ_i X[i] Y[i]`` over six vectors of ``W`` lanes at offsets ``x`` and ``y``."""
+    s = mul(load(X, x), load(Y, y))
+    s = fma(load(X, x + W), load(Y, y + W), s)
+    s = fma(load(X, x + 2 * W), load(Y, y + 2 * W), s)
+    s = fma(load(X, x + 3 * W), load(Y, y + 3 * W), s)
+    s = fma(load(X, x + 4 * W), load(Y, y + 4 * W), s)
+    return fma(load(X, x + 5 * W), load(Y, y + 5 * W), s)
+
+
+@core
+def _spd_inverse(Dl, k, Pl):
+    """``_dense.spd_inverse`` on ``W`` samples: ``Pl = Dl⁻¹`` (k x k, rows of 6), ``Dl``
+    overwritten; False if a pivot of some sample is not positive or its inverse not
+    finite."""
+    one = splat(1.0)
+    for i in range(k):
+        for e in range(k):
+            store(Pl, (i * 6 + e) * W, one if i == e else splat(0.0))
+    for p in range(k):
+        pivot = load(Dl, (p * 6 + p) * W)
+        for l in range(W):
+            x = lane(pivot, l)
+            if not (x > 0.0 and math.isfinite(1.0 / x)):
+                return False
+        r = div(one, pivot)
+        for e in range(k):
+            store(Dl, (p * 6 + e) * W, mul(load(Dl, (p * 6 + e) * W), r))
+            store(Pl, (p * 6 + e) * W, mul(load(Pl, (p * 6 + e) * W), r))
+        for i in range(k):
+            if i != p:
+                f = load(Dl, (i * 6 + p) * W)
+                for e in range(k):
+                    o, t = (i * 6 + e) * W, (p * 6 + e) * W
+                    store(Dl, o, fnma(f, load(Dl, t), load(Dl, o)))
+                    store(Pl, o, fnma(f, load(Pl, t), load(Pl, o)))
+    return True
+
+
+@inline
+def workspace_size(n, nq, nv, nl):
+    return scalar_size(n, nq, nv, nl) + 16 * n + 2 * nq + 18 + W * (
+        72 * n + 24 * nv + 6 * n * nv + nv * nv + 78)
+
+
+@inline
+def _workspace(buf, o, m):
+    """After the scalar pass's workspace (``o`` floats): Mw, M (n, 8), par (10), the group's
+    S_k (W nv, 6) and I_j (W n, 6, 6) sample after sample, tmp8 (8), c, s (nq); the
+    group's S, Î, U, G, F, M⁻¹, D, D⁻¹ and a scratch row side by side (``_lanes_pass``'s
+    layout)."""
+    Mw, o = ws.carve(buf, o, (m.n, 8))
+    M, o = ws.carve(buf, o, (m.n, 8))
+    par, o = ws.carve(buf, o, (10,))
+    Sw, o = ws.carve(buf, o, (W * m.nv, 6))
+    Ih, o = ws.carve(buf, o, (W * m.n, 6, 6))
+    tmp8, o = ws.carve(buf, o, (8,))
+    c, o = ws.carve(buf, o, (m.nq,))
+    s, o = ws.carve(buf, o, (m.nq,))
+    Sl, o = ws.carve(buf, o, (m.nv * 6 * W,))
+    Il, o = ws.carve(buf, o, (m.n * 36 * W,))
+    Ul, o = ws.carve(buf, o, (m.nv * 6 * W,))
+    Gl, o = ws.carve(buf, o, (m.nv * 6 * W,))
+    Fl, o = ws.carve(buf, o, (m.n * m.nv * 6 * W,))
+    Ml, o = ws.carve(buf, o, (m.nv * m.nv * W,))
+    Dl, o = ws.carve(buf, o, (36 * W,))
+    Pl, o = ws.carve(buf, o, (36 * W,))
+    Tl, o = ws.carve(buf, o, (6 * W,))
+    return Mw, M, par, Sw, Ih, tmp8, c, s, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl
