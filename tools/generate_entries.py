@@ -118,7 +118,7 @@ def entries(alg) -> str:
             "        if s != OK:",
             "            status[c] = s",
         ]
-        lines += _gather()
+        lines += _first_fault()
         return "\n".join(lines)
     if alg.forces:
         lines.append("        none = np.empty((0, 6))")
@@ -131,10 +131,10 @@ def entries(alg) -> str:
         "                status[c] = at_sample(s, b)",
         "                break",
     ]
-    return "\n".join(lines + _gather())
+    return "\n".join(lines + _first_fault())
 
 
-def _gather() -> list[str]:
+def _first_fault() -> list[str]:
     """The end of a batch entry: the first chunk's fault, or OK."""
     return [
         "    for c in range(starts.shape[0]):",

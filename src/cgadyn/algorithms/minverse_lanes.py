@@ -3,8 +3,10 @@
 Every sample of a batch runs the same recursion; only the numbers differ. Here the samples
 of a group of ``W`` are laid side by side (element ``x`` of sample ``l`` at ``x * W + l``),
 so that each multiply-add of M1-M3 is one vector instruction on the group
-(``kernels/lanes.py``) instead of ``W`` scalar ones. The arithmetic is the scalar pass's,
-line for line: the same sums in the same order, so the numbers agree to rounding.
+(``kernels/lanes.py``) instead of ``W`` scalar ones. The equations and their order are the
+scalar pass's, in their general form: a joint's coordinates are a loop of any length, and a
+free-flyer root's six unit twists are paired in full rather than by M5's one coefficient.
+The numbers agree with the scalar pass to rounding.
 
 Each sample's S_k and I_j in the world (eqs. 4 and 16, M5) are computed one sample at a
 time, by the scalar pass's own ``world_axes_inertias``, and laid into the group. A group
@@ -79,11 +81,12 @@ def _group(m, q, Minv, b, k_):
         store(Il, x * W, gather(Ih, x, n * 36))
     if not _lanes_pass(m, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl):
         return False
-    bad = splat(0.0)
+    zero = splat(0.0)
+    bad = zero
     for r in range(nv):  # each sample's upper triangle
         for col in range(r, nv):
             x = load(Ml, (r * nv + col) * W)
-            bad = fma(x, splat(0.0), bad)  # NaN where x is not finite
+            bad = fma(x, zero, bad)  # NaN where x is not finite
             scatter(Minv, (b * nv + r) * nv + col, nv * nv, x)
     for l in range(W):
         if lane(bad, l) != 0.0:
