@@ -4,9 +4,12 @@ Every sample of a batch runs the same recursion; only the numbers differ. Here t
 of a group of ``W`` are laid side by side (element ``x`` of sample ``l`` at ``x * W + l``),
 so that each multiply-add of M1-M3 is one vector instruction on the group
 (``kernels/lanes.py``) instead of ``W`` scalar ones. The equations and their order are the
-scalar pass's, in their general form: a joint's coordinates are a loop of any length, and a
-free-flyer root's six unit twists are paired in full rather than by M5's one coefficient.
-The numbers agree with the scalar pass to rounding.
+scalar pass's, with its two special cases: a joint of one coordinate, whose D_j is a
+number and whose sums into its parent take one multiply-add each, and a free-flyer root in
+its own frame (M5), whose unit twists pair by one coefficient.
+The numbers agree with the scalar pass to rounding. Each sample's matrix is written
+out whole, row by row, ``W`` columns at a time (a transpose of ``W`` vectors in registers,
+``store_transposed``), the lower half read from the upper (M4).
 
 Each sample's S_k and I_j in the world (eqs. 4 and 16, M5) are computed one sample at a
 time, by the scalar pass's own ``world_axes_inertias``, and laid into the group. A group
@@ -34,10 +37,12 @@ from ..kernels.lanes import (
     scatter,
     splat,
     store,
+    store_transposed,
     sub,
 )
 from . import _workspace as ws
 from ._checks import check_configuration
+from .kinematics import free_root, unit_coefficient
 from .minverse import minverse_core, mirror_upper, world_axes_inertias
 from .minverse import workspace_size as scalar_size
 from .status import OK, at_sample
@@ -68,7 +73,7 @@ def minverse_group(m, q, Minv, start, stop, option, work):
 def _group(m, q, Minv, b, k_):
     """Samples ``b .. b + W``; False if one of them needs the one-at-a-time path. ``Minv``
     is C-contiguous (the batch's output, allocated by ``calls``)."""
-    Mw, M, par, Sw, Ih, tmp8, c, s, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl = k_
+    Mw, M, par, Sw, Ih, tmp8, c, s, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, pk = k_
     n, nv = m.n, m.nv
     for l in range(W):
         if check_configuration(m, q[b + l]) != OK:
@@ -79,31 +84,56 @@ def _group(m, q, Minv, b, k_):
         store(Sl, x * W, gather(Sw, x, nv * 6))
     for x in range(n * 36):
         store(Il, x * W, gather(Ih, x, n * 36))
-    if not _lanes_pass(m, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl):
+    if not _lanes_pass(m, Sw, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, pk):
         return False
     zero = splat(0.0)
     bad = zero
-    for r in range(nv):  # each sample's upper triangle
-        for col in range(r, nv):
-            x = load(Ml, (r * nv + col) * W)
-            bad = fma(x, zero, bad)  # NaN where x is not finite
-            scatter(Minv, (b * nv + r) * nv + col, nv * nv, x)
+    for x in range(nv * nv):
+        bad = fma(load(Ml, x * W), zero, bad)  # NaN where a number is not finite
     for l in range(W):
         if lane(bad, l) != 0.0:
             return False
-        mirror_upper(Minv[b + l])  # (M4), within one sample's matrix
+    if nv < W:  # each sample's upper triangle, then mirrored within its matrix (M4)
+        for r in range(nv):
+            for col in range(r, nv):
+                scatter(Minv, (b * nv + r) * nv + col, nv * nv, load(Ml, (r * nv + col) * W))
+        for l in range(W):
+            mirror_upper(Minv[b + l])
+        return True
+    for r in range(nv):  # row r of each sample, W columns at a time, the lower half (M4)
+        c = 0  # read from the upper one; the last W columns overlap the ones before
+        while c < nv:
+            c = min(c, nv - W)
+            store_transposed(Minv, (b * nv + r) * nv + c, nv * nv, _entry(Ml, nv, r, c),
+                             _entry(Ml, nv, r, c + 1), _entry(Ml, nv, r, c + 2),
+                             _entry(Ml, nv, r, c + 3), _entry(Ml, nv, r, c + 4),
+                             _entry(Ml, nv, r, c + 5), _entry(Ml, nv, r, c + 6),
+                             _entry(Ml, nv, r, c + 7))
+            c += W
     return True
 
 
+@inline
+def _entry(Ml, nv, r, c):
+    """M⁻¹[r, c] of the group, from the upper triangle (M4)."""
+    if c < r:
+        return load(Ml, (c * nv + r) * W)
+    return load(Ml, (r * nv + c) * W)
+
+
 @core
-def _lanes_pass(m, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl):
+def _lanes_pass(m, Sw, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, pk):
     """M1-M3 on ``W`` samples (``minverse_pass`` with a vector for every number): the upper
     triangle of M⁻¹ into ``Ml``; False if a pivot of some D_j is not positive. Offsets:
     S_k, U_k, G_k at ``(k*6 + i)*W``, Î_j at ``((j*6 + i)*6 + a)*W``, F_j[c] at
     ``((j*nv + c)*6 + i)*W``, M⁻¹[r, c] at ``(r*nv + c)*W``, D_j, D_j⁻¹ at ``(a*6 + b)*W``.
-    A sum over a joint's coordinates (a loop of unknown length) accumulates in memory: a
-    vector carried from one such iteration to the next would be taken apart into its
-    numbers and put together again on every pass."""
+    ``Sw`` holds the first sample's S_k (a free root's unit twists, the same in every
+    sample), ``pk`` (12) is scratch.
+
+    As in the scalar pass, a joint of one coordinate (``_one_backward``, ``_one_forward``)
+    and a free-flyer root (M5: ``_root_backward``, ``_root_forward``) have passes of their
+    own; any other joint takes the general form (``_joint_backward``, ``_joint_forward``).
+    """
     nv = m.nv
     zero = splat(0.0)
     for x in range(nv * nv):
@@ -112,74 +142,203 @@ def _lanes_pass(m, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl):
         for x in range((j * nv + m.iv[j]) * 6, (j * nv + m.subtree_end[j]) * 6):
             store(Fl, x * W, zero)
     for j in range(m.n - 1, -1, -1):
-        k0, k1, end = m.iv[j], m.iv[j + 1], m.subtree_end[j]
-        nd = k1 - k0
-        for k in range(k0, k1):  # U_j = Î_j[S_j] (M1)
-            for i in range(6):
-                store(Ul, (k * 6 + i) * W, _dot6(Il, ((j * 6 + i) * 6) * W, Sl, k * 6 * W))
-        for a in range(nd):  # D_j = ⟨S_j, U_j⟩
-            for e in range(nd):
-                store(Dl, (a * 6 + e) * W, _dot6(Sl, (k0 + a) * 6 * W, Ul, (k0 + e) * 6 * W))
-        if not _spd_inverse(Dl, nd, Pl):
+        k0, k1, end, parent = m.iv[j], m.iv[j + 1], m.subtree_end[j], m.parents[j]
+        if free_root(parent, m.types[j]):
+            _root_units(Sw, k0, pk)
+            ok = _root_backward(Il, Fl, Ml, Dl, Pl, Tl, pk, j, k0, end, nv)
+        elif k1 - k0 == 1:
+            ok = _one_backward(Sl, Il, Ul, Gl, Fl, Ml, j, parent, k0, end, nv)
+        else:
+            ok = _joint_backward(Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, j, parent, k0, k1, end,
+                                 nv)
+        if not ok:
             return False
-        for a in range(nd):
-            for e in range(nd):  # M⁻¹[j, j] = D_j⁻¹ (M2)
-                store(Ml, ((k0 + a) * nv + k0 + e) * W, load(Pl, (a * 6 + e) * W))
-            for i in range(6):  # G_j = D_j⁻¹ U_j
-                o = ((k0 + a) * 6 + i) * W
-                store(Gl, o, zero)
-                for e in range(nd):
-                    x = fma(load(Pl, (a * 6 + e) * W), load(Ul, ((k0 + e) * 6 + i) * W),
-                            load(Gl, o))
-                    store(Gl, o, x)
-        for col in range(k1, end):  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
-            for e in range(nd):
-                store(Tl, e * W, _dot6(Sl, (k0 + e) * 6 * W, Fl, (j * nv + col) * 6 * W))
-            for a in range(nd):
-                o = ((k0 + a) * nv + col) * W
-                store(Ml, o, zero)
-                for e in range(nd):
-                    store(Ml, o, fnma(load(Pl, (a * 6 + e) * W), load(Tl, e * W), load(Ml, o)))
-        parent = m.parents[j]
-        if parent < 0:
-            continue
-        for col in range(k0, end):  # F_λ[c] += F_j[c] + U_j M⁻¹[j, c] (M2)
-            for i in range(6):
-                o, f = ((parent * nv + col) * 6 + i) * W, ((j * nv + col) * 6 + i) * W
-                store(Fl, o, add(load(Fl, o), load(Fl, f)))
-            for a in range(k0, k1):
-                x = load(Ml, (a * nv + col) * W)
-                for i in range(6):
-                    o = ((parent * nv + col) * 6 + i) * W
-                    store(Fl, o, fma(load(Ul, (a * 6 + i) * W), x, load(Fl, o)))
-        for x in range(36):  # Î_λ += Î_j - U_j D_j⁻¹ U_jᵀ (M2)
-            o = (parent * 36 + x) * W
-            store(Il, o, add(load(Il, o), load(Il, (j * 36 + x) * W)))
-        for a in range(k0, k1):
-            for i in range(6):
-                u = load(Ul, (a * 6 + i) * W)
-                for e in range(6):
-                    o = ((parent * 6 + i) * 6 + e) * W
-                    store(Il, o, fnma(u, load(Gl, (a * 6 + e) * W), load(Il, o)))
     for j in range(m.n):
         k0, k1, parent = m.iv[j], m.iv[j + 1], m.parents[j]
-        for col in range(k0, nv):
-            for i in range(6):  # A_j[c] = A_λ[c] + S_j M⁻¹[j, c] (M3), first A_λ[c]
-                o = ((j * nv + col) * 6 + i) * W
-                if parent >= 0:
-                    store(Fl, o, load(Fl, ((parent * nv + col) * 6 + i) * W))
-                else:
-                    store(Fl, o, zero)
-            for a in range(k0, k1):
-                o = (a * nv + col) * W
-                if parent >= 0:  # M⁻¹[j, c] -= ⟨D⁻¹U_j, A_λ[c]⟩ (M3)
-                    x = _dot6(Gl, a * 6 * W, Fl, (parent * nv + col) * 6 * W)
-                    store(Ml, o, sub(load(Ml, o), x))
-                x = load(Ml, o)
-                for i in range(6):
-                    f = ((j * nv + col) * 6 + i) * W
-                    store(Fl, f, fma(load(Sl, (a * 6 + i) * W), x, load(Fl, f)))
+        if free_root(parent, m.types[j]):
+            _root_units(Sw, k0, pk)
+            _root_forward(Fl, Ml, pk, j, k0, nv)
+        elif k1 - k0 == 1:
+            _one_forward(Sl, Gl, Fl, Ml, j, parent, k0, nv)
+        else:
+            _joint_forward(Sl, Gl, Fl, Ml, j, parent, k0, k1, nv)
     return True
+
+
+@inline
+def _root_units(Sw, k0, pk):
+    """A free root's unit twists S_k (M5): ``pk[a]`` the index of S_{k0+a}'s one
+    coefficient, ``pk[6 + a]`` its value."""
+    for a in range(6):
+        i, x = unit_coefficient(Sw[k0 + a])
+        pk[a], pk[6 + a] = i, x
+
+
+@core
+def _root_backward(Il, Fl, Ml, Dl, Pl, Tl, pk, j, k0, end, nv):
+    """(M1, M2) for a free-flyer root in its own frame (M5): with S_a = s_a e_{i_a},
+    ``D_j[a, b] = s_a s_b Î_j[i_a, i_b]`` and ``⟨S_a, F⟩ = s_a F[i_a]``; U_j and G_j are
+    not needed, for there is no parent to pass anything to."""
+    for a in range(6):
+        o = (j * 6 + int(pk[a])) * 6
+        for b in range(6):
+            x = mul(splat(pk[6 + a] * pk[6 + b]), load(Il, (o + int(pk[b])) * W))
+            store(Dl, (a * 6 + b) * W, x)
+    if not _spd_inverse(Dl, 6, Pl):
+        return False
+    for a in range(6):
+        for b in range(6):  # M⁻¹[j, j] = D_j⁻¹ (M2)
+            store(Ml, ((k0 + a) * nv + k0 + b) * W, load(Pl, (a * 6 + b) * W))
+    zero = splat(0.0)
+    for col in range(k0 + 6, end):  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
+        for b in range(6):
+            x = load(Fl, ((j * nv + col) * 6 + int(pk[b])) * W)
+            store(Tl, b * W, mul(splat(pk[6 + b]), x))
+        for a in range(6):
+            store(Ml, ((k0 + a) * nv + col) * W, sub(zero, _dot6(Pl, a * 6 * W, Tl, 0)))
+    return True
+
+
+@core
+def _root_forward(Fl, Ml, pk, j, k0, nv):
+    """(M3) for a free-flyer root (M5): ``A_j[c] = S_j M⁻¹[j, c]``, one coefficient per
+    coordinate."""
+    zero = splat(0.0)
+    for col in range(k0, nv):
+        o = (j * nv + col) * 6
+        for i in range(6):
+            store(Fl, (o + i) * W, zero)
+        for a in range(6):
+            x = load(Ml, ((k0 + a) * nv + col) * W)
+            store(Fl, (o + int(pk[a])) * W, mul(splat(pk[6 + a]), x))
+
+
+@core
+def _one_backward(Sl, Il, Ul, Gl, Fl, Ml, j, parent, k, end, nv):
+    """(M1, M2) for a joint of one coordinate ``k``: D_j is a number in every lane, and
+    each sum into the parent is one multiply-add on what is read."""
+    for i in range(6):  # U_j = Î_j[S_j] (M1)
+        store(Ul, (k * 6 + i) * W, _dot6(Il, (j * 6 + i) * 6 * W, Sl, k * 6 * W))
+    d = _dot6(Sl, k * 6 * W, Ul, k * 6 * W)  # D_j = ⟨S_j, U_j⟩
+    for l in range(W):
+        x = lane(d, l)
+        if not (x > 0.0 and math.isfinite(1.0 / x)):
+            return False
+    omega = div(splat(1.0), d)
+    store(Ml, (k * nv + k) * W, omega)  # M⁻¹[j, j] = D_j⁻¹ (M2)
+    for i in range(6):  # G_j = D_j⁻¹ U_j
+        store(Gl, (k * 6 + i) * W, mul(omega, load(Ul, (k * 6 + i) * W)))
+    minus = sub(splat(0.0), omega)
+    for col in range(k + 1, end):  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
+        x = _dot6(Sl, k * 6 * W, Fl, (j * nv + col) * 6 * W)
+        store(Ml, (k * nv + col) * W, mul(minus, x))
+    if parent < 0:
+        return True
+    for col in range(k, end):  # F_λ[c] += F_j[c] + U_j M⁻¹[j, c] (M2)
+        x = load(Ml, (k * nv + col) * W)
+        for i in range(6):
+            o, f = ((parent * nv + col) * 6 + i) * W, ((j * nv + col) * 6 + i) * W
+            store(Fl, o, fma(load(Ul, (k * 6 + i) * W), x, add(load(Fl, o), load(Fl, f))))
+    for i in range(6):  # Î_λ += Î_j - U_j D_j⁻¹ U_jᵀ (M2)
+        u = load(Ul, (k * 6 + i) * W)
+        for e in range(6):
+            o, f = ((parent * 6 + i) * 6 + e) * W, ((j * 6 + i) * 6 + e) * W
+            store(Il, o, fnma(u, load(Gl, (k * 6 + e) * W), add(load(Il, o), load(Il, f))))
+    return True
+
+
+@core
+def _one_forward(Sl, Gl, Fl, Ml, j, parent, k, nv):
+    """(M3) for a joint of one coordinate ``k``."""
+    zero = splat(0.0)
+    for col in range(k, nv):
+        o = (k * nv + col) * W
+        x = load(Ml, o)
+        if parent >= 0:  # M⁻¹[j, c] -= ⟨D⁻¹U_j, A_λ[c]⟩ (M3)
+            x = sub(x, _dot6(Gl, k * 6 * W, Fl, (parent * nv + col) * 6 * W))
+            store(Ml, o, x)
+        for i in range(6):  # A_j[c] = A_λ[c] + S_j M⁻¹[j, c] (M3)
+            a = load(Fl, ((parent * nv + col) * 6 + i) * W) if parent >= 0 else zero
+            store(Fl, ((j * nv + col) * 6 + i) * W, fma(load(Sl, (k * 6 + i) * W), x, a))
+
+
+@core
+def _joint_backward(Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, j, parent, k0, k1, end, nv):
+    """(M1, M2) for a joint of any number of coordinates. A sum over its coordinates (a
+    loop of unknown length) accumulates in memory: a vector carried from one such
+    iteration to the next would be taken apart into its numbers and put together again on
+    every pass."""
+    zero = splat(0.0)
+    nd = k1 - k0
+    for k in range(k0, k1):  # U_j = Î_j[S_j] (M1)
+        for i in range(6):
+            store(Ul, (k * 6 + i) * W, _dot6(Il, ((j * 6 + i) * 6) * W, Sl, k * 6 * W))
+    for a in range(nd):  # D_j = ⟨S_j, U_j⟩
+        for e in range(nd):
+            store(Dl, (a * 6 + e) * W, _dot6(Sl, (k0 + a) * 6 * W, Ul, (k0 + e) * 6 * W))
+    if not _spd_inverse(Dl, nd, Pl):
+        return False
+    for a in range(nd):
+        for e in range(nd):  # M⁻¹[j, j] = D_j⁻¹ (M2)
+            store(Ml, ((k0 + a) * nv + k0 + e) * W, load(Pl, (a * 6 + e) * W))
+        for i in range(6):  # G_j = D_j⁻¹ U_j
+            o = ((k0 + a) * 6 + i) * W
+            store(Gl, o, zero)
+            for e in range(nd):
+                x = fma(load(Pl, (a * 6 + e) * W), load(Ul, ((k0 + e) * 6 + i) * W),
+                        load(Gl, o))
+                store(Gl, o, x)
+    for col in range(k1, end):  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
+        for e in range(nd):
+            store(Tl, e * W, _dot6(Sl, (k0 + e) * 6 * W, Fl, (j * nv + col) * 6 * W))
+        for a in range(nd):
+            o = ((k0 + a) * nv + col) * W
+            store(Ml, o, zero)
+            for e in range(nd):
+                store(Ml, o, fnma(load(Pl, (a * 6 + e) * W), load(Tl, e * W), load(Ml, o)))
+    if parent < 0:
+        return True
+    for col in range(k0, end):  # F_λ[c] += F_j[c] + U_j M⁻¹[j, c] (M2)
+        for i in range(6):
+            o, f = ((parent * nv + col) * 6 + i) * W, ((j * nv + col) * 6 + i) * W
+            store(Fl, o, add(load(Fl, o), load(Fl, f)))
+        for a in range(k0, k1):
+            x = load(Ml, (a * nv + col) * W)
+            for i in range(6):
+                o = ((parent * nv + col) * 6 + i) * W
+                store(Fl, o, fma(load(Ul, (a * 6 + i) * W), x, load(Fl, o)))
+    for x in range(36):  # Î_λ += Î_j - U_j D_j⁻¹ U_jᵀ (M2)
+        o = (parent * 36 + x) * W
+        store(Il, o, add(load(Il, o), load(Il, (j * 36 + x) * W)))
+    for a in range(k0, k1):
+        for i in range(6):
+            u = load(Ul, (a * 6 + i) * W)
+            for e in range(6):
+                o = ((parent * 6 + i) * 6 + e) * W
+                store(Il, o, fnma(u, load(Gl, (a * 6 + e) * W), load(Il, o)))
+    return True
+
+
+@core
+def _joint_forward(Sl, Gl, Fl, Ml, j, parent, k0, k1, nv):
+    """(M3) for a joint of any number of coordinates."""
+    zero = splat(0.0)
+    for col in range(k0, nv):
+        for i in range(6):  # A_j[c] = A_λ[c] + S_j M⁻¹[j, c] (M3), first A_λ[c]
+            o = ((j * nv + col) * 6 + i) * W
+            if parent >= 0:
+                store(Fl, o, load(Fl, ((parent * nv + col) * 6 + i) * W))
+            else:
+                store(Fl, o, zero)
+        for a in range(k0, k1):
+            o = (a * nv + col) * W
+            if parent >= 0:  # M⁻¹[j, c] -= ⟨D⁻¹U_j, A_λ[c]⟩ (M3)
+                x = _dot6(Gl, a * 6 * W, Fl, (parent * nv + col) * 6 * W)
+                store(Ml, o, sub(load(Ml, o), x))
+            x = load(Ml, o)
+            for i in range(6):
+                f = ((j * nv + col) * 6 + i) * W
+                store(Fl, f, fma(load(Sl, (a * 6 + i) * W), x, load(Fl, f)))
 
 
 @core
@@ -224,7 +383,7 @@ def _spd_inverse(Dl, k, Pl):
 
 @inline
 def workspace_size(n, nq, nv, nl):
-    return scalar_size(n, nq, nv, nl) + 16 * n + 2 * nq + 18 + W * (
+    return scalar_size(n, nq, nv, nl) + 16 * n + 2 * nq + 30 + W * (
         72 * n + 24 * nv + 6 * n * nv + nv * nv + 78)
 
 
@@ -233,7 +392,7 @@ def _workspace(buf, o, m):
     """After the scalar pass's workspace (``o`` floats): Mw, M (n, 8), par (10), the group's
     S_k (W nv, 6) and I_j (W n, 6, 6) sample after sample, tmp8 (8), c, s (nq); the
     group's S, Î, U, G, F, M⁻¹, D, D⁻¹ and a scratch row side by side (``_lanes_pass``'s
-    layout)."""
+    layout), a free root's unit coefficients pk (12)."""
     Mw, o = ws.carve(buf, o, (m.n, 8))
     M, o = ws.carve(buf, o, (m.n, 8))
     par, o = ws.carve(buf, o, (10,))
@@ -251,4 +410,5 @@ def _workspace(buf, o, m):
     Dl, o = ws.carve(buf, o, (36 * W,))
     Pl, o = ws.carve(buf, o, (36 * W,))
     Tl, o = ws.carve(buf, o, (6 * W,))
-    return Mw, M, par, Sw, Ih, tmp8, c, s, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl
+    pk, o = ws.carve(buf, o, (12,))
+    return Mw, M, par, Sw, Ih, tmp8, c, s, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, pk

@@ -116,6 +116,44 @@ def scatter(typingctx, array, offset, stride, x):
     return types.none(array, offset, stride, x), codegen
 
 
+def _butterfly(b: int) -> tuple[ir.Constant, ir.Constant]:
+    """The two shuffles that exchange bit ``b`` of the vector index with bit ``b`` of the
+    lane index, for a pair of vectors ``i`` and ``i + b``: three such stages (b = 1, 2, 4)
+    transpose eight vectors of eight."""
+    lo = [p if not p & b else W + p - b for p in range(W)]
+    hi = [p + b if not p & b else W + p for p in range(W)]
+    mask = ir.VectorType(ir.IntType(32), W)
+    return ir.Constant(mask, lo), ir.Constant(mask, hi)
+
+
+@intrinsic
+def store_transposed(typingctx, array, offset, stride, x0, x1, x2, x3, x4, x5, x6, x7):
+    """``array.flat[offset + l * stride + i] = x_i[l]`` for i, l = 0 .. W - 1: the numbers
+    ``i`` of ``W`` samples written as one run of ``W`` numbers per sample (``scatter`` of
+    ``W`` vectors at once: a transpose in registers, then whole-vector stores)."""
+
+    def codegen(context, builder, signature, args):
+        off = _intp(context, builder, signature, args, 1)
+        step = _intp(context, builder, signature, args, 2)
+        x = list(args[3:])
+        b = 1
+        while b < W:
+            lo, hi = _butterfly(b)
+            y = list(x)
+            for i in range(W):
+                if not i & b:
+                    y[i] = builder.shuffle_vector(x[i], x[i + b], lo)
+                    y[i + b] = builder.shuffle_vector(x[i], x[i + b], hi)
+            x, b = y, 2 * b
+        for v in x:
+            ptr = _element(context, builder, signature.args[0], args[0], off)
+            builder.store(v, builder.bitcast(ptr, _VEC.as_pointer()), align=8)
+            off = builder.add(off, step)
+        return context.get_dummy_value()
+
+    return types.none(array, offset, stride, *[LANES] * W), codegen
+
+
 @intrinsic
 def lane(typingctx, x, i):
     """The number of sample ``i`` in ``x``."""
@@ -198,6 +236,11 @@ if numba.config.DISABLE_JIT:  # pure Python: the same operations on tuples
         """``array.flat[offset + l * stride] = x[l]``."""
         for l in range(W):
             array.reshape(-1)[offset + l * stride] = x[l]
+
+    def store_transposed(array, offset, stride, *x):  # noqa: F811
+        """``array.flat[offset + l * stride + i] = x_i[l]``."""
+        for l in range(W):
+            array.reshape(-1)[offset + l * stride:offset + l * stride + W] = [v[l] for v in x]
 
     def lane(x, i):  # noqa: F811
         """The number of sample ``i`` in ``x``."""
