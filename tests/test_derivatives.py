@@ -14,6 +14,7 @@ from cgadyn import oracle
 from cgadyn.algorithms.aba_derivatives import solve_by_factors
 from cgadyn.algorithms.ltdl import supports
 from cgadyn.multibody.packed import unpack
+from cgadyn.multibody.registry import robot_path
 
 ROBOTS = ["panda", "ur5", "double_pendulum_continuous", "prismatic_tree", "solo12", "talos"]
 GRAVITY = (0.3, -1.0, -9.0)
@@ -148,9 +149,9 @@ def _route(packed):
 
 @pytest.mark.parametrize("name", ROBOTS)
 def test_forward_dynamics_derivatives_route_by_the_tree(name):
-    """D15: the tests above run aba_derivatives on chains (panda, ur5) through the product
-    with M⁻¹ and on branched trees (talos) through L5-L6; ``supports`` is L's count below
-    the diagonal, Σ_k d_k, checked against a walk of ``dof_parent``."""
+    """D15: from eight coordinates on, aba_derivatives takes the product with M⁻¹ (panda,
+    talos); ``supports`` is L's count below the diagonal, Σ_k d_k, checked against a walk
+    of ``dof_parent``."""
     model = cgadyn.load(name)
     walk = 0
     for k in range(model.nv):
@@ -159,7 +160,28 @@ def test_forward_dynamics_derivatives_route_by_the_tree(name):
             walk, i = walk + 1, model.dof_parent[i]
     count, by_factors = _route(model.packed)
     assert count == walk
-    assert by_factors == {"panda": False, "ur5": False, "talos": True}.get(name, by_factors)
+    assert by_factors == {"panda": False, "ur5": False, "talos": False}.get(name, by_factors)
+
+
+def test_forward_dynamics_derivatives_by_the_factors():
+    """D15's other route, L5-L6 on 2nv columns: a branched tree below eight coordinates
+    (the prismatic tree with its lift fixed: two arms and a head on a fixed torso, nv = 6,
+    Σ_k d_k = 4) against Pinocchio, with gravity and f_ext."""
+    urdf = robot_path("prismatic_tree").read_text().replace(
+        '<joint name="lift" type="prismatic">', '<joint name="lift" type="fixed">')
+    model, pm = oracle.models(urdf)
+    pm.gravity.linear = np.array(GRAVITY)
+    d = pm.createData()
+    assert model.nv == 6 and _route(model.packed) == (4, True)
+    for q, v, _, tau, f in states(model, 3):
+        qp = oracle.pin_configuration(model, q)
+        for fe in (None, f):
+            mine = cgadyn.aba_derivatives(model, q, v, tau, gravity=GRAVITY, f_ext=fe)
+            args = (pm, d, qp, v, tau) if fe is None else (pm, d, qp, v, tau, oracle.forces(fe))
+            theirs = [x.copy() for x in pin.computeABADerivatives(*args)]
+            for k in range(3):
+                ref = theirs[k] if k < 2 else oracle.symmetric(theirs[k])
+                assert rel(mine[k], ref) < 1e-10, k
 
 
 def test_bad_input_is_named():

@@ -1,10 +1,12 @@
-"""Small dense linear algebra for compiled cores: the inverse of a joint's inertia D_j, and
+"""Small dense linear algebra for compiled cores: the inverse of a joint's inertia D_j,
 row operations ``r -= Σ a_t x_t`` over up to four rows at once (four multiply-adds per
-load and store of r, in loops the compiler vectorises)."""
+load and store of r, in loops the compiler vectorises), and the product ``-A X`` in blocks
+held in vector registers."""
 
 from __future__ import annotations
 
 from .._jit import inline
+from ..kernels.lanes import W, fnma, load, splat, store
 
 
 @inline
@@ -53,3 +55,34 @@ def rows_subtract1(r, a0, x0):
     """``r -= a0 x0`` on rows."""
     for c in range(r.shape[0]):
         r[c] -= a0 * x0[c]
+
+
+@inline
+def minus_product(A, X, h, out):
+    """``out = -A X[:, h : h + n]`` for ``A`` (n, n), ``X`` (n, w) and ``out`` (n, n), all
+    C-contiguous, ``n >= W``. A block of four rows by ``W`` columns of ``out`` accumulates
+    in four vector registers over the whole sum (``kernels/lanes.py``), each load of ``W``
+    numbers of X serving four rows of A and nothing stored until the block is done; the
+    last block of rows and of columns overlaps the one before it (its numbers are written
+    twice, the same)."""
+    n, w = A.shape[0], X.shape[1]
+    zero = splat(0.0)
+    i = 0
+    while i < n:
+        i = min(i, n - 4)
+        c = 0
+        while c < n:
+            c = min(c, n - W)
+            a0, a1, a2, a3 = zero, zero, zero, zero
+            for k in range(n):
+                x = load(X, k * w + h + c)
+                a0 = fnma(splat(A[i, k]), x, a0)
+                a1 = fnma(splat(A[i + 1, k]), x, a1)
+                a2 = fnma(splat(A[i + 2, k]), x, a2)
+                a3 = fnma(splat(A[i + 3, k]), x, a3)
+            store(out, i * n + c, a0)
+            store(out, (i + 1) * n + c, a1)
+            store(out, (i + 2) * n + c, a2)
+            store(out, (i + 3) * n + c, a3)
+            c += W
+        i += 4

@@ -15,10 +15,11 @@ from __future__ import annotations
 
 from .._jit import core, inline
 from ..kernels import dot, twist_cross
+from ..kernels.lanes import W
 from ..kernels.rigid import rigid_apply
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
-from ._dense import rows_subtract1, rows_subtract4
+from ._dense import minus_product, rows_subtract1, rows_subtract4
 from .ltdl import ltdl, ltdl_inverse, ltdl_solve, ltdl_solve_rows, supports
 from .rnea_derivatives import _workspace as rnea_derivatives_workspace
 from .rnea_derivatives import rnea_derivatives_backward, rnea_derivatives_forward
@@ -32,9 +33,15 @@ def times_minus_minv(m, Minv, X, outq, outv, acc):
     (nv, 2nv), the two side by side so that one sweep over a row of X serves both. Row i
     of the result is ``-Σ_k M⁻¹[i, k] X[k]``, accumulated in ``acc`` (2nv) four rows of X
     at a time: each pass over ``acc`` then does four multiply-adds per load and store, in
-    loops of 2nv that the compiler vectorises. The product is dense: X's zeros (entries of
-    coordinates on different branches) cost less than the branches that would skip them."""
+    loops of 2nv that the compiler vectorises; from ``W`` coordinates on, each product in
+    blocks held in vector registers (``minus_product``). The product is dense: X's zeros
+    (entries of coordinates on different branches) cost less than the branches that would
+    skip them."""
     nv = m.nv
+    if nv >= W:
+        minus_product(Minv, X, 0, outq)
+        minus_product(Minv, X, nv, outv)
+        return
     w = 2 * nv
     for i in range(nv):
         r = Minv[i]
@@ -55,10 +62,11 @@ def times_minus_minv(m, Minv, X, outq, outv, acc):
 
 @inline
 def solve_by_factors(m):
-    """D15's choice of route to ``-M⁻¹ X``: True when L5-L6's row operations,
-    ``2 (Σ_k d_k + nv)`` with the copy of the result, are fewer than 0.6 nv² (a branched
-    tree), False for a chain or nearly one, whose product with M⁻¹ runs faster."""
-    return 10 * (supports(m) + m.nv) < 3 * m.nv * m.nv
+    """D15's choice of route to ``-M⁻¹ X``: the product with M⁻¹ from ``W`` coordinates on
+    (in blocks held in vector registers, it is the faster route even on a humanoid);
+    below that, L5-L6 when their row operations, ``2 (Σ_k d_k + nv)`` with the copy of the
+    result, are fewer than 0.6 nv² (a branched tree)."""
+    return m.nv < W and 10 * (supports(m) + m.nv) < 3 * m.nv * m.nv
 
 
 @inline
@@ -140,13 +148,13 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
     accelerate(m, k_, x, Aq)  # the forward pass at q̈
     nv = m.nv
     rnea_derivatives_backward(m, k_, X[:, :nv], X[:, nv:], X[:0])  # ∂τ/∂q, ∂τ/∂v at q̈ (M known)
-    if solve_by_factors(m):  # a branched tree: solve by M's factors (D15)
+    if solve_by_factors(m):  # a small branched tree: solve by M's factors (D15)
         ltdl_solve_rows(m, dtau, X, -1.0)  # -M⁻¹ ∂τ/∂q, -M⁻¹ ∂τ/∂v (D12, L5, L6)
         for i in range(nv):
             for c in range(nv):
                 dq[i, c], dv[i, c] = X[i, c], X[i, nv + c]
         ltdl_inverse(m, dtau, x)  # M⁻¹ (L3, L4); q̈ is no longer needed
-    else:  # a chain, or nearly: the product with M⁻¹ (D15)
+    else:  # eight coordinates or more, or a chain: the product with M⁻¹ (D15)
         ltdl_inverse(m, dtau, x)  # M⁻¹ (L3, L4); q̈ is no longer needed
         times_minus_minv(m, dtau, X, dq, dv, acc)  # -M⁻¹ ∂τ/∂q, -M⁻¹ ∂τ/∂v (D12)
     status = check_result(dtau)

@@ -1,6 +1,6 @@
 """M's factorisation along the tree and its inverse from it (Featherstone's LTDL):
 ``aba_derivatives`` has M already (the rnea derivatives' ∂τ/∂a) and gets q̈, M⁻¹ and, on a
-branched tree, ``-M⁻¹ [∂τ/∂q  ∂τ/∂v]`` from it (``docs/derivatives.md``, L1-L6, D13 and
+small branched tree, ``-M⁻¹ [∂τ/∂q  ∂τ/∂v]`` from it (``docs/derivatives.md``, L1-L6, D13 and
 D15); ``minverse`` alone runs the articulated-body recursion instead (M1-M5).
 
 M has the sparsity of the kinematic tree (Featherstone's expanded tree, one node per
