@@ -13,6 +13,7 @@ import cgadyn
 from cgadyn import oracle
 from cgadyn.algorithms.aba_derivatives import solve_by_factors
 from cgadyn.algorithms.ltdl import supports
+from cgadyn.algorithms.minverse_lanes import _in_lanes
 from cgadyn.multibody.packed import unpack
 from cgadyn.multibody.registry import robot_path
 
@@ -130,6 +131,7 @@ def test_minverse_batches_in_groups_of_samples(robot):
     thread's chunk one at a time: every sample equals its single call, and a fault inside
     a group is reported at its own sample, as a single call reports it."""
     model, _, _ = robot
+    assert _in_lanes_of(model.packed)  # every joint one coordinate, or a free root
     s = oracle.sample(model, 37, 5)  # two chunks of 19 and 18: groups of 8 and tails
     batch = cgadyn.minverse(model, s.q)
     for b in range(37):
@@ -139,6 +141,11 @@ def test_minverse_batches_in_groups_of_samples(robot):
         q[13, 3:7] = 0.0
         with pytest.raises(ValueError, match=r"q\[13, 3:7\].*norm 0"):
             cgadyn.minverse(model, q)
+
+
+@njit
+def _in_lanes_of(packed):
+    return _in_lanes(unpack(packed))
 
 
 @njit

@@ -4,9 +4,10 @@ Every sample of a batch runs the same recursion; only the numbers differ. Here t
 of a group of ``W`` are laid side by side (element ``x`` of sample ``l`` at ``x * W + l``),
 so that each multiply-add of M1-M3 is one vector instruction on the group
 (``kernels/lanes.py``) instead of ``W`` scalar ones. The equations and their order are the
-scalar pass's, with its two special cases: a joint of one coordinate, whose D_j is a
-number and whose sums into its parent take one multiply-add each, and a free-flyer root in
-its own frame (M5), whose unit twists pair by one coefficient.
+scalar pass's in its two special cases, which cover every model cgadyn reads: a joint of
+one coordinate, whose D_j is a number and whose sums into its parent take one multiply-add
+each, and a free-flyer root in its own frame (M5), whose unit twists pair by one
+coefficient. (A model with any other joint would take the one-sample pass.)
 The numbers agree with the scalar pass to rounding. Each sample's matrix is written
 out whole, row by row, ``W`` columns at a time (a transpose of ``W`` vectors in registers,
 ``store_transposed``), the lower half read from the upper (M4).
@@ -55,7 +56,8 @@ def minverse_group(m, q, Minv, start, stop, option, work):
     size = scalar_size(m.n, m.nq, m.nv, m.nl)
     k_ = _workspace(ws.data_pointer(work), size, m)
     b = start
-    while b + W <= stop:
+    lanes = _in_lanes(m)
+    while lanes and b + W <= stop:
         if not _group(m, q, Minv, b, k_):
             for l in range(W):  # again one at a time, for the exact fault
                 s = minverse_core(m, q[b + l], Minv[b + l], option, work)
@@ -67,6 +69,17 @@ def minverse_group(m, q, Minv, start, stop, option, work):
         if s != OK:
             return at_sample(s, i)
     return OK
+
+
+@inline
+def _in_lanes(m):
+    """True when every joint has one coordinate or is a free-flyer root, the two forms
+    ``_lanes_pass`` has. (A joint of several coordinates below the root, which no model
+    that cgadyn reads has, would take the one-sample pass.)"""
+    for j in range(m.n):
+        if m.iv[j + 1] - m.iv[j] != 1 and not free_root(m.parents[j], m.types[j]):
+            return False
+    return True
 
 
 @inline
@@ -130,10 +143,9 @@ def _lanes_pass(m, Sw, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, pk):
     ``Sw`` holds the first sample's S_k (a free root's unit twists, the same in every
     sample), ``pk`` (12) is scratch.
 
-    As in the scalar pass, a joint of one coordinate (``_one_backward``, ``_one_forward``)
-    and a free-flyer root (M5: ``_root_backward``, ``_root_forward``) have passes of their
-    own; any other joint takes the general form (``_joint_backward``, ``_joint_forward``).
-    """
+    Every joint has one coordinate (``_one_backward``, ``_one_forward``) or is a free-flyer
+    root (M5: ``_root_backward``, ``_root_forward``): the scalar pass's two special cases,
+    which between them cover every model cgadyn reads (``_in_lanes``)."""
     nv = m.nv
     zero = splat(0.0)
     for x in range(nv * nv):
@@ -142,26 +154,21 @@ def _lanes_pass(m, Sw, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, pk):
         for x in range((j * nv + m.iv[j]) * 6, (j * nv + m.subtree_end[j]) * 6):
             store(Fl, x * W, zero)
     for j in range(m.n - 1, -1, -1):
-        k0, k1, end, parent = m.iv[j], m.iv[j + 1], m.subtree_end[j], m.parents[j]
+        k0, end, parent = m.iv[j], m.subtree_end[j], m.parents[j]
         if free_root(parent, m.types[j]):
             _root_units(Sw, k0, pk)
             ok = _root_backward(Il, Fl, Ml, Dl, Pl, Tl, pk, j, k0, end, nv)
-        elif k1 - k0 == 1:
-            ok = _one_backward(Sl, Il, Ul, Gl, Fl, Ml, j, parent, k0, end, nv)
         else:
-            ok = _joint_backward(Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, j, parent, k0, k1, end,
-                                 nv)
+            ok = _one_backward(Sl, Il, Ul, Gl, Fl, Ml, j, parent, k0, end, nv)
         if not ok:
             return False
     for j in range(m.n):
-        k0, k1, parent = m.iv[j], m.iv[j + 1], m.parents[j]
+        k0, parent = m.iv[j], m.parents[j]
         if free_root(parent, m.types[j]):
             _root_units(Sw, k0, pk)
             _root_forward(Fl, Ml, pk, j, k0, nv)
-        elif k1 - k0 == 1:
-            _one_forward(Sl, Gl, Fl, Ml, j, parent, k0, nv)
         else:
-            _joint_forward(Sl, Gl, Fl, Ml, j, parent, k0, k1, nv)
+            _one_forward(Sl, Gl, Fl, Ml, j, parent, k0, nv)
     return True
 
 
@@ -260,85 +267,6 @@ def _one_forward(Sl, Gl, Fl, Ml, j, parent, k, nv):
         for i in range(6):  # A_j[c] = A_λ[c] + S_j M⁻¹[j, c] (M3)
             a = load(Fl, ((parent * nv + col) * 6 + i) * W) if parent >= 0 else zero
             store(Fl, ((j * nv + col) * 6 + i) * W, fma(load(Sl, (k * 6 + i) * W), x, a))
-
-
-@core
-def _joint_backward(Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, j, parent, k0, k1, end, nv):
-    """(M1, M2) for a joint of any number of coordinates. A sum over its coordinates (a
-    loop of unknown length) accumulates in memory: a vector carried from one such
-    iteration to the next would be taken apart into its numbers and put together again on
-    every pass."""
-    zero = splat(0.0)
-    nd = k1 - k0
-    for k in range(k0, k1):  # U_j = Î_j[S_j] (M1)
-        for i in range(6):
-            store(Ul, (k * 6 + i) * W, _dot6(Il, ((j * 6 + i) * 6) * W, Sl, k * 6 * W))
-    for a in range(nd):  # D_j = ⟨S_j, U_j⟩
-        for e in range(nd):
-            store(Dl, (a * 6 + e) * W, _dot6(Sl, (k0 + a) * 6 * W, Ul, (k0 + e) * 6 * W))
-    if not _spd_inverse(Dl, nd, Pl):
-        return False
-    for a in range(nd):
-        for e in range(nd):  # M⁻¹[j, j] = D_j⁻¹ (M2)
-            store(Ml, ((k0 + a) * nv + k0 + e) * W, load(Pl, (a * 6 + e) * W))
-        for i in range(6):  # G_j = D_j⁻¹ U_j
-            o = ((k0 + a) * 6 + i) * W
-            store(Gl, o, zero)
-            for e in range(nd):
-                x = fma(load(Pl, (a * 6 + e) * W), load(Ul, ((k0 + e) * 6 + i) * W),
-                        load(Gl, o))
-                store(Gl, o, x)
-    for col in range(k1, end):  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
-        for e in range(nd):
-            store(Tl, e * W, _dot6(Sl, (k0 + e) * 6 * W, Fl, (j * nv + col) * 6 * W))
-        for a in range(nd):
-            o = ((k0 + a) * nv + col) * W
-            store(Ml, o, zero)
-            for e in range(nd):
-                store(Ml, o, fnma(load(Pl, (a * 6 + e) * W), load(Tl, e * W), load(Ml, o)))
-    if parent < 0:
-        return True
-    for col in range(k0, end):  # F_λ[c] += F_j[c] + U_j M⁻¹[j, c] (M2)
-        for i in range(6):
-            o, f = ((parent * nv + col) * 6 + i) * W, ((j * nv + col) * 6 + i) * W
-            store(Fl, o, add(load(Fl, o), load(Fl, f)))
-        for a in range(k0, k1):
-            x = load(Ml, (a * nv + col) * W)
-            for i in range(6):
-                o = ((parent * nv + col) * 6 + i) * W
-                store(Fl, o, fma(load(Ul, (a * 6 + i) * W), x, load(Fl, o)))
-    for x in range(36):  # Î_λ += Î_j - U_j D_j⁻¹ U_jᵀ (M2)
-        o = (parent * 36 + x) * W
-        store(Il, o, add(load(Il, o), load(Il, (j * 36 + x) * W)))
-    for a in range(k0, k1):
-        for i in range(6):
-            u = load(Ul, (a * 6 + i) * W)
-            for e in range(6):
-                o = ((parent * 6 + i) * 6 + e) * W
-                store(Il, o, fnma(u, load(Gl, (a * 6 + e) * W), load(Il, o)))
-    return True
-
-
-@core
-def _joint_forward(Sl, Gl, Fl, Ml, j, parent, k0, k1, nv):
-    """(M3) for a joint of any number of coordinates."""
-    zero = splat(0.0)
-    for col in range(k0, nv):
-        for i in range(6):  # A_j[c] = A_λ[c] + S_j M⁻¹[j, c] (M3), first A_λ[c]
-            o = ((j * nv + col) * 6 + i) * W
-            if parent >= 0:
-                store(Fl, o, load(Fl, ((parent * nv + col) * 6 + i) * W))
-            else:
-                store(Fl, o, zero)
-        for a in range(k0, k1):
-            o = (a * nv + col) * W
-            if parent >= 0:  # M⁻¹[j, c] -= ⟨D⁻¹U_j, A_λ[c]⟩ (M3)
-                x = _dot6(Gl, a * 6 * W, Fl, (parent * nv + col) * 6 * W)
-                store(Ml, o, sub(load(Ml, o), x))
-            x = load(Ml, o)
-            for i in range(6):
-                f = ((j * nv + col) * 6 + i) * W
-                store(Fl, f, fma(load(Sl, (a * 6 + i) * W), x, load(Fl, f)))
 
 
 @core
