@@ -51,18 +51,25 @@ def test_rnea_derivatives_match_pinocchio(robot):
             assert rel(mine[2], oracle.symmetric(theirs[2])) < 1e-10
 
 
+def assert_aba_derivatives_match(model, pm, d, q, v, tau, f, tol):
+    """aba_derivatives at (q, v, tau), without and with the wrenches f, against Pinocchio's
+    computeABADerivatives, to ``tol`` relative."""
+    qp = oracle.pin_configuration(model, q)
+    for fe in (None, f):
+        mine = cgadyn.aba_derivatives(model, q, v, tau, gravity=GRAVITY, f_ext=fe)
+        args = (pm, d, qp, v, tau) if fe is None else (pm, d, qp, v, tau, oracle.forces(fe))
+        theirs = [x.copy() for x in pin.computeABADerivatives(*args)]
+        for k in range(3):
+            ref = theirs[k] if k < 2 else oracle.symmetric(theirs[k])
+            assert rel(mine[k], ref) < tol, k
+
+
 def test_aba_derivatives_and_minverse_match_pinocchio(robot):
     model, pm, d = robot
     for q, v, _, tau, f in states(model):
         qp = oracle.pin_configuration(model, q)
         cond = np.linalg.cond(cgadyn.crba(model, q))
-        for fe in (None, f):
-            mine = cgadyn.aba_derivatives(model, q, v, tau, gravity=GRAVITY, f_ext=fe)
-            args = (pm, d, qp, v, tau) if fe is None else (pm, d, qp, v, tau, oracle.forces(fe))
-            theirs = [x.copy() for x in pin.computeABADerivatives(*args)]
-            for k in range(3):
-                ref = theirs[k] if k < 2 else oracle.symmetric(theirs[k])
-                assert rel(mine[k], ref) < 1e-10 * cond, k
+        assert_aba_derivatives_match(model, pm, d, q, v, tau, f, 1e-10 * cond)
         Minv = cgadyn.minverse(model, q)
         assert rel(Minv, oracle.symmetric(pin.computeMinverse(pm, d, qp))) < 1e-10 * cond
 
@@ -181,14 +188,7 @@ def test_forward_dynamics_derivatives_by_the_factors():
     d = pm.createData()
     assert model.nv == 6 and _route(model.packed) == (4, True)
     for q, v, _, tau, f in states(model, 3):
-        qp = oracle.pin_configuration(model, q)
-        for fe in (None, f):
-            mine = cgadyn.aba_derivatives(model, q, v, tau, gravity=GRAVITY, f_ext=fe)
-            args = (pm, d, qp, v, tau) if fe is None else (pm, d, qp, v, tau, oracle.forces(fe))
-            theirs = [x.copy() for x in pin.computeABADerivatives(*args)]
-            for k in range(3):
-                ref = theirs[k] if k < 2 else oracle.symmetric(theirs[k])
-                assert rel(mine[k], ref) < 1e-10, k
+        assert_aba_derivatives_match(model, pm, d, q, v, tau, f, 1e-10)
 
 
 def test_bad_input_is_named():
