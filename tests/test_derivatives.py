@@ -11,6 +11,7 @@ from numba import njit
 
 import cgadyn
 from cgadyn import oracle
+from cgadyn.algorithms._stream import STREAM_FLOATS
 from cgadyn.algorithms.aba_derivatives import solve_by_factors
 from cgadyn.algorithms.ltdl import supports
 from cgadyn.algorithms.minverse_lanes import _in_lanes
@@ -148,6 +149,26 @@ def test_minverse_batches_in_groups_of_samples(robot):
         q[13, 3:7] = 0.0
         with pytest.raises(ValueError, match=r"q\[13, 3:7\].*norm 0"):
             cgadyn.minverse(model, q)
+
+
+def test_large_batches_stream_their_results():
+    """Results beyond STREAM_FLOATS are computed in the chunk's arrays and streamed out
+    (``_stream``): every sample equals its single call exactly, whatever the alignment of
+    its matrices (talos: 1444 numbers a matrix, so their starts alternate between two
+    offsets within a cache line); a fault is still reported at its own sample."""
+    model, _ = oracle.models("talos")
+    batch = STREAM_FLOATS // (3 * model.nv * model.nv) + 8
+    s = oracle.sample(model, batch, 7)
+    many = cgadyn.rnea_derivatives(model, s.q, s.v, s.a)
+    assert 3 * many[0].size > STREAM_FLOATS
+    for b in (0, 1, batch // 2 + 1, batch - 1):
+        one = cgadyn.rnea_derivatives(model, s.q[b], s.v[b], s.a[b])
+        for x, y in zip(many, one, strict=True):
+            assert np.array_equal(x[b], y)
+    q = s.q.copy()
+    q[batch - 3, 3:7] = 0.0
+    with pytest.raises(ValueError, match=rf"q\[{batch - 3}, 3:7\].*norm 0"):
+        cgadyn.rnea_derivatives(model, q, s.v, s.a)
 
 
 @njit

@@ -155,6 +155,51 @@ def store_transposed(typingctx, array, offset, stride, x0, x1, x2, x3, x4, x5, x
 
 
 @intrinsic
+def stream(typingctx, array, offset, x):
+    """``array.flat[offset : offset + W] = x`` past the caches: a non-temporal store, for
+    results written once and not read again soon, whose cache line is then neither read
+    from memory first nor kept. ``array.flat[offset]`` must lie on a 64-byte boundary
+    (``boundary``); ``fence`` orders these stores before whatever the thread does next."""
+
+    def codegen(context, builder, signature, args):
+        ptr = _element(context, builder, signature.args[0], args[0],
+                       _intp(context, builder, signature, args, 1))
+        st = builder.store(args[2], builder.bitcast(ptr, _VEC.as_pointer()), align=64)
+        st.set_metadata("nontemporal", builder.module.add_metadata([ir.IntType(32)(1)]))
+        return context.get_dummy_value()
+
+    return types.none(array, offset, x), codegen
+
+
+@intrinsic
+def boundary(typingctx, array):
+    """How many numbers of ``array`` come before its first 64-byte boundary (0 .. W - 1),
+    or -1 when its data are not aligned to 8 bytes (``stream`` cannot be used)."""
+
+    def codegen(context, builder, signature, args):
+        data = context.make_array(signature.args[0])(context, builder, args[0]).data
+        at = builder.ptrtoint(data, ir.IntType(64))
+        odd = builder.icmp_unsigned("!=", builder.and_(at, ir.IntType(64)(7)),
+                                    ir.IntType(64)(0))
+        head = builder.lshr(builder.and_(builder.neg(at), ir.IntType(64)(63)),
+                            ir.IntType(64)(3))
+        return builder.select(odd, ir.IntType(64)(-1), head)
+
+    return types.int64(array), codegen
+
+
+@intrinsic
+def fence(typingctx):
+    """Every store of this thread, ``stream``'s included, before any that follows."""
+
+    def codegen(context, builder, signature, args):
+        builder.fence("seq_cst")
+        return context.get_dummy_value()
+
+    return types.none(), codegen
+
+
+@intrinsic
 def lane(typingctx, x, i):
     """The number of sample ``i`` in ``x``."""
 
@@ -241,6 +286,18 @@ if numba.config.DISABLE_JIT:  # pure Python: the same operations on tuples
         """``array.flat[offset + l * stride + i] = x_i[l]``."""
         for l in range(W):
             array.reshape(-1)[offset + l * stride:offset + l * stride + W] = [v[l] for v in x]
+
+    def stream(array, offset, x):  # noqa: F811
+        """``array.flat[offset : offset + W] = x``."""
+        array.reshape(-1)[offset:offset + W] = x
+
+    def boundary(array):  # noqa: F811
+        """Numbers before ``array``'s first 64-byte boundary, or -1."""
+        at = array.ctypes.data
+        return -1 if at % 8 else (-at % 64) // 8
+
+    def fence():  # noqa: F811
+        """Nothing to order in pure Python."""
 
     def lane(x, i):  # noqa: F811
         """The number of sample ``i`` in ``x``."""
