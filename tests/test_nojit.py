@@ -24,6 +24,7 @@ print(json.dumps({{
     "crba_batch": cgadyn.crba(m, np.concatenate([q, q])).tolist(),
     "aba": cgadyn.aba(m, q, v, a).tolist(),
     "crba": cgadyn.crba(m, q[1]).tolist(),
+    "minverse_batch": cgadyn.minverse(m, np.concatenate([q] * 10)).tolist(),
     "jac": cgadyn.jacobian(m, q[0], m.link_names[-1]).tolist(),
     "energy": cgadyn.energy(m, q[1], v[1]).tolist(),
     "simulate": cgadyn.simulate(m, q, v, 1e-3, 5, controller=cgadyn.PD(2.0, 0.1)).q.tolist(),
@@ -47,3 +48,25 @@ def test_disable_jit_matches_compiled():
             a, b = np.array(py[key]), np.array(jit[key])
             assert np.abs(a - b).max() <= 1e-12 * max(1.0, np.abs(b).max()), (robot, key)
     assert cgadyn.load("gripper").nv == len(jit["rnea"])
+
+
+GROUPS = """
+import json, numpy as np, cgadyn
+from cgadyn import oracle
+m = cgadyn.load("solo12")
+print(json.dumps(cgadyn.minverse(m, oracle.sample(m, 20, 0).q).tolist()))
+"""
+
+
+def test_disable_jit_minverse_groups_on_a_free_flyer():
+    """minverse's groups of samples (``minverse_lanes``: the joint motors, the free root's
+    quaternion included, and the moves of eqs. 4 and 16 on arrays of vectors) compute the
+    same numbers in pure Python as compiled."""
+    out = {}
+    for disable_jit in (True, False):
+        env = dict(os.environ, NUMBA_DISABLE_JIT="1" if disable_jit else "0")
+        done = subprocess.run([sys.executable, "-c", GROUPS], env=env, capture_output=True,
+                              text=True, check=True, timeout=600)
+        out[disable_jit] = np.array(json.loads(done.stdout))
+    assert out[True].shape == (20, 18, 18)
+    assert np.abs(out[True] - out[False]).max() <= 1e-12 * np.abs(out[False]).max()

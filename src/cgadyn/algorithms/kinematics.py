@@ -40,6 +40,14 @@ def frame_motors(m, q, c, s, tmp8, M, Mw, free_roots_at_rest):
     a common rigid motion of the whole tree leaves alone, as M(q)⁻¹, may be computed
     there)."""
     joint_scalars(q, c, s)  # the scalars of every revolute joint motor (eq. 6)
+    chain_motors(m, q, c, s, tmp8, M, Mw, free_roots_at_rest)
+
+
+@inline
+def chain_motors(m, q, c, s, tmp8, M, Mw, free_roots_at_rest):
+    """``frame_motors`` from the joints' scalars ``c, s`` on: the joint motors and their
+    products down the tree. Only arithmetic, so that it runs on ``W`` samples at once as
+    well (``kernels.lane_arrays``)."""
     joint_motors(m, q, c, s, tmp8, M)  # M_j = X_j M_J(q_j)
     for j in range(m.n):
         p = m.parents[j]

@@ -46,6 +46,13 @@ def world_axes_inertias(m, q, c, s, tmp8, M, Mw, par, Sw, Ih):
     """``Sw`` (nv, 6) the joints' S_k and ``Ih`` (n, 6, 6) the bodies' I_j in the world, a
     free root's tree in its own frame (M5); the other arrays are scratch."""
     frame_motors(m, q, c, s, tmp8, M, Mw, True)
+    move_axes_inertias(m, Mw, par, Sw, Ih)
+
+
+@inline
+def move_axes_inertias(m, Mw, par, Sw, Ih):
+    """``Sw`` the S_k and ``Ih`` the I_j moved by the world motors ``Mw`` (eqs. 4, 16);
+    ``par`` (10) scratch. Only arithmetic: it runs on ``W`` samples at once as well."""
     for j in range(m.n):
         r, p = rigid_frame(Mw[j])
         for k in range(m.iv[j], m.iv[j + 1]):

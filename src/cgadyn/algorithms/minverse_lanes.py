@@ -12,8 +12,10 @@ The numbers agree with the scalar pass to rounding. Each sample's matrix is writ
 out whole, row by row, ``W`` columns at a time (a transpose of ``W`` vectors in registers,
 ``store_transposed``), the lower half read from the upper (M4).
 
-Each sample's S_k and I_j in the world (eqs. 4 and 16, M5) are computed one sample at a
-time, by the scalar pass's own ``world_axes_inertias``, and laid into the group. A group
+Each sample's joint scalars (eq. 6) are computed one sample at a time and laid side by
+side; from them the world motors and the S_k and I_j in the world (eqs. 4-6 and 16, M5) are
+computed for the whole group at once, by the scalar pass's own ``chain_motors`` and
+``move_axes_inertias`` on arrays of vectors (``kernels.lane_arrays``). A group
 in which any sample fails a check (a quaternion, a pivot D_j that is not positive, a result
 that is not finite) is computed again one sample at a time by ``minverse_core``, which
 reports the first fault exactly as a single call does; so do the samples after the last
@@ -25,13 +27,13 @@ from __future__ import annotations
 import math
 
 from .._jit import core, inline
+from ..kernels.lane_arrays import lane_array, lane_matrix, lane_tensor
 from ..kernels.lanes import (
     W,
     add,
     div,
     fma,
     fnma,
-    gather,
     lane,
     load,
     mul,
@@ -41,10 +43,11 @@ from ..kernels.lanes import (
     store_transposed,
     sub,
 )
+from ..multibody.joints import joint_scalars
 from . import _workspace as ws
 from ._checks import check_configuration
-from .kinematics import free_root, unit_coefficient
-from .minverse import minverse_core, mirror_upper, world_axes_inertias
+from .kinematics import chain_motors, free_root, unit_coefficient
+from .minverse import minverse_core, mirror_upper, move_axes_inertias
 from .minverse import workspace_size as scalar_size
 from .status import OK, at_sample
 
@@ -86,17 +89,22 @@ def _in_lanes(m):
 def _group(m, q, Minv, b, k_):
     """Samples ``b .. b + W``; False if one of them needs the one-at-a-time path. ``Minv``
     is C-contiguous (the batch's output, allocated by ``calls``)."""
-    Mw, M, par, Sw, Ih, tmp8, c, s, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, pk = k_
-    n, nv = m.n, m.nv
-    for l in range(W):
-        if check_configuration(m, q[b + l]) != OK:
+    Sw, c, s, Ql, Cl, Snl, T8l, Mjl, Mwl, Rl, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, pk = k_
+    nv = m.nv
+    for l in range(W):  # each sample's q and joint scalars, laid side by side
+        x = q[b + l]
+        if check_configuration(m, x) != OK:
             return False
-        world_axes_inertias(m, q[b + l], c, s, tmp8, M, Mw, par, Sw[l * nv:(l + 1) * nv],
-                            Ih[l * n:(l + 1) * n])
-    for x in range(nv * 6):  # the samples side by side
-        store(Sl, x * W, gather(Sw, x, nv * 6))
-    for x in range(n * 36):
-        store(Il, x * W, gather(Ih, x, n * 36))
+        joint_scalars(x, c, s)
+        for i in range(m.nq):
+            Ql[i * W + l], Cl[i * W + l], Snl[i * W + l] = x[i], c[i], s[i]
+    Mw = lane_matrix(Mwl, 0, 8)  # the world motors, then S_k and I_j (eqs. 4, 16, M5)
+    chain_motors(m, lane_array(Ql, 0), lane_array(Cl, 0), lane_array(Snl, 0),
+                 lane_array(T8l, 0), lane_matrix(Mjl, 0, 8), Mw, True)
+    move_axes_inertias(m, Mw, lane_array(Rl, 0), lane_matrix(Sl, 0, 6),
+                       lane_tensor(Il, 0, 6, 6))
+    for x in range(nv * 6):  # the first sample's S_k, for a free root's unit twists
+        Sw[x // 6, x % 6] = lane(load(Sl, x * W), 0)
     if not _lanes_pass(m, Sw, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, pk):
         return False
     zero = splat(0.0)
@@ -311,24 +319,27 @@ def _spd_inverse(Dl, k, Pl):
 
 @inline
 def workspace_size(n, nq, nv, nl):
-    return scalar_size(n, nq, nv, nl) + 16 * n + 2 * nq + 30 + W * (
-        72 * n + 24 * nv + 6 * n * nv + nv * nv + 78)
+    return scalar_size(n, nq, nv, nl) + 6 * nv + 2 * nq + 12 + W * (
+        52 * n + 3 * nq + 18 * nv + 6 * n * nv + nv * nv + 96)
 
 
 @inline
 def _workspace(buf, o, m):
-    """After the scalar pass's workspace (``o`` floats): Mw, M (n, 8), par (10), the group's
-    S_k (W nv, 6) and I_j (W n, 6, 6) sample after sample, tmp8 (8), c, s (nq); the
-    group's S, Î, U, G, F, M⁻¹, D, D⁻¹ and a scratch row side by side (``_lanes_pass``'s
-    layout), a free root's unit coefficients pk (12)."""
-    Mw, o = ws.carve(buf, o, (m.n, 8))
-    M, o = ws.carve(buf, o, (m.n, 8))
-    par, o = ws.carve(buf, o, (10,))
-    Sw, o = ws.carve(buf, o, (W * m.nv, 6))
-    Ih, o = ws.carve(buf, o, (W * m.n, 6, 6))
-    tmp8, o = ws.carve(buf, o, (8,))
+    """After the scalar pass's workspace (``o`` floats): the first sample's S_k (nv, 6),
+    one sample's joint scalars c, s (nq); the group's q, c, s (nq), a motor's scratch (8),
+    the joint and world motors (n, 8), ten parameters of an inertia, S, Î, U, G, F, M⁻¹,
+    D, D⁻¹ and a scratch row side by side (``_lanes_pass``'s layout), a free root's unit
+    coefficients pk (12)."""
+    Sw, o = ws.carve(buf, o, (m.nv, 6))
     c, o = ws.carve(buf, o, (m.nq,))
     s, o = ws.carve(buf, o, (m.nq,))
+    Ql, o = ws.carve(buf, o, (m.nq * W,))
+    Cl, o = ws.carve(buf, o, (m.nq * W,))
+    Snl, o = ws.carve(buf, o, (m.nq * W,))
+    T8l, o = ws.carve(buf, o, (8 * W,))
+    Mjl, o = ws.carve(buf, o, (m.n * 8 * W,))
+    Mwl, o = ws.carve(buf, o, (m.n * 8 * W,))
+    Rl, o = ws.carve(buf, o, (10 * W,))
     Sl, o = ws.carve(buf, o, (m.nv * 6 * W,))
     Il, o = ws.carve(buf, o, (m.n * 36 * W,))
     Ul, o = ws.carve(buf, o, (m.nv * 6 * W,))
@@ -339,4 +350,4 @@ def _workspace(buf, o, m):
     Pl, o = ws.carve(buf, o, (36 * W,))
     Tl, o = ws.carve(buf, o, (6 * W,))
     pk, o = ws.carve(buf, o, (12,))
-    return Mw, M, par, Sw, Ih, tmp8, c, s, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, pk
+    return Sw, c, s, Ql, Cl, Snl, T8l, Mjl, Mwl, Rl, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, pk

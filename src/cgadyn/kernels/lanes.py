@@ -20,6 +20,7 @@ import numba
 from llvmlite import ir
 from numba import types
 from numba.core import datamodel
+from numba.core.imputils import lower_cast
 
 from .._jit import intrinsic
 
@@ -36,6 +37,13 @@ class Lanes(types.Type):
     def __init__(self):
         super().__init__(name=f"Lanes{W}")
 
+    def unify(self, typingctx, other):
+        """A number and ``Lanes`` (the two arms of ``x if c else 0.0``) unify to ``Lanes``:
+        the number in every lane."""
+        if isinstance(other, (types.Float, types.Integer)):
+            return self
+        return None
+
 
 LANES = Lanes()
 
@@ -44,6 +52,16 @@ LANES = Lanes()
 class _LanesModel(datamodel.models.PrimitiveModel):
     def __init__(self, dmm, fe_type):
         super().__init__(dmm, fe_type, _VEC)
+
+
+@lower_cast(types.Float, Lanes)
+@lower_cast(types.Integer, Lanes)
+def _number_to_lanes(context, builder, fromty, toty, val):
+    s = context.cast(builder, val, fromty, types.float64)
+    v = ir.Constant(_VEC, ir.Undefined)
+    for i in range(W):
+        v = builder.insert_element(v, s, ir.Constant(ir.IntType(32), i))
+    return v
 
 
 def _element(context, builder, array_type, array, offset):

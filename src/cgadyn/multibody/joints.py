@@ -52,6 +52,7 @@ from ..kernels import (
     twist_exp,
 )
 from ..kernels.halfangle import LIBM_BEYOND, half_angle_sincos
+from ..kernels.lane_arrays import sqrt
 from ..kernels.layout import physical, quaternion, rotor
 
 REVOLUTE = 0
@@ -127,7 +128,7 @@ def free_flyer_motor(q, i, out):
     """The motor ``T(p) R(x, y, z, w)`` of a free flyer's configuration
     ``q[i:i+7] = (p1, p2, p3, x, y, z, w)``, the quaternion normalised."""
     x, y, z, w = q[i + 3], q[i + 4], q[i + 5], q[i + 6]
-    r = 1.0 / math.sqrt(x * x + y * y + z * z + w * w)
+    r = 1.0 / sqrt(x * x + y * y + z * z + w * w)  # of a number, or of each lane
     r0, r1, r2, r3 = rotor((w * r, x * r, y * r, z * r))
     translator_rotor(q[i], q[i + 1], q[i + 2], r0, r1, r2, r3, out)
 
@@ -137,7 +138,7 @@ def free_flyer_configuration(M, out, i):
     """``out[i:i+7] = (p, x, y, z, w)`` of a motor, the quaternion normalised: the inverse
     of ``free_flyer_motor``."""
     w, x, y, z = quaternion(M)
-    r = 1.0 / math.sqrt(x * x + y * y + z * z + w * w)
+    r = 1.0 / sqrt(x * x + y * y + z * z + w * w)  # of a number, or of each lane
     out[i], out[i + 1], out[i + 2] = motor_translation(M)
     out[i + 3], out[i + 4], out[i + 5], out[i + 6] = x * r, y * r, z * r, w * r
 

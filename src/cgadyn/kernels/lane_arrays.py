@@ -1,0 +1,231 @@
+"""The kernels written for numbers, run on ``W`` samples at once.
+
+The kernels of ``cgadyn.kernels`` (motor products, the rigid moves of eqs. 4 and 16, the
+joint motors of eq. 6) read numbers from arrays, combine them with ``+``, ``-`` and ``*``
+and write numbers into arrays. Here Python's arithmetic operators are defined on ``Lanes``
+(and between a number and ``Lanes``, the number in every lane), and ``lane_array`` views a
+flat array in the lanes layout (element ``x`` of sample ``l`` at ``x * W + l``) as an array
+of ``Lanes`` that a kernel indexes as it indexes an array of numbers: ``a[i]`` (one index)
+or ``a[i, k]`` (a matrix; ``a[i]`` is then its row i; ``lane_tensor``'s ``a[j]`` a
+matrix). So the same
+kernel, unchanged, computes one sample on numbers or ``W`` samples on vectors, with the same
+operations in the same order.
+
+A view holds the flat array and an offset, no reference of its own: it is valid while the
+array is (workspace arrays, within one compiled call). Under ``NUMBA_DISABLE_JIT=1`` the
+same is done by numpy: ``Lanes`` are arrays of ``W`` numbers, with numpy's operators, and
+``lane_array`` is a small class.
+"""
+
+from __future__ import annotations
+
+import math
+import operator
+
+import numba
+import numpy as np
+from llvmlite import ir
+from numba import types
+from numba.core import cgutils, datamodel
+from numba.extending import make_attribute_wrapper, overload
+
+from .._jit import inline, intrinsic
+from .lanes import Lanes, W, add, div, load, mul, splat, store, sub
+
+_NUMBER = (types.Float, types.Integer)
+
+
+class LaneArray(types.Type):
+    """A view of a flat float array as an array of ``Lanes`` of one, two or three
+    dimensions (the strides of the first two, in elements, ``s0`` and ``s1``)."""
+
+    def __init__(self, array, ndim):
+        self.array, self.ndim = array, ndim
+        super().__init__(name=f"LaneArray({array}, {ndim})")
+
+
+@datamodel.register_default(LaneArray)
+class _LaneArrayModel(datamodel.models.StructModel):
+    def __init__(self, dmm, fe_type):
+        members = [("array", fe_type.array), ("offset", types.intp), ("s0", types.intp),
+                   ("s1", types.intp)]
+        super().__init__(dmm, fe_type, members)
+
+
+make_attribute_wrapper(LaneArray, "array", "array")
+make_attribute_wrapper(LaneArray, "offset", "offset")
+make_attribute_wrapper(LaneArray, "s0", "s0")
+make_attribute_wrapper(LaneArray, "s1", "s1")
+
+
+def _view(ndim):
+    def typer(typingctx, array, offset, s0, s1):
+        def codegen(context, builder, signature, args):
+            view = cgutils.create_struct_proxy(signature.return_type)(context, builder)
+            view.array = args[0]
+            context.nrt.incref(builder, signature.args[0], args[0])
+            view.offset = context.cast(builder, args[1], signature.args[1], types.intp)
+            view.s0 = context.cast(builder, args[2], signature.args[2], types.intp)
+            view.s1 = context.cast(builder, args[3], signature.args[3], types.intp)
+            return view._getvalue()
+
+        return LaneArray(array, ndim)(array, offset, s0, s1), codegen
+
+    return typer
+
+
+_vector = intrinsic(_view(1))
+_matrix = intrinsic(_view(2))
+_tensor = intrinsic(_view(3))
+
+
+@numba.njit(inline="always")
+def lane_array(array, offset):
+    """Elements ``offset + i`` of ``array`` in the lanes layout, as ``Lanes`` ``a[i]``."""
+    return _vector(array, offset, 0, 0)
+
+
+@numba.njit(inline="always")
+def lane_matrix(array, offset, cols):
+    """Elements ``offset + i * cols + k`` of ``array`` in the lanes layout, as ``Lanes``
+    ``a[i, k]``; ``a[i]`` is row i, a ``lane_array``."""
+    return _matrix(array, offset, cols, 0)
+
+
+@numba.njit(inline="always")
+def lane_tensor(array, offset, rows, cols):
+    """``a[j]`` the ``lane_matrix`` of ``rows`` x ``cols`` elements at ``offset + j * rows *
+    cols`` of ``array``."""
+    return _tensor(array, offset, rows * cols, cols)
+
+
+@overload(operator.getitem)
+def _getitem(a, i):
+    if not isinstance(a, LaneArray):
+        return None
+    if isinstance(i, types.Integer):
+        if a.ndim == 1:
+            return lambda a, i: load(a.array, (a.offset + i) * W)
+        if a.ndim == 2:
+            return lambda a, i: _vector(a.array, a.offset + i * a.s0, 0, 0)
+        return lambda a, i: _matrix(a.array, a.offset + i * a.s0, a.s1, 0)
+    if isinstance(i, types.BaseTuple) and len(i) == 2 and a.ndim == 2:
+        return lambda a, i: load(a.array, (a.offset + i[0] * a.s0 + i[1]) * W)
+    return None
+
+
+@overload(operator.setitem)
+def _setitem(a, i, x):
+    if not isinstance(a, LaneArray):
+        return None
+    if isinstance(x, _NUMBER):
+        return lambda a, i, x: _setitem_lanes(a, i, splat(x))
+    if not isinstance(x, Lanes):
+        return None
+    if isinstance(i, types.Integer) and a.ndim == 1:
+        return lambda a, i, x: store(a.array, (a.offset + i) * W, x)
+    if isinstance(i, types.BaseTuple) and len(i) == 2 and a.ndim == 2:
+        return lambda a, i, x: store(a.array, (a.offset + i[0] * a.s0 + i[1]) * W, x)
+    return None
+
+
+@numba.njit(inline="always")
+def _setitem_lanes(a, i, x):
+    a[i] = x
+
+
+def _binary(op, lanes_op):
+    @overload(op)
+    def _op(x, y):
+        if isinstance(x, Lanes) and isinstance(y, Lanes):
+            return lambda x, y: lanes_op(x, y)
+        if isinstance(x, Lanes) and isinstance(y, _NUMBER):
+            return lambda x, y: lanes_op(x, splat(y))
+        if isinstance(x, _NUMBER) and isinstance(y, Lanes):
+            return lambda x, y: lanes_op(splat(x), y)
+        return None
+
+    return _op
+
+
+_binary(operator.add, add)
+_binary(operator.sub, sub)
+_binary(operator.mul, mul)
+_binary(operator.truediv, div)
+
+
+@intrinsic
+def _sqrt(typingctx, x):
+    def codegen(context, builder, signature, args):
+        t = args[0].type
+        f = cgutils.get_or_insert_function(builder.module, ir.FunctionType(t, [t]),
+                                           f"llvm.sqrt.v{W}f64")
+        return builder.call(f, [args[0]])
+
+    return x(x), codegen
+
+
+@overload(math.sqrt)
+def _math_sqrt(x):
+    if isinstance(x, Lanes):
+        return lambda x: _sqrt(x)
+    return None
+
+
+@inline
+def sqrt(x):
+    """``math.sqrt`` of a number, or of each lane of ``Lanes``: for kernels that run on
+    both (``math.sqrt`` itself would refuse an array of lanes in pure Python)."""
+    return math.sqrt(x)
+
+
+@intrinsic
+def _negate(typingctx, x):
+    def codegen(context, builder, signature, args):
+        return builder.fneg(args[0])
+
+    return x(x), codegen
+
+
+@overload(operator.neg)
+def _neg(x):
+    if isinstance(x, Lanes):
+        return lambda x: _negate(x)
+    return None
+
+
+if numba.config.DISABLE_JIT:  # pure Python: numpy does the arithmetic of W numbers
+
+    class _PyLaneArray:
+        def __init__(self, array, offset, s0=0, s1=0, ndim=1):
+            self.flat, self.offset, self.s0, self.s1, self.ndim = (array.reshape(-1), offset,
+                                                                   s0, s1, ndim)
+
+        def __getitem__(self, i):
+            if isinstance(i, tuple):
+                o = (self.offset + i[0] * self.s0 + i[1]) * W
+                return np.array(self.flat[o:o + W])
+            if self.ndim == 1:
+                o = (self.offset + i) * W
+                return np.array(self.flat[o:o + W])
+            return _PyLaneArray(self.flat, self.offset + i * self.s0, self.s1, 0, self.ndim - 1)
+
+        def __setitem__(self, i, x):
+            o = self.offset + (i[0] * self.s0 + i[1] if isinstance(i, tuple) else i)
+            self.flat[o * W:o * W + W] = x
+
+    def sqrt(x):  # noqa: F811
+        """``math.sqrt`` of a number, or of each lane."""
+        return np.sqrt(x)
+
+    def lane_array(array, offset):  # noqa: F811
+        """Elements ``offset + i`` of ``array`` in the lanes layout."""
+        return _PyLaneArray(array, offset)
+
+    def lane_matrix(array, offset, cols):  # noqa: F811
+        """Elements ``offset + i * cols + k`` of ``array`` in the lanes layout."""
+        return _PyLaneArray(array, offset, cols, 0, 2)
+
+    def lane_tensor(array, offset, rows, cols):  # noqa: F811
+        """``a[j]`` the matrix of ``rows`` x ``cols`` elements at ``offset + j rows cols``."""
+        return _PyLaneArray(array, offset, rows * cols, cols, 3)
