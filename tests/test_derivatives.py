@@ -151,11 +151,34 @@ def test_minverse_batches_in_groups_of_samples(robot):
             cgadyn.minverse(model, q)
 
 
+def test_rnea_derivatives_batches_in_groups_of_samples(robot):
+    """A batch's rnea derivatives run their forward pass W samples at once
+    (rnea_derivatives_lanes) and the rest of each thread's chunk one at a time: every
+    sample equals its single call, with external wrenches too, and a fault inside a group
+    is reported at its own sample."""
+    model, _, _ = robot
+    s = oracle.sample(model, 37, 6)  # two chunks of 19 and 18: groups of 8 and tails
+    f = np.random.default_rng(8).normal(size=(37, model.njoints, 6))
+    for wrenches in (None, f):
+        batch = cgadyn.rnea_derivatives(model, s.q, s.v, s.a, f_ext=wrenches)
+        for b in range(37):
+            one = cgadyn.rnea_derivatives(model, s.q[b], s.v[b], s.a[b],
+                                          f_ext=None if wrenches is None else f[b])
+            for x, y in zip(batch, one, strict=True):
+                assert rel(x[b], y) < 1e-12
+    if model.nq > model.nv:  # a free flyer: a zero quaternion inside the second group
+        q = s.q.copy()
+        q[13, 3:7] = 0.0
+        with pytest.raises(ValueError, match=r"q\[13, 3:7\].*norm 0"):
+            cgadyn.rnea_derivatives(model, q, s.v, s.a)
+
+
 def test_large_batches_stream_their_results():
     """Results beyond STREAM_FLOATS are computed in the chunk's arrays and streamed out
-    (``_stream``): every sample equals its single call exactly, whatever the alignment of
-    its matrices (talos: 1444 numbers a matrix, so their starts alternate between two
-    offsets within a cache line); a fault is still reported at its own sample."""
+    (``_stream``): every sample equals its single call, whatever the alignment of its
+    matrices (talos: 1444 numbers a matrix, so their starts alternate between two offsets
+    within a cache line), in groups and in the tails; a fault is still reported at its own
+    sample."""
     model, _ = oracle.models("talos")
     batch = STREAM_FLOATS // (3 * model.nv * model.nv) + 8
     s = oracle.sample(model, batch, 7)
@@ -164,7 +187,7 @@ def test_large_batches_stream_their_results():
     for b in (0, 1, batch // 2 + 1, batch - 1):
         one = cgadyn.rnea_derivatives(model, s.q[b], s.v[b], s.a[b])
         for x, y in zip(many, one, strict=True):
-            assert np.array_equal(x[b], y)
+            assert rel(x[b], y) < 1e-12
     q = s.q.copy()
     q[batch - 3, 3:7] = 0.0
     with pytest.raises(ValueError, match=rf"q\[{batch - 3}, 3:7\].*norm 0"):

@@ -54,19 +54,24 @@ GROUPS = """
 import json, numpy as np, cgadyn
 from cgadyn import oracle
 m = cgadyn.load("solo12")
-print(json.dumps(cgadyn.minverse(m, oracle.sample(m, 20, 0).q).tolist()))
+s = oracle.sample(m, 20, 0)
+f = np.random.default_rng(1).normal(size=(20, m.njoints, 6))
+print(json.dumps([cgadyn.minverse(m, s.q).tolist()]
+                 + [x.tolist() for x in cgadyn.rnea_derivatives(m, s.q, s.v, s.a, f_ext=f)]))
 """
 
 
-def test_disable_jit_minverse_groups_on_a_free_flyer():
-    """minverse's groups of samples (``minverse_lanes``: the joint motors, the free root's
-    quaternion included, and the moves of eqs. 4 and 16 on arrays of vectors) compute the
-    same numbers in pure Python as compiled."""
+def test_disable_jit_groups_on_a_free_flyer():
+    """The batches that compute groups of samples at once (``minverse_lanes``,
+    ``rnea_derivatives_lanes``: the joint motors, the free root's quaternion included, the
+    moves of eqs. 4 and 16 and the forward pass of the derivatives on arrays of vectors)
+    compute the same numbers in pure Python as compiled."""
     out = {}
     for disable_jit in (True, False):
         env = dict(os.environ, NUMBA_DISABLE_JIT="1" if disable_jit else "0")
         done = subprocess.run([sys.executable, "-c", GROUPS], env=env, capture_output=True,
                               text=True, check=True, timeout=600)
-        out[disable_jit] = np.array(json.loads(done.stdout))
-    assert out[True].shape == (20, 18, 18)
-    assert np.abs(out[True] - out[False]).max() <= 1e-12 * np.abs(out[False]).max()
+        out[disable_jit] = [np.array(x) for x in json.loads(done.stdout)]
+    for py, jit in zip(out[True], out[False], strict=True):
+        assert py.shape == (20, 18, 18)
+        assert np.abs(py - jit).max() <= 1e-12 * np.abs(jit).max()

@@ -111,7 +111,6 @@ def entries(alg) -> str:
         "        work = np.empty(size)",
     ]
     if alg.group:
-        assert not alg.forces, alg.name
         lines += [
             f"        s = {alg.name}_group(mc, {', '.join(args)}, starts[c], stops[c], option,"
             " work)",
@@ -122,27 +121,15 @@ def entries(alg) -> str:
         return "\n".join(lines)
     if alg.forces:
         lines.append("        none = np.empty((0, 6))")
-    if alg.streamed:  # large results: the core writes into the chunk's arrays r<i>, copied
-        lines += [f"        r{i} = np.empty({shape(dims)})" for i, dims in enumerate(alg.outputs)]
-        total = " + ".join(f"{o}.size" for o in outputs)
-        lines.append(f"        streamed = {total} > STREAM_FLOATS")
-        per_sample = per_sample[:len(inputs) + len(forces)]
-        per_sample += [f"t{i}" for i in range(len(outputs))]
     lines.append("        for b in range(starts[c], stops[c]):")
     if alg.forces:
         lines.append("            fb = f[b] if f.shape[0] > 0 else none")
-    if alg.streamed:
-        lines += [f"            t{i} = r{i} if streamed else {o}[b]" for i, o in enumerate(outputs)]
     lines += [
         f"            s = {core}(mc, {', '.join(per_sample)}, option, work)",
         "            if s != OK:",
         "                status[c] = at_sample(s, b)",
         "                break",
     ]
-    if alg.streamed:
-        lines.append("            if streamed:")
-        lines += [f"                stream_copy(r{i}, {o}[b])" for i, o in enumerate(outputs)]
-        lines.append("        fence()")
     return "\n".join(lines + _first_fault())
 
 
@@ -168,8 +155,6 @@ from .._jit import native, parallel, serial
 from .._views import as_int64
 from ..multibody.packed import HEADER, unpack
 {imports}
-from ..kernels.lanes import fence
-from ._stream import STREAM_FLOATS, stream_copy
 from ._workspace import STACK_FLOATS, chunks, stack_buffer
 from .status import OK, WRONG_SHAPE, at_sample
 

@@ -37,10 +37,10 @@ from .rnea import rnea_core
 from .rnea import workspace_size as rnea_workspace
 from .rnea_derivatives import rnea_derivatives_core
 from .rnea_derivatives import workspace_size as rnea_derivatives_workspace
+from .rnea_derivatives_lanes import rnea_derivatives_group
+from .rnea_derivatives_lanes import workspace_size as rnea_derivatives_group_workspace
 from .minverse_lanes import minverse_group
 from .minverse_lanes import workspace_size as minverse_group_workspace
-from ..kernels.lanes import fence
-from ._stream import STREAM_FLOATS, stream_copy
 from ._workspace import STACK_FLOATS, chunks, stack_buffer
 from .status import OK, WRONG_SHAPE, at_sample
 
@@ -262,31 +262,15 @@ def rnea_derivatives_batch(packed, q, v, a, f, o0, o1, o2, option, threads):
             or (f.shape[0] != 0 and f.shape[0] != batch)
             or f.shape[1] != m.n):
         return WRONG_SHAPE
-    size = rnea_derivatives_workspace(m.n, m.nq, m.nv, m.nl)
+    size = rnea_derivatives_group_workspace(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):
         mc = unpack(packed)
         work = np.empty(size)
-        none = np.empty((0, 6))
-        r0 = np.empty((m.nv, m.nv))
-        r1 = np.empty((m.nv, m.nv))
-        r2 = np.empty((m.nv, m.nv))
-        streamed = o0.size + o1.size + o2.size > STREAM_FLOATS
-        for b in range(starts[c], stops[c]):
-            fb = f[b] if f.shape[0] > 0 else none
-            t0 = r0 if streamed else o0[b]
-            t1 = r1 if streamed else o1[b]
-            t2 = r2 if streamed else o2[b]
-            s = rnea_derivatives_core(mc, q[b], v[b], a[b], fb, t0, t1, t2, option, work)
-            if s != OK:
-                status[c] = at_sample(s, b)
-                break
-            if streamed:
-                stream_copy(r0, o0[b])
-                stream_copy(r1, o1[b])
-                stream_copy(r2, o2[b])
-        fence()
+        s = rnea_derivatives_group(mc, q, v, a, f, o0, o1, o2, starts[c], stops[c], option, work)
+        if s != OK:
+            status[c] = s
     for c in range(starts.shape[0]):
         if status[c] != OK:
             return status[c]

@@ -3,12 +3,12 @@
 A batch of ``rnea_derivatives`` writes three nv x nv matrices a sample (talos: 35 KB,
 140 MB for 4096 samples), more than the caches hold, and it writes them fast. Written in
 place, each cache line of the result is first read from memory, then written back, and
-on two cores the batch runs at the speed of memory, not of the recursion. So a batch
-entry of an algorithm marked ``streamed`` in ``table.py`` has the core write each
-sample's results into small arrays of its chunk, which stay in the first-level cache,
-and copies them out with non-temporal stores (``kernels.lanes.stream``), which write whole
-lines without reading them first: on two cores of a Xeon, 48 GB/s against 15 GB/s for
-ordinary stores. It does so only for results larger than ``STREAM_FLOATS``.
+on two cores the batch runs at the speed of memory, not of the recursion. So its batch
+(``rnea_derivatives_lanes``) has the core write each sample's results into small arrays
+of its chunk, which stay in the first-level cache, and copies them out with non-temporal
+stores (``kernels.lanes.stream``), which write whole lines without reading them first: on
+two cores of a Xeon, 48 GB/s against 15 GB/s for ordinary stores. It does so only for
+results larger than ``STREAM_FLOATS``.
 (``aba_derivatives`` spends twice as long on each sample, so its stores keep up with
 memory, and streaming measured no faster: 9.3 against 9.1 µs a sample on talos.)
 """

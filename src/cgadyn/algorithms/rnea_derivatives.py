@@ -39,9 +39,10 @@ from ..kernels.rigid import (
     rigid_move_twist,
     rigid_rate,
 )
+from ..multibody.joints import joint_scalars
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
-from .kinematics import frame_motors, free_root, unit_coefficient
+from .kinematics import chain_motors, free_root, unit_coefficient
 from .status import OK
 
 
@@ -70,8 +71,17 @@ def rnea_derivatives_forward(m, q, v, a, f, k_):
     """The forward pass: motors, axes, inertias and their rates, twists, accelerations,
     momenta and body wrenches, and the per-coordinate twists u, ψ, w; into the workspace
     arrays of ``k_`` (see ``_workspace``). In the world frame, or a free-flyer root's (D14)."""
+    joint_scalars(q, k_[-2], k_[-1])  # the scalars c, s of the revolute joint motors (eq. 6)
+    forward_from_scalars(m, q, v, a, f, f.shape[0] > 0, k_)
+
+
+@inline
+def forward_from_scalars(m, q, v, a, f, forces, k_):
+    """``rnea_derivatives_forward`` from the joint scalars c, s of ``k_`` on (``forces``:
+    whether ``f`` holds external wrenches). Only arithmetic, so that it runs on ``W``
+    samples at once as well (``rnea_derivatives_lanes``)."""
     Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H, g, t1, t2, tmp8, c, s = k_
-    frame_motors(m, q, c, s, tmp8, M, Mw, True)  # M^w_j, a free root at the identity (D14)
+    chain_motors(m, q, c, s, tmp8, M, Mw, True)  # M^w_j, a free root at the identity (D14)
     for j in range(m.n):
         r, p = rigid_frame(Mw[j])
         k0, k1 = m.iv[j], m.iv[j + 1]
@@ -114,7 +124,7 @@ def rnea_derivatives_forward(m, q, v, a, f, k_):
         twist_cross_wrench(V[j], h[j], t1)
         for i in range(6):
             F[j, i] += t1[i]  # F_j = I_j[A_j] + V_j × I_j[V_j] - W_ext,j (eq. 15)
-        if f.shape[0] > 0:
+        if forces:
             wrench_sandwich(Mw[j], f[j], t1)  # W_ext,j, given in the joint's frame
             for i in range(6):
                 F[j, i] -= t1[i]

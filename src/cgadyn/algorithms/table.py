@@ -31,12 +31,9 @@ class Algorithm:
     ``outputs``: the shape of each result array of one sample;
     ``option``: what the integer option carries, if anything;
     ``nonfinite``: what a non-finite result from finite inputs means;
-    ``group``: the module of a ``<name>_group(m, inputs..., outputs..., start, stop, option,
-    work) -> status`` that a batch calls on each chunk of samples instead of the core on
-    each sample (it computes several samples at once), with its own ``workspace_size``;
-    ``streamed``: whether a batch whose results exceed ``_stream.STREAM_FLOATS`` writes
-    them past the caches: the core fills arrays of the chunk, copied out by non-temporal
-    stores (``_stream``).
+    ``group``: the module of a ``<name>_group(m, inputs..., [f,] outputs..., start, stop,
+    option, work) -> status`` that a batch calls on each chunk of samples instead of the core on
+    each sample (it computes several samples at once), with its own ``workspace_size``.
     """
 
     name: str
@@ -47,7 +44,6 @@ class Algorithm:
     option: str = ""
     nonfinite: str = "an overflow"
     group: str = ""
-    streamed: bool = False
 
     @property
     def core(self) -> str:
@@ -62,7 +58,7 @@ ALGORITHMS = (
               nonfinite="an overflow, or a nearly singular articulated inertia"),
     Algorithm("crba", "crba", (Q,), (("nv", "nv"),)),
     Algorithm("rnea_derivatives", "rnea_derivatives", (Q, V, A), (("nv", "nv"),) * 3,
-              forces=True, streamed=True),
+              forces=True, group="rnea_derivatives_lanes"),
     Algorithm("aba_derivatives", "aba_derivatives", (Q, V, TAU), (("nv", "nv"),) * 3,
               forces=True, nonfinite="an overflow, or a nearly singular articulated inertia"),
     Algorithm("minverse", "minverse", (Q,), (("nv", "nv"),),

@@ -1,0 +1,161 @@
+"""``rnea_derivatives`` on a batch: the forward pass for ``W`` samples at once.
+
+The forward pass of the rnea derivatives (motors, axes, inertias and their rates, twists,
+accelerations, momenta, wrenches and the per-coordinate twists u, ψ, w: D2-D6, eqs. 4, 15,
+16) does the same arithmetic on every sample. Here it runs on a group of ``W`` samples
+laid side by side, one vector instruction per operation, by the scalar pass's own
+``forward_from_scalars`` on arrays of vectors (``kernels.lane_arrays``), in a workspace
+laid out as the scalar one with every number replaced by ``W`` (``lanes_like``). Only the
+joint scalars (eq. 6: the half-angle sines and cosines) are computed one sample at a time.
+What the backward pass reads (h, F, I, İ, S, u, ψ, w) is then written into each sample's
+own workspace, ``W`` numbers of every sample at a time (a transpose in registers,
+``store_transposed``), and the backward pass (D7-D11, the entries D8-D10) runs on each
+sample as in a single call; the numbers agree with it to rounding.
+
+A group in which a sample fails a check (a quaternion, a result that is not finite) is
+computed again one sample at a time by ``rnea_derivatives_core``, which reports the first
+fault exactly as a single call does; so are the samples after the last whole group.
+Results larger than ``_stream.STREAM_FLOATS`` are written past the caches (``_stream``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._jit import core, inline
+from ..kernels.lane_arrays import lane_array, lane_matrix, lanes_like, offset_in
+from ..kernels.lanes import W, fence, gather, load, store, store_transposed
+from ..multibody.joints import joint_scalars
+from . import _workspace as ws
+from ._checks import check_configuration, check_result
+from ._stream import STREAM_FLOATS, stream_copy
+from .rnea_derivatives import _workspace as scalar_workspace
+from .rnea_derivatives import (
+    forward_from_scalars,
+    rnea_derivatives_backward,
+    rnea_derivatives_core,
+)
+from .rnea_derivatives import workspace_size as scalar_size
+from .status import OK, at_sample
+
+
+@core
+def rnea_derivatives_group(m, q, v, a, f, o0, o1, o2, start, stop, option, work):
+    """``rnea_derivatives`` of the samples ``start .. stop`` of a batch, ``W`` at a time; a
+    status (at the sample of the first fault)."""
+    samples, lanes, Ql, Vl, Al, Fl, r0, r1, r2 = _workspace(ws.data_pointer(work), m)
+    streamed = o0.size + o1.size + o2.size > STREAM_FLOATS
+    none = np.empty((0, 6))
+    b = start
+    while b + W <= stop:
+        if not _group(m, q, v, a, f, o0, o1, o2, b, streamed, samples, lanes, Ql, Vl, Al, Fl,
+                      r0, r1, r2):
+            for l in range(W):  # again one at a time, for the exact fault
+                fb = f[b + l] if f.shape[0] > 0 else none
+                s = rnea_derivatives_core(m, q[b + l], v[b + l], a[b + l], fb, o0[b + l],
+                                          o1[b + l], o2[b + l], option, samples[0])
+                if s != OK:
+                    return at_sample(s, b + l)
+        b += W
+    for i in range(b, stop):
+        fb = f[i] if f.shape[0] > 0 else none
+        t0, t1, t2 = (r0, r1, r2) if streamed else (o0[i], o1[i], o2[i])
+        s = rnea_derivatives_core(m, q[i], v[i], a[i], fb, t0, t1, t2, option, samples[0])
+        if s != OK:
+            return at_sample(s, i)
+        if streamed:
+            stream_copy(r0, o0[i])
+            stream_copy(r1, o1[i])
+            stream_copy(r2, o2[i])
+    fence()
+    return OK
+
+
+@inline
+def _group(m, q, v, a, f, o0, o1, o2, b, streamed, samples, lanes, Ql, Vl, Al, Fl, r0, r1,
+           r2):
+    """Samples ``b .. b + W``; False if one of them needs the one-at-a-time path."""
+    nq, nv, size = m.nq, m.nv, samples.shape[1]
+    k0 = scalar_workspace(ws.data_pointer(samples[0]), m)  # the layout of every workspace
+    forces = f.shape[0] > 0
+    for l in range(W):  # q, v, a, f_ext side by side; each sample's c, s in its workspace
+        x = q[b + l]
+        if check_configuration(m, x) != OK:
+            return False
+        k_ = scalar_workspace(ws.data_pointer(samples[l]), m)
+        joint_scalars(x, k_[-2], k_[-1])
+        for i in range(nq):
+            Ql[i * W + l] = x[i]
+        for i in range(nv):
+            Vl[i * W + l], Al[i * W + l] = v[b + l, i], a[b + l, i]
+        if forces:
+            for j in range(m.n):
+                for i in range(6):
+                    Fl[(j * 6 + i) * W + l] = f[b + l, j, i]
+    c0 = offset_in(k0[-2], samples[0])
+    for i in range(2 * nq):  # c, s follow one another
+        store(lanes, (c0 + i) * W, gather(samples, c0 + i, size))
+    forward_from_scalars(m, lane_array(Ql, 0), lane_array(Vl, 0), lane_array(Al, 0),
+                         lane_matrix(Fl, 0, 6), forces, _lanes_of(k0, samples[0], lanes))
+    lo = offset_in(k0[4], samples[0])  # h, F, I, İ, S, u, ψ, w follow one another
+    hi = offset_in(k0[11], samples[0]) + 6 * nv
+    x = lo
+    while x < hi:  # into each sample's workspace, the last W overlapping
+        x = min(x, hi - W)
+        store_transposed(samples, x, size, load(lanes, x * W), load(lanes, (x + 1) * W),
+                         load(lanes, (x + 2) * W), load(lanes, (x + 3) * W),
+                         load(lanes, (x + 4) * W), load(lanes, (x + 5) * W),
+                         load(lanes, (x + 6) * W), load(lanes, (x + 7) * W))
+        x += W
+    for l in range(W):
+        t0, t1, t2 = (r0, r1, r2) if streamed else (o0[b + l], o1[b + l], o2[b + l])
+        rnea_derivatives_backward(m, scalar_workspace(ws.data_pointer(samples[l]), m), t0,
+                                  t1, t2)
+        if check_result(t0) != OK or check_result(t1) != OK:
+            return False
+        if streamed:
+            stream_copy(r0, o0[b + l])
+            stream_copy(r1, o1[b + l])
+            stream_copy(r2, o2[b + l])
+    return True
+
+
+@inline
+def _lanes_of(k_, template, buf):
+    """The workspace arrays ``k_`` of one sample as arrays of ``Lanes`` in ``buf``."""
+    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H, g, t1, t2, tmp8, c, s = k_
+    return (lanes_like(Mw, template, buf), lanes_like(M, template, buf),
+            lanes_like(V, template, buf), lanes_like(A, template, buf),
+            lanes_like(h, template, buf), lanes_like(F, template, buf),
+            lanes_like(Iw, template, buf), lanes_like(Id, template, buf),
+            lanes_like(Sw, template, buf), lanes_like(U, template, buf),
+            lanes_like(Psi, template, buf), lanes_like(Wv, template, buf),
+            lanes_like(P, template, buf), lanes_like(Q, template, buf),
+            lanes_like(G, template, buf), lanes_like(H, template, buf),
+            lanes_like(g, template, buf), lanes_like(t1, template, buf),
+            lanes_like(t2, template, buf), lanes_like(tmp8, template, buf),
+            lanes_like(c, template, buf), lanes_like(s, template, buf))
+
+
+@inline
+def workspace_size(n, nq, nv, nl):
+    return 2 * W * scalar_size(n, nq, nv, nl) + W * (nq + 2 * nv + 6 * n) + 3 * nv * nv
+
+
+@inline
+def _workspace(buf, m):
+    """``W`` one-sample workspaces (the scalar pass's, one after another), the group's
+    workspace (the same, every number ``W`` numbers), the group's q (nq), v, a (nv) and
+    external wrenches (n, 6) side by side, and a sample's three results (nv, nv) before
+    they are streamed."""
+    size = scalar_size(m.n, m.nq, m.nv, m.nl)
+    samples, o = ws.carve(buf, 0, (W, size))
+    lanes, o = ws.carve(buf, o, (W * size,))
+    Ql, o = ws.carve(buf, o, (m.nq * W,))
+    Vl, o = ws.carve(buf, o, (m.nv * W,))
+    Al, o = ws.carve(buf, o, (m.nv * W,))
+    Fl, o = ws.carve(buf, o, (m.n * 6 * W,))
+    r0, o = ws.carve(buf, o, (m.nv, m.nv))
+    r1, o = ws.carve(buf, o, (m.nv, m.nv))
+    r2, o = ws.carve(buf, o, (m.nv, m.nv))
+    return samples, lanes, Ql, Vl, Al, Fl, r0, r1, r2
