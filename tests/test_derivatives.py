@@ -151,26 +151,29 @@ def test_minverse_batches_in_groups_of_samples(robot):
             cgadyn.minverse(model, q)
 
 
-def test_rnea_derivatives_batches_in_groups_of_samples(robot):
-    """A batch's rnea derivatives run their forward pass W samples at once
-    (rnea_derivatives_lanes) and the rest of each thread's chunk one at a time: every
-    sample equals its single call, with external wrenches too, and a fault inside a group
-    is reported at its own sample."""
+@pytest.mark.parametrize("name", ["rnea_derivatives", "aba_derivatives"])
+def test_derivative_batches_in_groups_of_samples(robot, name):
+    """A batch of derivatives runs its forward pass W samples at once
+    (rnea_derivatives_lanes, aba_derivatives_lanes) and the rest of each thread's chunk
+    one at a time: every sample equals its single call, with external wrenches too, and a
+    fault inside a group is reported at its own sample."""
     model, _, _ = robot
+    function = getattr(cgadyn, name)
     s = oracle.sample(model, 37, 6)  # two chunks of 19 and 18: groups of 8 and tails
+    third = s.a if name == "rnea_derivatives" else s.tau
     f = np.random.default_rng(8).normal(size=(37, model.njoints, 6))
     for wrenches in (None, f):
-        batch = cgadyn.rnea_derivatives(model, s.q, s.v, s.a, f_ext=wrenches)
+        batch = function(model, s.q, s.v, third, f_ext=wrenches)
         for b in range(37):
-            one = cgadyn.rnea_derivatives(model, s.q[b], s.v[b], s.a[b],
-                                          f_ext=None if wrenches is None else f[b])
+            one = function(model, s.q[b], s.v[b], third[b],
+                           f_ext=None if wrenches is None else f[b])
             for x, y in zip(batch, one, strict=True):
                 assert rel(x[b], y) < 1e-12
     if model.nq > model.nv:  # a free flyer: a zero quaternion inside the second group
         q = s.q.copy()
         q[13, 3:7] = 0.0
         with pytest.raises(ValueError, match=r"q\[13, 3:7\].*norm 0"):
-            cgadyn.rnea_derivatives(model, q, s.v, s.a)
+            function(model, q, s.v, third)
 
 
 def test_large_batches_stream_their_results():

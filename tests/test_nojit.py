@@ -57,15 +57,17 @@ m = cgadyn.load("solo12")
 s = oracle.sample(m, 20, 0)
 f = np.random.default_rng(1).normal(size=(20, m.njoints, 6))
 print(json.dumps([cgadyn.minverse(m, s.q).tolist()]
-                 + [x.tolist() for x in cgadyn.rnea_derivatives(m, s.q, s.v, s.a, f_ext=f)]))
+                 + [x.tolist() for x in cgadyn.rnea_derivatives(m, s.q, s.v, s.a, f_ext=f)]
+                 + [x.tolist() for x in cgadyn.aba_derivatives(m, s.q, s.v, s.tau, f_ext=f)]))
 """
 
 
 def test_disable_jit_groups_on_a_free_flyer():
     """The batches that compute groups of samples at once (``minverse_lanes``,
-    ``rnea_derivatives_lanes``: the joint motors, the free root's quaternion included, the
-    moves of eqs. 4 and 16 and the forward pass of the derivatives on arrays of vectors)
-    compute the same numbers in pure Python as compiled."""
+    ``rnea_derivatives_lanes``, ``aba_derivatives_lanes``: the joint motors, the free
+    root's quaternion included, the moves of eqs. 4 and 16 and the forward pass of the
+    derivatives on arrays of vectors) compute the same numbers in pure Python as
+    compiled."""
     out = {}
     for disable_jit in (True, False):
         env = dict(os.environ, NUMBA_DISABLE_JIT="1" if disable_jit else "0")

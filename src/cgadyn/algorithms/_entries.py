@@ -39,6 +39,8 @@ from .rnea_derivatives import rnea_derivatives_core
 from .rnea_derivatives import workspace_size as rnea_derivatives_workspace
 from .rnea_derivatives_lanes import rnea_derivatives_group
 from .rnea_derivatives_lanes import workspace_size as rnea_derivatives_group_workspace
+from .aba_derivatives_lanes import aba_derivatives_group
+from .aba_derivatives_lanes import workspace_size as aba_derivatives_group_workspace
 from .minverse_lanes import minverse_group
 from .minverse_lanes import workspace_size as minverse_group_workspace
 from ._workspace import STACK_FLOATS, chunks, stack_buffer
@@ -320,19 +322,15 @@ def aba_derivatives_batch(packed, q, v, tau, f, o0, o1, o2, option, threads):
             or (f.shape[0] != 0 and f.shape[0] != batch)
             or f.shape[1] != m.n):
         return WRONG_SHAPE
-    size = aba_derivatives_workspace(m.n, m.nq, m.nv, m.nl)
+    size = aba_derivatives_group_workspace(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):
         mc = unpack(packed)
         work = np.empty(size)
-        none = np.empty((0, 6))
-        for b in range(starts[c], stops[c]):
-            fb = f[b] if f.shape[0] > 0 else none
-            s = aba_derivatives_core(mc, q[b], v[b], tau[b], fb, o0[b], o1[b], o2[b], option, work)
-            if s != OK:
-                status[c] = at_sample(s, b)
-                break
+        s = aba_derivatives_group(mc, q, v, tau, f, o0, o1, o2, starts[c], stops[c], option, work)
+        if s != OK:
+            status[c] = s
     for c in range(starts.shape[0]):
         if status[c] != OK:
             return status[c]

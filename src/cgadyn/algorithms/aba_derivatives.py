@@ -136,8 +136,17 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
     x, b, X, acc, Ic, Fc, Aq, rest = _workspace(ws.data_pointer(work), m)
     for k in range(m.nv):
         x[k] = 0.0
+    rnea_derivatives_forward(m, q, v, x, f, rnea_derivatives_workspace(ws.data_pointer(rest),
+                                                                       m))  # at q̈ = 0
+    return from_forward(m, tau, dq, dv, dtau, work)
+
+
+@inline
+def from_forward(m, tau, dq, dv, dtau, work):
+    """``aba_derivatives_core`` after the forward pass at q̈ = 0, whose results are in the
+    rnea derivatives' part of ``work``; a status."""
+    x, b, X, acc, Ic, Fc, Aq, rest = _workspace(ws.data_pointer(work), m)
     k_ = rnea_derivatives_workspace(ws.data_pointer(rest), m)
-    rnea_derivatives_forward(m, q, v, x, f, k_)  # at q̈ = 0
     mass_and_bias(m, k_, Ic, Fc, dtau, b)  # M, τ(q, v, 0)
     k = ltdl(m, dtau)  # M = Lᵀ D L (L1, L2)
     if k >= 0:
@@ -183,6 +192,5 @@ def _workspace(buf, m):
     Ic, o = ws.carve(buf, o, (m.n, 10))
     Fc, o = ws.carve(buf, o, (m.n, 6))
     Aq, o = ws.carve(buf, o, (m.n, 6))
-    size = rnea_derivatives_size(m.n, m.nq, m.nv, m.nl)
-    rest, o = ws.carve(buf, o, (size,))
+    rest, o = ws.carve(buf, o, (rnea_derivatives_size(m.n, m.nq, m.nv, m.nl),))
     return x, b, X, acc, Ic, Fc, Aq, rest

@@ -7,8 +7,8 @@ laid side by side, one vector instruction per operation, by the scalar pass's ow
 ``forward_from_scalars`` on arrays of vectors (``kernels.lane_arrays``), in a workspace
 laid out as the scalar one with every number replaced by ``W`` (``lanes_like``). Only the
 joint scalars (eq. 6: the half-angle sines and cosines) are computed one sample at a time.
-What the backward pass reads (h, F, I, İ, S, u, ψ, w) is then written into each sample's
-own workspace, ``W`` numbers of every sample at a time (a transpose in registers,
+What the passes after it read (A, h, F, I, İ, S, u, ψ, w) is then written into each
+sample's own workspace, ``W`` numbers of every sample at a time (a transpose in registers,
 ``store_transposed``), and the backward pass (D7-D11, the entries D8-D10) runs on each
 sample as in a single call; the numbers agree with it to rounding.
 
@@ -75,38 +75,8 @@ def rnea_derivatives_group(m, q, v, a, f, o0, o1, o2, start, stop, option, work)
 def _group(m, q, v, a, f, o0, o1, o2, b, streamed, samples, lanes, Ql, Vl, Al, Fl, r0, r1,
            r2):
     """Samples ``b .. b + W``; False if one of them needs the one-at-a-time path."""
-    nq, nv, size = m.nq, m.nv, samples.shape[1]
-    k0 = scalar_workspace(ws.data_pointer(samples[0]), m)  # the layout of every workspace
-    forces = f.shape[0] > 0
-    for l in range(W):  # q, v, a, f_ext side by side; each sample's c, s in its workspace
-        x = q[b + l]
-        if check_configuration(m, x) != OK:
-            return False
-        k_ = scalar_workspace(ws.data_pointer(samples[l]), m)
-        joint_scalars(x, k_[-2], k_[-1])
-        for i in range(nq):
-            Ql[i * W + l] = x[i]
-        for i in range(nv):
-            Vl[i * W + l], Al[i * W + l] = v[b + l, i], a[b + l, i]
-        if forces:
-            for j in range(m.n):
-                for i in range(6):
-                    Fl[(j * 6 + i) * W + l] = f[b + l, j, i]
-    c0 = offset_in(k0[-2], samples[0])
-    for i in range(2 * nq):  # c, s follow one another
-        store(lanes, (c0 + i) * W, gather(samples, c0 + i, size))
-    forward_from_scalars(m, lane_array(Ql, 0), lane_array(Vl, 0), lane_array(Al, 0),
-                         lane_matrix(Fl, 0, 6), forces, _lanes_of(k0, samples[0], lanes))
-    lo = offset_in(k0[4], samples[0])  # h, F, I, İ, S, u, ψ, w follow one another
-    hi = offset_in(k0[11], samples[0]) + 6 * nv
-    x = lo
-    while x < hi:  # into each sample's workspace, the last W overlapping
-        x = min(x, hi - W)
-        store_transposed(samples, x, size, load(lanes, x * W), load(lanes, (x + 1) * W),
-                         load(lanes, (x + 2) * W), load(lanes, (x + 3) * W),
-                         load(lanes, (x + 4) * W), load(lanes, (x + 5) * W),
-                         load(lanes, (x + 6) * W), load(lanes, (x + 7) * W))
-        x += W
+    if not forward_in_lanes(m, q, v, a, f, b, True, samples, 0, lanes, Ql, Vl, Al, Fl):
+        return False
     for l in range(W):
         t0, t1, t2 = (r0, r1, r2) if streamed else (o0[b + l], o1[b + l], o2[b + l])
         rnea_derivatives_backward(m, scalar_workspace(ws.data_pointer(samples[l]), m), t0,
@@ -117,6 +87,50 @@ def _group(m, q, v, a, f, o0, o1, o2, b, streamed, samples, lanes, Ql, Vl, Al, F
             stream_copy(r0, o0[b + l])
             stream_copy(r1, o1[b + l])
             stream_copy(r2, o2[b + l])
+    return True
+
+
+@inline
+def forward_in_lanes(m, q, v, a, f, b, accelerated, samples, o, lanes, Ql, Vl, Al, Fl):
+    """The forward pass of the samples ``b .. b + W`` (at q̈ = a, or 0 unless
+    ``accelerated``) on ``W`` samples at once in ``lanes``; its results from A_j to w_k,
+    all that the passes after it read, then written into each sample's workspace: that of
+    the rnea derivatives, at ``o`` in each row of ``samples``. False if a sample fails its
+    configuration check."""
+    nq, nv, size = m.nq, m.nv, samples.shape[1]
+    k0 = scalar_workspace(ws.data_pointer(samples[0, o:]), m)  # every workspace's layout
+    forces = f.shape[0] > 0
+    for l in range(W):  # q, v, a, f_ext side by side; each sample's c, s in its workspace
+        x = q[b + l]
+        if check_configuration(m, x) != OK:
+            return False
+        k_ = scalar_workspace(ws.data_pointer(samples[l, o:]), m)
+        joint_scalars(x, k_[-2], k_[-1])
+        for i in range(nq):
+            Ql[i * W + l] = x[i]
+        for i in range(nv):
+            Vl[i * W + l] = v[b + l, i]
+            Al[i * W + l] = a[b + l, i] if accelerated else 0.0
+        if forces:
+            for j in range(m.n):
+                for i in range(6):
+                    Fl[(j * 6 + i) * W + l] = f[b + l, j, i]
+    c0 = offset_in(k0[-2], samples[0])
+    for i in range(2 * nq):  # c, s follow one another
+        store(lanes, (c0 - o + i) * W, gather(samples, c0 + i, size))
+    forward_from_scalars(m, lane_array(Ql, 0), lane_array(Vl, 0), lane_array(Al, 0),
+                         lane_matrix(Fl, 0, 6), forces, _lanes_of(k0, samples[0, o:], lanes))
+    lo = offset_in(k0[3], samples[0])  # A, h, F, I, İ, S, u, ψ, w follow one another
+    hi = offset_in(k0[11], samples[0]) + 6 * nv
+    x = lo
+    while x < hi:  # into each sample's workspace, the last W overlapping
+        x = min(x, hi - W)
+        y = (x - o) * W
+        store_transposed(samples, x, size, load(lanes, y), load(lanes, y + W),
+                         load(lanes, y + 2 * W), load(lanes, y + 3 * W),
+                         load(lanes, y + 4 * W), load(lanes, y + 5 * W),
+                         load(lanes, y + 6 * W), load(lanes, y + 7 * W))
+        x += W
     return True
 
 
