@@ -138,17 +138,15 @@ def rnea_derivatives_backward(m, k_, dq, dv, da):
     over the coordinates (column k is coordinate k's), so that the entries of a
     coordinate l with the contiguous range of coordinates at or below its joint are loops
     over columns, which the compiler vectorises; l's own twists are six numbers each."""
+    composites(m, k_)
+    entries(m, k_, dq, dv, da)
+
+
+@inline
+def composites(m, k_):
+    """The backward pass's first half: the composites (D7) and P, Q, G, H (D11). Only
+    arithmetic, so that it runs on ``W`` samples at once as well."""
     Mw, M, V, A, h, F, Ic, Idc, Sw, U, Psi, Wv, P, Q, G, H, g, t1, t2, tmp8, c, s = k_
-    nv = m.nv
-    mass = da.shape[0] > 0
-    for i in range(nv):  # entries of coordinates on different branches stay zero
-        for k in range(nv):
-            dq[i, k] = 0.0
-            dv[i, k] = 0.0
-    if mass:
-        for i in range(nv):
-            for k in range(nv):
-                da[i, k] = 0.0
     for j in range(m.n - 1, -1, -1):  # children come after their parents: I^c_j complete
         for k in range(m.iv[j], m.iv[j + 1]):  # (D11)
             _set_column(rigid_apply(Ic[j], Sw[k]), P, k)  # P_k = I^c[S_k]
@@ -172,6 +170,23 @@ def rnea_derivatives_backward(m, k_, dq, dv, da):
             for i in range(6):
                 h[parent, i] += h[j, i]
                 F[parent, i] += F[j, i]
+
+
+@inline
+def entries(m, k_, dq, dv, da):
+    """The backward pass's second half: the entries (D8-D10) from P, Q, G, H and the
+    per-coordinate twists S, u, ψ, w."""
+    Mw, M, V, A, h, F, Ic, Idc, Sw, U, Psi, Wv, P, Q, G, H, g, t1, t2, tmp8, c, s = k_
+    nv = m.nv
+    mass = da.shape[0] > 0
+    for i in range(nv):  # entries of coordinates on different branches stay zero
+        for k in range(nv):
+            dq[i, k] = 0.0
+            dv[i, k] = 0.0
+    if mass:
+        for i in range(nv):
+            for k in range(nv):
+                da[i, k] = 0.0
     for j in range(m.n):
         k0, k1, end = m.iv[j], m.iv[j + 1], m.subtree_end[j]  # j's subtree: k0 .. end
         parent = m.parents[j]

@@ -7,10 +7,12 @@ laid side by side, one vector instruction per operation, by the scalar pass's ow
 ``forward_from_scalars`` on arrays of vectors (``kernels.lane_arrays``), in a workspace
 laid out as the scalar one with every number replaced by ``W`` (``lanes_like``). Only the
 joint scalars (eq. 6: the half-angle sines and cosines) are computed one sample at a time.
-What the passes after it read (A, h, F, I, İ, S, u, ψ, w) is then written into each
-sample's own workspace, ``W`` numbers of every sample at a time (a transpose in registers,
-``store_transposed``), and the backward pass (D7-D11, the entries D8-D10) runs on each
-sample as in a single call; the numbers agree with it to rounding.
+The first half of the backward pass, the composites and P, Q, G, H (D7,
+D11, ``composites``), runs on the group too. What the entries read (S, u, ψ, w, P, Q, G,
+H) is then written into each sample's own workspace, ``W`` numbers of every sample at a
+time (a transpose in registers, ``store_transposed``), and the entries (D8-D10), whose
+loops differ from joint to joint, are formed for each sample as in a single call; the
+numbers agree with it to rounding.
 
 A group in which a sample fails a check (a quaternion, a result that is not finite) is
 computed again one sample at a time by ``rnea_derivatives_core``, which reports the first
@@ -31,8 +33,9 @@ from ._checks import check_configuration, check_result
 from ._stream import STREAM_FLOATS, stream_copy
 from .rnea_derivatives import _workspace as scalar_workspace
 from .rnea_derivatives import (
+    composites,
+    entries,
     forward_from_scalars,
-    rnea_derivatives_backward,
     rnea_derivatives_core,
 )
 from .rnea_derivatives import workspace_size as scalar_size
@@ -79,8 +82,7 @@ def _group(m, q, v, a, f, o0, o1, o2, b, streamed, samples, lanes, Ql, Vl, Al, F
         return False
     for l in range(W):
         t0, t1, t2 = (r0, r1, r2) if streamed else (o0[b + l], o1[b + l], o2[b + l])
-        rnea_derivatives_backward(m, scalar_workspace(ws.data_pointer(samples[l]), m), t0,
-                                  t1, t2)
+        entries(m, scalar_workspace(ws.data_pointer(samples[l]), m), t0, t1, t2)
         if check_result(t0) != OK or check_result(t1) != OK:
             return False
         if streamed:
@@ -92,11 +94,12 @@ def _group(m, q, v, a, f, o0, o1, o2, b, streamed, samples, lanes, Ql, Vl, Al, F
 
 @inline
 def forward_in_lanes(m, q, v, a, f, b, accelerated, samples, o, lanes, Ql, Vl, Al, Fl):
-    """The forward pass of the samples ``b .. b + W`` (at q̈ = a, or 0 unless
-    ``accelerated``) on ``W`` samples at once in ``lanes``; its results from A_j to w_k,
-    all that the passes after it read, then written into each sample's workspace: that of
-    the rnea derivatives, at ``o`` in each row of ``samples``. False if a sample fails its
-    configuration check."""
+    """The forward pass of the samples ``b .. b + W`` on ``W`` samples at once in
+    ``lanes``, then written into each sample's workspace: that of the rnea derivatives, at
+    ``o`` in each row of ``samples``. With ``accelerated``, at q̈ = a and followed by the
+    backward pass's first half (``composites``), whose results (S, u, ψ, w, P, Q, G, H) are
+    all that the entries read; without, at q̈ = 0, and its results from A_j to w_k, all that
+    the forward dynamics' passes read. False if a sample fails its configuration check."""
     nq, nv, size = m.nq, m.nv, samples.shape[1]
     k0 = scalar_workspace(ws.data_pointer(samples[0, o:]), m)  # every workspace's layout
     forces = f.shape[0] > 0
@@ -118,10 +121,14 @@ def forward_in_lanes(m, q, v, a, f, b, accelerated, samples, o, lanes, Ql, Vl, A
     c0 = offset_in(k0[-2], samples[0])
     for i in range(2 * nq):  # c, s follow one another
         store(lanes, (c0 - o + i) * W, gather(samples, c0 + i, size))
+    kl = _lanes_of(k0, samples[0, o:], lanes)
     forward_from_scalars(m, lane_array(Ql, 0), lane_array(Vl, 0), lane_array(Al, 0),
-                         lane_matrix(Fl, 0, 6), forces, _lanes_of(k0, samples[0, o:], lanes))
-    lo = offset_in(k0[3], samples[0])  # A, h, F, I, İ, S, u, ψ, w follow one another
-    hi = offset_in(k0[11], samples[0]) + 6 * nv
+                         lane_matrix(Fl, 0, 6), forces, kl)
+    if accelerated:  # S, u, ψ, w, P, Q, G, H follow one another
+        composites(m, kl)
+        lo, hi = offset_in(k0[8], samples[0]), offset_in(k0[15], samples[0]) + 6 * nv
+    else:  # A, h, F, I, İ, S, u, ψ, w follow one another
+        lo, hi = offset_in(k0[3], samples[0]), offset_in(k0[11], samples[0]) + 6 * nv
     x = lo
     while x < hi:  # into each sample's workspace, the last W overlapping
         x = min(x, hi - W)
