@@ -3,14 +3,15 @@
 Every sample of a batch runs the same recursion; only the numbers differ. Here the samples
 of a group of ``W`` are laid side by side (element ``x`` of sample ``l`` at ``x * W + l``),
 so that each multiply-add of M1-M3 is one vector instruction on the group
-(``kernels/lanes.py``) instead of ``W`` scalar ones. The equations and their order are the
-scalar pass's in its two special cases, which cover every model cgadyn reads: a joint of
-one coordinate, whose D_j is a number and whose sums into its parent take one multiply-add
+(``kernels/lanes.py``) instead of ``W`` scalar ones. The equations are the scalar pass's
+in its two special cases, which cover every model cgadyn reads: a joint of one
+coordinate, whose D_j is a number and whose sums into its parent take one multiply-add
 each, and a free-flyer root in its own frame (M5), whose unit twists pair by one
-coefficient. (A model with any other joint would take the one-sample pass.)
-The numbers agree with the scalar pass to rounding. Each sample's matrix is written
-out whole, row by row, ``W`` columns at a time (a transpose of ``W`` vectors in registers,
-``store_transposed``), the lower half read from the upper (M4).
+coefficient. (A model with any other joint would take the one-sample pass.) After the
+articulated inertias they are taken one torque column at a time (``_lanes_pass``), so that
+the working set stays small. The numbers agree with the scalar pass to rounding. Each
+sample's matrix is written out whole, row by row, ``W`` columns at a time (a transpose of
+``W`` vectors in registers, ``store_transposed``), the lower half read from the upper (M4).
 
 Each sample's joint scalars (eq. 6) are computed one sample at a time and laid side by
 side; from them the world motors and the S_k and I_j in the world (eqs. 4-6 and 16, M5) are
@@ -89,7 +90,7 @@ def _in_lanes(m):
 def _group(m, q, Minv, b, k_):
     """Samples ``b .. b + W``; False if one of them needs the one-at-a-time path. ``Minv``
     is C-contiguous (the batch's output, allocated by ``calls``)."""
-    Sw, c, s, Ql, Cl, Snl, T8l, Mjl, Mwl, Rl, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, pk = k_
+    Sw, c, s, Ql, Cl, Snl, T8l, Mjl, Mwl, Rl, Sl, Il, Ul, Gl, Al, Ml, Dl, Pl, Tl, pk = k_
     nv = m.nv
     for l in range(W):  # each sample's q and joint scalars, laid side by side
         x = q[b + l]
@@ -103,21 +104,24 @@ def _group(m, q, Minv, b, k_):
                  lane_array(T8l, 0), lane_matrix(Mjl, 0, 8), Mw, True)
     move_axes_inertias(m, Mw, lane_array(Rl, 0), lane_matrix(Sl, 0, 6),
                        lane_tensor(Il, 0, 6, 6))
-    for x in range(nv * 6):  # the first sample's S_k, for a free root's unit twists
-        Sw[x // 6, x % 6] = lane(load(Sl, x * W), 0)
-    if not _lanes_pass(m, Sw, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, pk):
+    for j in range(m.n):  # the first sample's S_k of a free root, for its unit twists
+        if free_root(m.parents[j], m.types[j]):
+            for x in range(m.iv[j] * 6, m.iv[j + 1] * 6):
+                Sw[x // 6, x % 6] = lane(load(Sl, x * W), 0)
+    if not _lanes_pass(m, Sw, Sl, Il, Ul, Gl, Al, Ml, Dl, Pl, Tl, pk):
         return False
     zero = splat(0.0)
     bad = zero
-    for x in range(nv * nv):
-        bad = fma(load(Ml, x * W), zero, bad)  # NaN where a number is not finite
+    for col in range(nv):
+        for r in range(col + 1):  # NaN where a number is not finite
+            bad = fma(load(Ml, (col * nv + r) * W), zero, bad)
     for l in range(W):
         if lane(bad, l) != 0.0:
             return False
     if nv < W:  # each sample's upper triangle, then mirrored within its matrix (M4)
         for r in range(nv):
             for col in range(r, nv):
-                scatter(Minv, (b * nv + r) * nv + col, nv * nv, load(Ml, (r * nv + col) * W))
+                scatter(Minv, (b * nv + r) * nv + col, nv * nv, load(Ml, (col * nv + r) * W))
         for l in range(W):
             mirror_upper(Minv[b + l])
         return True
@@ -136,47 +140,46 @@ def _group(m, q, Minv, b, k_):
 
 @inline
 def _entry(Ml, nv, r, c):
-    """M⁻¹[r, c] of the group, from the upper triangle (M4)."""
+    """M⁻¹[r, c] of the group, from the upper triangle (M4), stored by columns."""
     if c < r:
-        return load(Ml, (c * nv + r) * W)
-    return load(Ml, (r * nv + c) * W)
+        return load(Ml, (r * nv + c) * W)
+    return load(Ml, (c * nv + r) * W)
 
 
 @core
-def _lanes_pass(m, Sw, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, pk):
+def _lanes_pass(m, Sw, Sl, Il, Ul, Gl, Al, Ml, Dl, Pl, Tl, pk):
     """M1-M3 on ``W`` samples (``minverse_pass`` with a vector for every number): the upper
-    triangle of M⁻¹ into ``Ml``; False if a pivot of some D_j is not positive. Offsets:
-    S_k, U_k, G_k at ``(k*6 + i)*W``, Î_j at ``((j*6 + i)*6 + a)*W``, F_j[c] at
-    ``((j*nv + c)*6 + i)*W``, M⁻¹[r, c] at ``(r*nv + c)*W``, D_j, D_j⁻¹ at ``(a*6 + b)*W``.
-    ``Sw`` holds the first sample's S_k (a free root's unit twists, the same in every
-    sample), ``pk`` (12) is scratch.
+    triangle of M⁻¹ into ``Ml``, column by column; False if a pivot of some D_j is not
+    positive. Offsets: S_k, U_k, G_k at ``(k*6 + i)*W``, Î_j at ``((j*6 + i)*6 + a)*W``,
+    A_j at ``(j*6 + i)*W``, M⁻¹[r, c] at ``(c*nv + r)*W`` (a column is contiguous), D_j,
+    D_j⁻¹ at ``(a*6 + b)*W``. ``Sw`` holds the first sample's S_k (a free root's unit
+    twists, the same in every sample), ``pk`` (12) is scratch.
 
-    Every joint has one coordinate (``_one_backward``, ``_one_forward``) or is a free-flyer
-    root (M5: ``_root_backward``, ``_root_forward``): the scalar pass's two special cases,
-    which between them cover every model cgadyn reads (``_in_lanes``)."""
+    The articulated inertias and D_j (M1 and M2's Î_λ) go first, joint by joint. What
+    remains of M2, then M3, acts on each torque column c alone, and is done one column at
+    a time: F_j[c] is zero unless j is on the path from c's joint to the root, so M2's
+    sums into the parent carry a single wrench up that path (``_column_backward``), and M3
+    needs the accelerations A_j[c] of one column only (``_column_forward``). The same
+    products as joint by joint, in the same order for each entry; but the working set is
+    one column (n x 6 vectors) instead of F's n x nv x 6, which for a humanoid does not
+    fit in L1.
+
+    Every joint has one coordinate or is a free-flyer root (M5): the scalar pass's two
+    special cases, which between them cover every model cgadyn reads (``_in_lanes``)."""
     nv = m.nv
-    zero = splat(0.0)
-    for x in range(nv * nv):
-        store(Ml, x * W, zero)
-    for j in range(m.n):  # the bias columns each joint's children add into
-        for x in range((j * nv + m.iv[j]) * 6, (j * nv + m.subtree_end[j]) * 6):
-            store(Fl, x * W, zero)
     for j in range(m.n - 1, -1, -1):
-        k0, end, parent = m.iv[j], m.subtree_end[j], m.parents[j]
-        if free_root(parent, m.types[j]):
-            _root_units(Sw, k0, pk)
-            ok = _root_backward(Il, Fl, Ml, Dl, Pl, Tl, pk, j, k0, end, nv)
-        else:
-            ok = _one_backward(Sl, Il, Ul, Gl, Fl, Ml, j, parent, k0, end, nv)
-        if not ok:
-            return False
-    for j in range(m.n):
         k0, parent = m.iv[j], m.parents[j]
         if free_root(parent, m.types[j]):
             _root_units(Sw, k0, pk)
-            _root_forward(Fl, Ml, pk, j, k0, nv)
+            ok = _root_inertia(Il, Ml, Dl, Pl, pk, j, k0, nv)
         else:
-            _one_forward(Sl, Gl, Fl, Ml, j, parent, k0, nv)
+            ok = _one_inertia(Sl, Il, Ul, Gl, Ml, j, parent, k0, nv)
+        if not ok:
+            return False
+    for col in range(nv):  # M2 reads D_j⁻¹ from the diagonal, which M3 then changes
+        _column_backward(m, Sl, Ul, Ml, Pl, Tl, pk, col)
+    for col in range(nv):
+        _column_forward(m, Sl, Gl, Al, Ml, pk, col)
     return True
 
 
@@ -190,10 +193,10 @@ def _root_units(Sw, k0, pk):
 
 
 @core
-def _root_backward(Il, Fl, Ml, Dl, Pl, Tl, pk, j, k0, end, nv):
+def _root_inertia(Il, Ml, Dl, Pl, pk, j, k0, nv):
     """(M1, M2) for a free-flyer root in its own frame (M5): with S_a = s_a e_{i_a},
-    ``D_j[a, b] = s_a s_b Î_j[i_a, i_b]`` and ``⟨S_a, F⟩ = s_a F[i_a]``; U_j and G_j are
-    not needed, for there is no parent to pass anything to."""
+    ``D_j[a, b] = s_a s_b Î_j[i_a, i_b]``, and M⁻¹[j, j] = D_j⁻¹ (in ``Pl`` too); U_j and
+    G_j are not needed, for there is no parent to pass anything to."""
     for a in range(6):
         o = (j * 6 + int(pk[a])) * 6
         for b in range(6):
@@ -203,35 +206,14 @@ def _root_backward(Il, Fl, Ml, Dl, Pl, Tl, pk, j, k0, end, nv):
         return False
     for a in range(6):
         for b in range(6):  # M⁻¹[j, j] = D_j⁻¹ (M2)
-            store(Ml, ((k0 + a) * nv + k0 + b) * W, load(Pl, (a * 6 + b) * W))
-    zero = splat(0.0)
-    for col in range(k0 + 6, end):  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
-        for b in range(6):
-            x = load(Fl, ((j * nv + col) * 6 + int(pk[b])) * W)
-            store(Tl, b * W, mul(splat(pk[6 + b]), x))
-        for a in range(6):
-            store(Ml, ((k0 + a) * nv + col) * W, sub(zero, _dot6(Pl, a * 6 * W, Tl, 0)))
+            store(Ml, ((k0 + b) * nv + k0 + a) * W, load(Pl, (a * 6 + b) * W))
     return True
 
 
 @core
-def _root_forward(Fl, Ml, pk, j, k0, nv):
-    """(M3) for a free-flyer root (M5): ``A_j[c] = S_j M⁻¹[j, c]``, one coefficient per
-    coordinate."""
-    zero = splat(0.0)
-    for col in range(k0, nv):
-        o = (j * nv + col) * 6
-        for i in range(6):
-            store(Fl, (o + i) * W, zero)
-        for a in range(6):
-            x = load(Ml, ((k0 + a) * nv + col) * W)
-            store(Fl, (o + int(pk[a])) * W, mul(splat(pk[6 + a]), x))
-
-
-@core
-def _one_backward(Sl, Il, Ul, Gl, Fl, Ml, j, parent, k, end, nv):
-    """(M1, M2) for a joint of one coordinate ``k``: D_j is a number in every lane, and
-    each sum into the parent is one multiply-add on what is read."""
+def _one_inertia(Sl, Il, Ul, Gl, Ml, j, parent, k, nv):
+    """(M1, M2) for a joint of one coordinate ``k``: U_j, D_j (a number in every lane),
+    M⁻¹[j, j] = D_j⁻¹, G_j = D_j⁻¹ U_j and the parent's articulated inertia."""
     for i in range(6):  # U_j = Î_j[S_j] (M1)
         store(Ul, (k * 6 + i) * W, _dot6(Il, (j * 6 + i) * 6 * W, Sl, k * 6 * W))
     d = _dot6(Sl, k * 6 * W, Ul, k * 6 * W)  # D_j = ⟨S_j, U_j⟩
@@ -243,17 +225,8 @@ def _one_backward(Sl, Il, Ul, Gl, Fl, Ml, j, parent, k, end, nv):
     store(Ml, (k * nv + k) * W, omega)  # M⁻¹[j, j] = D_j⁻¹ (M2)
     for i in range(6):  # G_j = D_j⁻¹ U_j
         store(Gl, (k * 6 + i) * W, mul(omega, load(Ul, (k * 6 + i) * W)))
-    minus = sub(splat(0.0), omega)
-    for col in range(k + 1, end):  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
-        x = _dot6(Sl, k * 6 * W, Fl, (j * nv + col) * 6 * W)
-        store(Ml, (k * nv + col) * W, mul(minus, x))
     if parent < 0:
         return True
-    for col in range(k, end):  # F_λ[c] += F_j[c] + U_j M⁻¹[j, c] (M2)
-        x = load(Ml, (k * nv + col) * W)
-        for i in range(6):
-            o, f = ((parent * nv + col) * 6 + i) * W, ((j * nv + col) * 6 + i) * W
-            store(Fl, o, fma(load(Ul, (k * 6 + i) * W), x, add(load(Fl, o), load(Fl, f))))
     for i in range(6):  # Î_λ += Î_j - U_j D_j⁻¹ U_jᵀ (M2)
         u = load(Ul, (k * 6 + i) * W)
         for e in range(6):
@@ -263,18 +236,59 @@ def _one_backward(Sl, Il, Ul, Gl, Fl, Ml, j, parent, k, end, nv):
 
 
 @core
-def _one_forward(Sl, Gl, Fl, Ml, j, parent, k, nv):
-    """(M3) for a joint of one coordinate ``k``."""
+def _column_backward(m, Sl, Ul, Ml, Pl, Tl, pk, col):
+    """M2's column ``col`` on the path from its joint to the root: F_λ[c] = F_j[c] +
+    U_j M⁻¹[j, c], carried up in ``Tl`` (the only nonzero F_j[c] are on that path), and
+    M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ on the way. A free root's own columns are D_j⁻¹
+    (``_root_inertia``)."""
+    nv, j = m.nv, m.dof_joint[col]
+    if free_root(m.parents[j], m.types[j]):
+        return
     zero = splat(0.0)
-    for col in range(k, nv):
-        o = (k * nv + col) * W
-        x = load(Ml, o)
+    x = load(Ml, (col * nv + col) * W)
+    for i in range(6):  # F_λ[c] = U_j M⁻¹[j, c], c being j's own coordinate
+        store(Tl, i * W, fma(load(Ul, (col * 6 + i) * W), x, zero))
+    j = m.parents[j]
+    while j >= 0:
+        k, parent = m.iv[j], m.parents[j]
+        if free_root(parent, m.types[j]):  # M5: ⟨S_b, F⟩ = s_b F[i_b]
+            for b in range(6):
+                store(Tl, (6 + b) * W, mul(splat(pk[6 + b]), load(Tl, int(pk[b]) * W)))
+            for a in range(6):
+                store(Ml, (col * nv + k + a) * W, sub(zero, _dot6(Pl, a * 6 * W, Tl, 6 * W)))
+            return
+        minus = sub(zero, load(Ml, (k * nv + k) * W))
+        x = mul(minus, _dot6(Sl, k * 6 * W, Tl, 0))
+        store(Ml, (col * nv + k) * W, x)  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
+        if parent >= 0:
+            for i in range(6):  # F_λ[c] = F_j[c] + U_j M⁻¹[j, c] (M2)
+                store(Tl, i * W, fma(load(Ul, (k * 6 + i) * W), x, load(Tl, i * W)))
+        j = parent
+
+
+@core
+def _column_forward(m, Sl, Gl, Al, Ml, pk, col):
+    """(M3) for column ``col``: every joint up to the column's own, in order. An entry
+    M⁻¹[j, c] that M2 left out (``col`` not below j) starts from zero."""
+    nv, last = m.nv, m.dof_joint[col]
+    zero = splat(0.0)
+    for j in range(last + 1):
+        k, parent = m.iv[j], m.parents[j]
+        if free_root(parent, m.types[j]):  # A_j[c] = S_j M⁻¹[j, c], a coefficient each
+            for i in range(6):
+                store(Al, (j * 6 + i) * W, zero)
+            for a in range(6):
+                x = load(Ml, (col * nv + k + a) * W)
+                store(Al, (j * 6 + int(pk[a])) * W, mul(splat(pk[6 + a]), x))
+            continue
+        o = (col * nv + k) * W
+        x = load(Ml, o) if col < m.subtree_end[j] else zero
         if parent >= 0:  # M⁻¹[j, c] -= ⟨D⁻¹U_j, A_λ[c]⟩ (M3)
-            x = sub(x, _dot6(Gl, k * 6 * W, Fl, (parent * nv + col) * 6 * W))
-            store(Ml, o, x)
+            x = sub(x, _dot6(Gl, k * 6 * W, Al, parent * 6 * W))
+        store(Ml, o, x)
         for i in range(6):  # A_j[c] = A_λ[c] + S_j M⁻¹[j, c] (M3)
-            a = load(Fl, ((parent * nv + col) * 6 + i) * W) if parent >= 0 else zero
-            store(Fl, ((j * nv + col) * 6 + i) * W, fma(load(Sl, (k * 6 + i) * W), x, a))
+            a = load(Al, (parent * 6 + i) * W) if parent >= 0 else zero
+            store(Al, (j * 6 + i) * W, fma(load(Sl, (k * 6 + i) * W), x, a))
 
 
 @core
@@ -320,16 +334,16 @@ def _spd_inverse(Dl, k, Pl):
 @inline
 def workspace_size(n, nq, nv, nl):
     return scalar_size(n, nq, nv, nl) + 6 * nv + 2 * nq + 12 + W * (
-        52 * n + 3 * nq + 18 * nv + 6 * n * nv + nv * nv + 96)
+        58 * n + 3 * nq + 18 * nv + nv * nv + 102)
 
 
 @inline
 def _workspace(buf, o, m):
     """After the scalar pass's workspace (``o`` floats): the first sample's S_k (nv, 6),
     one sample's joint scalars c, s (nq); the group's q, c, s (nq), a motor's scratch (8),
-    the joint and world motors (n, 8), ten parameters of an inertia, S, Î, U, G, F, M⁻¹,
-    D, D⁻¹ and a scratch row side by side (``_lanes_pass``'s layout), a free root's unit
-    coefficients pk (12)."""
+    the joint and world motors (n, 8), ten parameters of an inertia, S, Î, U, G, one
+    column's A_j, M⁻¹, D, D⁻¹ and two scratch rows side by side (``_lanes_pass``'s
+    layout), a free root's unit coefficients pk (12)."""
     Sw, o = ws.carve(buf, o, (m.nv, 6))
     c, o = ws.carve(buf, o, (m.nq,))
     s, o = ws.carve(buf, o, (m.nq,))
@@ -344,10 +358,10 @@ def _workspace(buf, o, m):
     Il, o = ws.carve(buf, o, (m.n * 36 * W,))
     Ul, o = ws.carve(buf, o, (m.nv * 6 * W,))
     Gl, o = ws.carve(buf, o, (m.nv * 6 * W,))
-    Fl, o = ws.carve(buf, o, (m.n * m.nv * 6 * W,))
+    Al, o = ws.carve(buf, o, (m.n * 6 * W,))
     Ml, o = ws.carve(buf, o, (m.nv * m.nv * W,))
     Dl, o = ws.carve(buf, o, (36 * W,))
     Pl, o = ws.carve(buf, o, (36 * W,))
-    Tl, o = ws.carve(buf, o, (6 * W,))
+    Tl, o = ws.carve(buf, o, (12 * W,))
     pk, o = ws.carve(buf, o, (12,))
-    return Sw, c, s, Ql, Cl, Snl, T8l, Mjl, Mwl, Rl, Sl, Il, Ul, Gl, Fl, Ml, Dl, Pl, Tl, pk
+    return Sw, c, s, Ql, Cl, Snl, T8l, Mjl, Mwl, Rl, Sl, Il, Ul, Gl, Al, Ml, Dl, Pl, Tl, pk
