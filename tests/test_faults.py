@@ -111,6 +111,12 @@ def test_singular_subtree_is_the_same_error_on_every_call(mass):
             cgadyn.aba(model, [0.1, 0.2], [0.0, 0.0], [0.0, 0.0])
     with pytest.raises(ValueError, match="sample 0: singular .* 'j2'"):
         cgadyn.aba(model, np.zeros((3, 2)), np.zeros((3, 2)), np.zeros((3, 2)))
+    for name, args in (("aba_derivatives", 3), ("minverse", 1)):  # M⁻¹ of 8 samples at once
+        with pytest.raises(ValueError, match="j2") as one:
+            getattr(cgadyn, name)(model, *[np.zeros(2)] * args)
+        with pytest.raises(ValueError) as batch:
+            getattr(cgadyn, name)(model, *[np.zeros((20, 2))] * args)
+        assert str(batch.value) == "sample 0: " + str(one.value)
 
 
 THREADS = """

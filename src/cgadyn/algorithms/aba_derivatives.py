@@ -79,8 +79,6 @@ def mass_and_bias(m, k_, Ic, Fc, H, b):
     for j in range(m.n):
         for i in range(10):
             Ic[j, i] = Iw[j, i]
-        for i in range(6):
-            Fc[j, i] = F[j, i]
     for k in range(m.nv - 1, -1, -1):  # children come after their parents
         j = m.dof_joint[k]
         w = rigid_apply(Ic[j], Sw[k])  # I^c[S_k], I^c complete
@@ -88,11 +86,26 @@ def mass_and_bias(m, k_, Ic, Fc, H, b):
         while i >= 0:  # k and the coordinates supporting it
             H[k, i] = -dot(Sw[i], w)  # M[k, i] = ⟨S_i, I^c[S_k]⟩ (D10)
             i = m.dof_parent[i]
-        b[k] = -dot(Sw[k], Fc[j])  # τ_k = ⟨S_k, F^c⟩
         p = m.parents[j]
-        if k == m.iv[j] and p >= 0:  # joint j done: its composites into the parent's
+        if k == m.iv[j] and p >= 0:  # joint j done: its composite into the parent's
             for i in range(10):
                 Ic[p, i] += Ic[j, i]
+    bias(m, k_, Fc, b)
+
+
+@inline
+def bias(m, k_, Fc, b):
+    """The torques of the forward pass at q̈ = 0, ``b = τ(q, v, 0) = ⟨S_k, F^c⟩`` (D13),
+    with the composite wrenches accumulated in the copy ``Fc`` (n, 6)."""
+    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H_, g, t1, t2, tmp8, c, s = k_
+    for j in range(m.n):
+        for i in range(6):
+            Fc[j, i] = F[j, i]
+    for k in range(m.nv - 1, -1, -1):  # children come after their parents
+        j = m.dof_joint[k]
+        b[k] = -dot(Sw[k], Fc[j])  # τ_k = ⟨S_k, F^c⟩
+        p = m.parents[j]
+        if k == m.iv[j] and p >= 0:  # joint j done: its composite into the parent's
             for i in range(6):
                 Fc[p, i] += Fc[j, i]
 
@@ -169,6 +182,32 @@ def from_forward(m, tau, dq, dv, dtau, work):
     status = check_result(dtau)
     if status == OK:
         status = check_result(dq)
+    if status == OK:
+        status = check_result(dv)
+    return status
+
+
+@inline
+def from_inverse(m, tau, dq, dv, Minv, work):
+    """``from_forward`` with M⁻¹ already in ``Minv`` (a batch has it from the
+    articulated-body recursion on a group of samples, ``minverse_lanes``): q̈ = M⁻¹ (τ -
+    τ(q, v, 0)) as the product (D13) instead of by M's factors, which are not formed; a
+    status."""
+    x, b, X, acc, Ic, Fc, Aq, rest = _workspace(ws.data_pointer(work), m)
+    k_ = rnea_derivatives_workspace(ws.data_pointer(rest), m)
+    nv = m.nv
+    bias(m, k_, Fc, b)  # τ(q, v, 0)
+    for k in range(nv):
+        acc[k] = tau[k] - b[k]
+    for i in range(nv):  # q̈ = M⁻¹ (τ - τ(q, v, 0)) (D13)
+        y = 0.0
+        for k in range(nv):
+            y += Minv[i, k] * acc[k]
+        x[i] = y
+    accelerate(m, k_, x, Aq)  # the forward pass at q̈
+    rnea_derivatives_backward(m, k_, X[:, :nv], X[:, nv:], X[:0])  # ∂τ/∂q, ∂τ/∂v at q̈
+    times_minus_minv(m, Minv, X, dq, dv, acc)  # -M⁻¹ ∂τ/∂q, -M⁻¹ ∂τ/∂v (D12)
+    status = check_result(dq)
     if status == OK:
         status = check_result(dv)
     return status

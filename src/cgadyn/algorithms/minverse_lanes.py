@@ -76,6 +76,17 @@ def minverse_group(m, q, Minv, start, stop, option, work):
 
 
 @inline
+def group_inverse(m, q, Minv, b, work):
+    """``Minv[b + l] = M(q[b + l])⁻¹`` for the ``W`` samples from ``b``, in a workspace of
+    ``workspace_size``; False if one of them needs the one-at-a-time path, or the model a
+    joint that the lanes pass does not take (then nothing is written)."""
+    if not _in_lanes(m):
+        return False
+    size = scalar_size(m.n, m.nq, m.nv, m.nl)
+    return _group(m, q, Minv, b, _workspace(ws.data_pointer(work), size, m))
+
+
+@inline
 def _in_lanes(m):
     """True when every joint has one coordinate or is a free-flyer root, the two forms
     ``_lanes_pass`` has. (A joint of several coordinates below the root, which no model
