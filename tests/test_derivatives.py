@@ -195,6 +195,16 @@ def test_large_batches_stream_their_results():
     q[batch - 3, 3:7] = 0.0
     with pytest.raises(ValueError, match=rf"q\[{batch - 3}, 3:7\].*norm 0"):
         cgadyn.rnea_derivatives(model, q, s.v, s.a)
+    batch = STREAM_FLOATS // (model.nv * model.nv) + 8  # minverse, a group's eight at once
+    s = oracle.sample(model, batch, 8)
+    many = cgadyn.minverse(model, s.q)
+    assert many.size > STREAM_FLOATS
+    for b in (0, 1, batch // 2 + 1, batch - 1):
+        assert rel(many[b], cgadyn.minverse(model, s.q[b])) < 1e-12
+    q = s.q.copy()
+    q[batch - 13, 3:7] = 0.0
+    with pytest.raises(ValueError, match=rf"q\[{batch - 13}, 3:7\].*norm 0"):
+        cgadyn.minverse(model, q)
 
 
 @njit

@@ -33,6 +33,7 @@ from ..kernels.lanes import (
     W,
     add,
     div,
+    fence,
     fma,
     fnma,
     lane,
@@ -47,6 +48,7 @@ from ..kernels.lanes import (
 from ..multibody.joints import joint_scalars
 from . import _workspace as ws
 from ._checks import check_configuration
+from ._stream import STREAM_FLOATS, stream_copy
 from .kinematics import chain_motors, free_root, unit_coefficient
 from .minverse import minverse_core, mirror_upper, move_axes_inertias
 from .minverse import workspace_size as scalar_size
@@ -61,8 +63,9 @@ def minverse_group(m, q, Minv, start, stop, option, work):
     k_ = _workspace(ws.data_pointer(work), size, m)
     b = start
     lanes = _in_lanes(m)
+    streamed = Minv.size > STREAM_FLOATS
     while lanes and b + W <= stop:
-        if not _group(m, q, Minv, b, k_):
+        if not _group(m, q, Minv, b, streamed, k_):
             for l in range(W):  # again one at a time, for the exact fault
                 s = minverse_core(m, q[b + l], Minv[b + l], option, work)
                 if s != OK:
@@ -72,6 +75,7 @@ def minverse_group(m, q, Minv, start, stop, option, work):
         s = minverse_core(m, q[i], Minv[i], option, work)
         if s != OK:
             return at_sample(s, i)
+    fence()
     return OK
 
 
@@ -83,7 +87,7 @@ def group_inverse(m, q, Minv, b, work):
     if not _in_lanes(m):
         return False
     size = scalar_size(m.n, m.nq, m.nv, m.nl)
-    return _group(m, q, Minv, b, _workspace(ws.data_pointer(work), size, m))
+    return _group(m, q, Minv, b, False, _workspace(ws.data_pointer(work), size, m))
 
 
 @inline
@@ -98,10 +102,10 @@ def _in_lanes(m):
 
 
 @inline
-def _group(m, q, Minv, b, k_):
+def _group(m, q, Minv, b, streamed, k_):
     """Samples ``b .. b + W``; False if one of them needs the one-at-a-time path. ``Minv``
     is C-contiguous (the batch's output, allocated by ``calls``)."""
-    Sw, c, s, Ql, Cl, Snl, T8l, Mjl, Mwl, Rl, Sl, Il, Ul, Gl, Al, Ml, Dl, Pl, Tl, pk = k_
+    Sw, c, s, Ql, Cl, Snl, T8l, Mjl, Mwl, Rl, Sl, Il, Ul, Gl, Al, Ml, Dl, Pl, Tl, pk, Ol = k_
     nv = m.nv
     for l in range(W):  # each sample's q and joint scalars, laid side by side
         x = q[b + l]
@@ -136,16 +140,20 @@ def _group(m, q, Minv, b, k_):
         for l in range(W):
             mirror_upper(Minv[b + l])
         return True
+    out, o = (Ol, 0) if streamed else (Minv, b * nv * nv)  # streamed: written, then copied
     for r in range(nv):  # row r of each sample, W columns at a time, the lower half (M4)
         c = 0  # read from the upper one; the last W columns overlap the ones before
         while c < nv:
             c = min(c, nv - W)
-            store_transposed(Minv, (b * nv + r) * nv + c, nv * nv, _entry(Ml, nv, r, c),
+            store_transposed(out, o + r * nv + c, nv * nv, _entry(Ml, nv, r, c),
                              _entry(Ml, nv, r, c + 1), _entry(Ml, nv, r, c + 2),
                              _entry(Ml, nv, r, c + 3), _entry(Ml, nv, r, c + 4),
                              _entry(Ml, nv, r, c + 5), _entry(Ml, nv, r, c + 6),
                              _entry(Ml, nv, r, c + 7))
             c += W
+    if streamed:
+        for l in range(W):
+            stream_copy(Ol[l], Minv[b + l])
     return True
 
 
@@ -345,7 +353,7 @@ def _spd_inverse(Dl, k, Pl):
 @inline
 def workspace_size(n, nq, nv, nl):
     return scalar_size(n, nq, nv, nl) + 6 * nv + 2 * nq + 12 + W * (
-        58 * n + 3 * nq + 18 * nv + nv * nv + 102)
+        58 * n + 3 * nq + 18 * nv + 2 * nv * nv + 102)
 
 
 @inline
@@ -375,4 +383,5 @@ def _workspace(buf, o, m):
     Pl, o = ws.carve(buf, o, (36 * W,))
     Tl, o = ws.carve(buf, o, (12 * W,))
     pk, o = ws.carve(buf, o, (12,))
-    return Sw, c, s, Ql, Cl, Snl, T8l, Mjl, Mwl, Rl, Sl, Il, Ul, Gl, Al, Ml, Dl, Pl, Tl, pk
+    Ol, o = ws.carve(buf, o, (W, m.nv, m.nv))
+    return Sw, c, s, Ql, Cl, Snl, T8l, Mjl, Mwl, Rl, Sl, Il, Ul, Gl, Al, Ml, Dl, Pl, Tl, pk, Ol
