@@ -14,7 +14,7 @@ from cgadyn import oracle
 from cgadyn.algorithms._stream import STREAM_FLOATS
 from cgadyn.algorithms.aba_derivatives import solve_by_factors
 from cgadyn.algorithms.ltdl import supports
-from cgadyn.algorithms.minverse_lanes import _in_lanes
+from cgadyn.algorithms.minverse_lanes import in_lanes
 from cgadyn.multibody.packed import unpack
 from cgadyn.multibody.registry import robot_path
 
@@ -209,7 +209,7 @@ def test_large_batches_stream_their_results():
 
 @njit
 def _in_lanes_of(packed):
-    return _in_lanes(unpack(packed))
+    return in_lanes(unpack(packed))
 
 
 @njit

@@ -25,8 +25,9 @@ from . import _workspace as ws
 from .aba_derivatives import _workspace as scalar_workspace
 from .aba_derivatives import aba_derivatives_core, from_forward, from_inverse
 from .aba_derivatives import workspace_size as scalar_size
-from .minverse_lanes import group_inverse
+from .minverse_lanes import group_inverse, in_lanes
 from .minverse_lanes import workspace_size as inverse_size
+from .rnea_derivatives import _workspace as rnea_derivatives_workspace
 from .rnea_derivatives import workspace_size as rnea_derivatives_size
 from .rnea_derivatives_lanes import forward_in_lanes
 from .status import OK, at_sample
@@ -38,11 +39,15 @@ def aba_derivatives_group(m, q, v, tau, f, o0, o1, o2, start, stop, option, work
     and M⁻¹ ``W`` samples at a time; a status (at the sample of the first fault)."""
     samples, lanes, Ql, Vl, Al, Fl, inverse = _workspace(ws.data_pointer(work), m)
     o = offset_in(scalar_workspace(ws.data_pointer(samples[0]), m)[-1], samples[0])
+    c = offset_in(rnea_derivatives_workspace(ws.data_pointer(samples[0, o:]), m)[-2],
+                  samples[0]) - o  # the group's joint scalars c, s in ``lanes``
+    Cl, Snl = lanes[c * W:(c + m.nq) * W], lanes[(c + m.nq) * W:(c + 2 * m.nq) * W]
+    recursion = in_lanes(m)
     none = np.empty((0, 6))
     b = start
     while b + W <= stop:
         done = forward_in_lanes(m, q, v, tau, f, b, False, samples, o, lanes, Ql, Vl, Al, Fl)
-        inverted = done and group_inverse(m, q, o2, b, inverse)  # M⁻¹ = ∂q̈/∂τ
+        inverted = done and recursion and group_inverse(m, Ql, Cl, Snl, o2, b, inverse)
         for l in range(W):
             ok = False
             if inverted:

@@ -62,7 +62,7 @@ def minverse_group(m, q, Minv, start, stop, option, work):
     size = scalar_size(m.n, m.nq, m.nv, m.nl)
     k_ = _workspace(ws.data_pointer(work), size, m)
     b = start
-    lanes = _in_lanes(m)
+    lanes = in_lanes(m)
     streamed = Minv.size > STREAM_FLOATS
     while lanes and b + W <= stop:
         if not _group(m, q, Minv, b, streamed, k_):
@@ -80,18 +80,18 @@ def minverse_group(m, q, Minv, start, stop, option, work):
 
 
 @inline
-def group_inverse(m, q, Minv, b, work):
-    """``Minv[b + l] = M(q[b + l])⁻¹`` for the ``W`` samples from ``b``, in a workspace of
-    ``workspace_size``; False if one of them needs the one-at-a-time path, or the model a
-    joint that the lanes pass does not take (then nothing is written)."""
-    if not _in_lanes(m):
-        return False
+def group_inverse(m, Ql, Cl, Snl, Minv, b, work):
+    """``Minv[b + l] = M(q[b + l])⁻¹`` for the ``W`` samples from ``b``, from their q and
+    joint scalars c, s (nq) side by side, configurations already checked; in a workspace of
+    ``workspace_size``, for a model of ``in_lanes``. False if one of them needs the
+    one-at-a-time path."""
     size = scalar_size(m.n, m.nq, m.nv, m.nl)
-    return _group(m, q, Minv, b, False, _workspace(ws.data_pointer(work), size, m))
+    return _from_scalars(m, Ql, Cl, Snl, Minv, b, False,
+                         _workspace(ws.data_pointer(work), size, m))
 
 
 @inline
-def _in_lanes(m):
+def in_lanes(m):
     """True when every joint has one coordinate or is a free-flyer root, the two forms
     ``_lanes_pass`` has. (A joint of several coordinates below the root, which no model
     that cgadyn reads has, would take the one-sample pass.)"""
@@ -106,7 +106,6 @@ def _group(m, q, Minv, b, streamed, k_):
     """Samples ``b .. b + W``; False if one of them needs the one-at-a-time path. ``Minv``
     is C-contiguous (the batch's output, allocated by ``calls``)."""
     Sw, c, s, Ql, Cl, Snl, T8l, Mjl, Mwl, Rl, Sl, Il, Ul, Gl, Al, Ml, Dl, Pl, Tl, pk, Ol = k_
-    nv = m.nv
     for l in range(W):  # each sample's q and joint scalars, laid side by side
         x = q[b + l]
         if check_configuration(m, x) != OK:
@@ -114,6 +113,14 @@ def _group(m, q, Minv, b, streamed, k_):
         joint_scalars(x, c, s)
         for i in range(m.nq):
             Ql[i * W + l], Cl[i * W + l], Snl[i * W + l] = x[i], c[i], s[i]
+    return _from_scalars(m, Ql, Cl, Snl, Minv, b, streamed, k_)
+
+
+@inline
+def _from_scalars(m, Ql, Cl, Snl, Minv, b, streamed, k_):
+    """``_group`` from the group's q and joint scalars c, s side by side on."""
+    Sw, c, s, Q_, C_, S_, T8l, Mjl, Mwl, Rl, Sl, Il, Ul, Gl, Al, Ml, Dl, Pl, Tl, pk, Ol = k_
+    nv = m.nv
     Mw = lane_matrix(Mwl, 0, 8)  # the world motors, then S_k and I_j (eqs. 4, 16, M5)
     chain_motors(m, lane_array(Ql, 0), lane_array(Cl, 0), lane_array(Snl, 0),
                  lane_array(T8l, 0), lane_matrix(Mjl, 0, 8), Mw, True)
@@ -184,7 +191,7 @@ def _lanes_pass(m, Sw, Sl, Il, Ul, Gl, Al, Ml, Dl, Pl, Tl, pk):
     fit in L1.
 
     Every joint has one coordinate or is a free-flyer root (M5): the scalar pass's two
-    special cases, which between them cover every model cgadyn reads (``_in_lanes``)."""
+    special cases, which between them cover every model cgadyn reads (``in_lanes``)."""
     nv = m.nv
     for j in range(m.n - 1, -1, -1):
         k0, parent = m.iv[j], m.parents[j]

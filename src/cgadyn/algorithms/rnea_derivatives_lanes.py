@@ -67,9 +67,7 @@ def rnea_derivatives_group(m, q, v, a, f, o0, o1, o2, start, stop, option, work)
         if s != OK:
             return at_sample(s, i)
         if streamed:
-            stream_copy(r0, o0[i])
-            stream_copy(r1, o1[i])
-            stream_copy(r2, o2[i])
+            _stream_out(r0, r1, r2, o0[i], o1[i], o2[i])
     fence()
     return OK
 
@@ -86,10 +84,16 @@ def _group(m, q, v, a, f, o0, o1, o2, b, streamed, samples, lanes, Ql, Vl, Al, F
         if check_result(t0) != OK or check_result(t1) != OK:
             return False
         if streamed:
-            stream_copy(r0, o0[b + l])
-            stream_copy(r1, o1[b + l])
-            stream_copy(r2, o2[b + l])
+            _stream_out(r0, r1, r2, o0[b + l], o1[b + l], o2[b + l])
     return True
+
+
+@inline
+def _stream_out(r0, r1, r2, o0, o1, o2):
+    """A sample's three results, computed in ``r0, r1, r2``, copied out past the caches."""
+    stream_copy(r0, o0)
+    stream_copy(r1, o1)
+    stream_copy(r2, o2)
 
 
 @inline
