@@ -58,6 +58,25 @@ def _axis(joint, kind: str, q0: np.ndarray) -> np.ndarray:
     return S[:3].copy() if kind == "prismatic" else S[3:].copy()
 
 
+_UNIT = 1e-12
+"""How far from 1 a joint axis's norm may be for Pinocchio's model to count as unit."""
+
+
+def _checked_axis(name: str, shortname: str, kind: str, axis: np.ndarray) -> np.ndarray:
+    """A one-dof joint's axis, as cgadyn holds it. A revolute axis must be a unit vector:
+    Pinocchio's revolute joints (``RevoluteUnaligned``) turn by a matrix that is a rotation
+    only for a unit axis, so with another its model is not a rigid body's (refused, naming
+    the joint). A prismatic axis may have any length: Pinocchio moves the body by ``q``
+    times it, and so does cgadyn (the axis is kept as it is, not normalised)."""
+    norm = float(np.linalg.norm(axis))
+    if kind == "prismatic" or abs(norm - 1.0) <= _UNIT:
+        return axis
+    raise ValueError(f"joint {name!r} is a {shortname} about the axis {axis.tolist()} of norm "
+                     f"{norm:.17g}; Pinocchio's revolute joints turn by a matrix that is a "
+                     f"rotation only for a unit axis, so this model is not a rigid body's; "
+                     f"expected a unit axis (build the joint with axis / norm(axis))")
+
+
 def _unbounded(values) -> np.ndarray:
     """Pinocchio's ±DBL_MAX ("no limit") as ±inf."""
     out = np.array(values, dtype=float).reshape(-1)
@@ -98,6 +117,16 @@ def _check_dynamics(pm) -> None:
         raise ValueError(f"the Pinocchio model's gravity is {gravity.tolist()}, but a cgadyn "
                          f"model uses {list(DEFAULT_GRAVITY)} unless a call passes gravity=; "
                          f"set pin_model.gravity to that and pass your gravity to the calls")
+
+
+def _check_finite(joint: str, mass: float, com, rotational) -> None:
+    """Refuse a body whose mass, centre of mass or rotational inertia is not finite, naming
+    its joint (Pinocchio holds NaN without complaint)."""
+    for what, value in (("mass", mass), ("centre of mass (lever)", com),
+                        ("rotational inertia", rotational)):
+        if not np.all(np.isfinite(value)):
+            raise ValueError(f"the body of joint {joint!r} has a {what} that is not finite: "
+                             f"{np.asarray(value).tolist()}; expected finite numbers")
 
 
 def _check_inertia(joint: str, mass: float, rotational) -> None:
@@ -174,9 +203,11 @@ def from_pinocchio(pin_model, name: str | None = None, check_inertia: bool = Tru
             q_lower += lower[i:i + joint.nq].tolist()
             q_upper += upper[i:i + joint.nq].tolist()
         if kind != "free_flyer":
-            axes[j] = _axis(joint, kind, q0)
+            axes[j] = _checked_axis(pm.names[j + 1], joint.shortname(), kind,
+                                    _axis(joint, kind, q0))
         inertia = pm.inertias[j + 1]
         body_mass[j], body_com[j], body_rot[j] = inertia.mass, inertia.lever, inertia.inertia
+        _check_finite(pm.names[j + 1], body_mass[j], body_com[j], body_rot[j])
         if check_inertia:
             _check_inertia(pm.names[j + 1], body_mass[j], body_rot[j])
     links = _links(pm)
@@ -186,7 +217,7 @@ def from_pinocchio(pin_model, name: str | None = None, check_inertia: bool = Tru
     if links is None:
         link_args["root_link"] = "universe"
     try:
-        return build_model(
+        model = build_model(
             name=pm.name if name is None else name,
             joint_names=list(pm.names)[1:],
             joint_kinds=kinds,
@@ -206,3 +237,26 @@ def from_pinocchio(pin_model, name: str | None = None, check_inertia: bool = Tru
         )
     except ValueError as exc:
         raise ValueError(f"Pinocchio model {pm.name!r}: {exc}") from None
+    return _scaled_prismatic_axes(model, axes)
+
+
+def _scaled_prismatic_axes(model: Model, axes: np.ndarray) -> Model:
+    """``model`` with its prismatic joints' axes as long as Pinocchio's (``build_model``
+    normalises every axis, as URDF's parsers do). A ``PrismaticUnaligned`` joint built with
+    the axis ``a`` moves its body by ``q a``: with ``a`` normalised, q, v, τ and so rnea,
+    crba and the placements would differ by the factor ``|a|``. The prismatic motion
+    subspace ``S = (a, 0)`` enters the recursions linearly (a translator
+    ``1 - q/2 e∞ a``), so a non-unit one is exact."""
+    import dataclasses
+
+    from cgadyn.cga.conventions import twist_from_motion
+
+    prismatic = np.flatnonzero((np.asarray(model.joint_kinds) == "prismatic")
+                               & (np.abs(np.linalg.norm(axes, axis=1) - 1.0) > _UNIT))
+    if prismatic.size == 0:
+        return model
+    twists, vectors = np.array(model.axes), np.array(model.axis_vectors)
+    for j in prismatic:
+        vectors[j] = axes[j]
+        twists[j] = twist_from_motion(np.concatenate([axes[j], np.zeros(3)]))
+    return dataclasses.replace(model, axes=twists, axis_vectors=vectors)
