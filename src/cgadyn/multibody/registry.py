@@ -158,7 +158,9 @@ def example_robot_data_dir() -> Path | None:
 
 
 def _own_robots() -> dict:
-    return {p.stem: p for p in sorted(OWN_ROBOTS_DIR.glob("*.urdf"))}
+    """name -> file of the project's own robots: its URDFs and MJCF files (``*.xml``)."""
+    files = [*OWN_ROBOTS_DIR.glob("*.urdf"), *OWN_ROBOTS_DIR.glob("*.xml")]
+    return {p.stem: p for p in sorted(files)}
 
 
 @functools.lru_cache(maxsize=1)
@@ -218,9 +220,12 @@ def resolve(robot) -> tuple[str, object, str | None]:
     ``("name", name, base)`` for a registered robot, ``("path", Path, None)`` for an existing
     file (any extension), ``("text", str, None)`` for URDF text, and ``("mjcf", Path or str,
     None)`` for an MJCF file or MJCF text, decided by content: an XML document whose root
-    element is ``<mujoco>`` (``mjcf.is_mjcf``). A path that does not exist raises
-    ``FileNotFoundError`` ("file not found"); anything else ``ValueError``."""
+    element is ``<mujoco>`` (``mjcf.is_mjcf``); a registered name whose file is MJCF
+    (``robots/slide_arm.xml``) resolves to ``("mjcf", its path, None)``. A path that does
+    not exist raises ``FileNotFoundError`` ("file not found"); anything else ``ValueError``."""
     kind, value, base = _resolve(robot)
+    if kind == "name" and file_is_mjcf(robot_path(value)):
+        return "mjcf", robot_path(value), None
     if kind == "path" and file_is_mjcf(value) or kind == "text" and is_mjcf(value.encode()):
         return "mjcf", value, None
     return kind, value, base
@@ -256,19 +261,33 @@ def _load_named(name: str, floating: bool, check_inertia: bool) -> Model:
                      check_inertia=check_inertia)
 
 
+def _base_option(floating_base) -> bool | None:
+    """``floating_base`` as ``True``, ``False`` or ``None``: a ``bool`` (numpy's too) or
+    ``None``; anything else (``"False"``, ``0``, ...) is refused, not taken for its
+    truth value."""
+    import numpy as np
+
+    if floating_base is None or isinstance(floating_base, bool | np.bool_):
+        return None if floating_base is None else bool(floating_base)
+    raise ValueError(f"floating_base must be True, False or None (the robot's natural "
+                     f"base), got {floating_base!r} ({type(floating_base).__name__})")
+
+
 def load(robot: str | os.PathLike = DEFAULT_ROBOT, floating_base: bool | None = None,
          check_inertia: bool = True) -> Model:
-    """Load a robot: a name from :func:`robots`, a URDF file path, or URDF XML text; or an
-    MJCF file or text (root element ``<mujoco>``), parsed by Pinocchio and converted by
-    ``from_pinocchio``.
+    """Load a robot: a name from :func:`robots` (the project's MJCF ``slide_arm`` among
+    them), a URDF file path, or URDF XML text; or an MJCF file or text (root element
+    ``<mujoco>``), parsed by Pinocchio and converted by ``from_pinocchio``.
 
-    ``floating_base``: ``None`` gives the robot its natural base (a free-flyer root
+    ``floating_base`` (``True``, ``False`` or ``None``; anything else is refused):
+    ``None`` gives the robot its natural base (a free-flyer root
     ``root_joint`` for example-robot-data's legged, humanoid and flying robots; fixed for
     arms, hands, and any URDF path or text; for MJCF, the file's own: a free joint on the
     root body floats it); ``True`` or ``False`` overrides it.
     ``check_inertia=False`` accepts inertias that are not physically valid, as Pinocchio
     does. Models loaded by name are cached (models are immutable).
     """
+    floating_base = _base_option(floating_base)
     if isinstance(robot, Model):
         return robot
     kind, value, base = resolve(robot)
