@@ -100,6 +100,39 @@ def test_validate_nan_says_why_and_json_is_standard(tmp_path, capsys):
     assert strict_json(out)["checks"]["rnea"]["pass"]
 
 
+ONE_JOINT_ARM = """<robot name="one_joint_arm">
+  <link name="base"><inertial><mass value="3"/>
+    <inertia ixx="0.2" iyy="0.3" izz="0.4" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="arm"><inertial><mass value="1"/><origin xyz="0.1 0 -0.5"/>
+    <inertia ixx="0.1" iyy="0.1" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="hinge" type="revolute"><parent link="base"/><child link="arm"/>
+    <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+</robot>
+"""
+ONE_BODY = """<robot name="one_body">
+  <link name="body"><inertial><mass value="2"/><origin xyz="0.01 0.02 0.03"/>
+    <inertia ixx="0.1" iyy="0.2" izz="0.3" ixy="0.01" ixz="0" iyz="0"/></inertial></link>
+</robot>
+"""
+
+
+@pytest.mark.parametrize("urdf, argv, nv", [(ONE_JOINT_ARM, [], 1),
+                                            (ONE_BODY, ["--floating-base"], 6),
+                                            (ONE_JOINT_ARM, ["--floating-base"], 7)])
+def test_validate_robots_of_one_joint(tmp_path, capsys, urdf, argv, nv):
+    """Pinocchio returns a 6 x 1 Jacobian or centroidal matrix as a vector (6,): the oracle
+    reshapes it, so a one-joint arm passes (it failed the Jacobians and the centroidal
+    check broke on broadcasting), and so does a lone free body (one joint, the root)."""
+    path = tmp_path / "robot.urdf"
+    path.write_text(urdf)
+    code, out, _ = run(capsys, "validate", str(path), "--samples", "3", *argv, "--json")
+    result = strict_json(out)
+    assert result["nv"] == nv
+    for key, row in result["checks"].items():
+        assert row["pass"] and "error" not in row and row["max_rel"] < 1e-12, (key, row)
+    assert code == 0 and result["pass"]
+
+
 def test_robots_lists_bases_and_refusals(capsys):
     code, out, _ = run(capsys, "robots")
     assert code == 0

@@ -157,11 +157,18 @@ def _frames(pm, names):
     return [pm.getFrameId(n, pin.BODY) for n in names]
 
 
+def _six_by_nv(pm, x) -> np.ndarray:
+    """A Pinocchio 6 x nv result in its documented shape: the bindings return a matrix of
+    one column as a vector (6,), which would not compare with cgadyn's (6, 1)."""
+    return np.array(x, dtype=float).reshape(6, pm.nv)
+
+
 def _jacobians(pm, d, qp, frames, reference):
     pin = _pin()
     pin.computeJointJacobians(pm, d, qp)
     pin.updateFramePlacements(pm, d)
-    return np.stack([pin.getFrameJacobian(pm, d, f, reference) for f in frames])
+    return np.stack([_six_by_nv(pm, pin.getFrameJacobian(pm, d, f, reference))
+                     for f in frames])
 
 
 def _cg():
@@ -208,7 +215,7 @@ CHECKS = (
           scaled=True),
     Check("centroidal", "centroidal momentum matrix (ccrba)",
           lambda m, s, L: _cg().centroidal_momentum_matrix(m, s.q),
-          lambda pm, d, qp, s, i, F: _pin().ccrba(pm, d, qp, s.v[i]).copy()),
+          lambda pm, d, qp, s, i, F: _six_by_nv(pm, _pin().ccrba(pm, d, qp, s.v[i]))),
     Check("com", "centre of mass, velocity, acceleration",
           lambda m, s, L: np.stack(_cg().center_of_mass(m, s.q, s.v, s.a), 1),
           lambda pm, d, qp, s, i, F: (_pin().centerOfMass(pm, d, qp, s.v[i], s.a[i]),
