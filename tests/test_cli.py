@@ -133,6 +133,17 @@ def test_validate_robots_of_one_joint(tmp_path, capsys, urdf, argv, nv):
     assert code == 0 and result["pass"]
 
 
+def test_info_says_whether_the_c_extension_is_there(capsys):
+    from cgadyn.algorithms import calls
+
+    code, out, _ = run(capsys, "info", "double_pendulum", "--json")
+    native = strict_json(out)["native_extension"]
+    assert code == 0 and native["status"] == calls.NATIVE_STATUS
+    assert native["fast_single_calls"] == (calls.NATIVE_STATUS == "loaded")
+    code, out, _ = run(capsys, "info", "double_pendulum")
+    assert f"C extension (fast single calls): {calls.NATIVE_STATUS}" in out
+
+
 def test_robots_lists_bases_and_refusals(capsys):
     code, out, _ = run(capsys, "robots")
     assert code == 0

@@ -1,5 +1,6 @@
 """``cgadyn info``: a robot's joints (kind, coordinates, limits, body mass), links and mass,
-its base and the sizes nq and nv, as text or JSON."""
+its base and the sizes nq and nv, and whether the C extension of fast single calls is
+there, as text or JSON."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ import argparse
 
 from .common import DEFAULT_ROBOT, ROBOT_HELP, add_base_options, floating_base, print_json
 
-__all__ = ["add_parser", "format_info", "model_info", "run"]
+__all__ = ["add_parser", "format_info", "model_info", "native_extension", "run"]
 
 
 def add_parser(sub) -> None:
@@ -47,6 +48,17 @@ def model_info(model) -> dict:
                       for i, n in enumerate(model.link_names)]}
 
 
+def native_extension() -> dict:
+    """Whether one-sample calls take the C extension ``cgadyn._native`` (``status``:
+    loaded, missing or disabled) and, where not, what that costs and how to get it."""
+    from ..algorithms import calls
+
+    info = {"status": calls.NATIVE_STATUS, "fast_single_calls": calls.NATIVE_STATUS == "loaded"}
+    if calls.NATIVE_STATUS != "loaded":
+        info["note"] = calls.NATIVE_MISSING_ADVICE
+    return info
+
+
 def _range(lo: list[float], hi: list[float]) -> str:
     if len(lo) != 1:
         return f"{len(lo)} coordinates"
@@ -68,6 +80,11 @@ def format_info(info: dict) -> str:
                      f"{jt['parent'] or 'world'}")
     lines += ["", f"{'link':<36}moves with joint"]
     lines += [f"{lk['name']:<36}{lk['joint'] or '(fixed to world)'}" for lk in info["links"]]
+    native = info.get("native_extension")
+    if native is not None:
+        lines += ["", f"C extension (fast single calls): {native['status']}"]
+        if "note" in native:
+            lines.append(f"  {native['note']}")
     return "\n".join(lines)
 
 
@@ -75,5 +92,6 @@ def run(args: argparse.Namespace) -> int:
     from ..multibody import registry
 
     info = model_info(registry.load(args.robot, floating_base=floating_base(args)))
+    info["native_extension"] = native_extension()
     print_json(info) if args.json else print(format_info(info))
     return 0
