@@ -112,3 +112,42 @@ def test_local_cluster_two_processes(panda):
     np.testing.assert_array_equal(q, reference[1])
     np.testing.assert_allclose(t, here[0], rtol=1e-14, atol=0)
     np.testing.assert_allclose(q, here[1], rtol=1e-14, atol=0)
+
+
+def test_a_nan_is_reported_at_its_row_in_the_whole_array(panda):
+    """Each chunk is computed alone, counting its rows from 0: the error names the row of
+    the whole dask array (chunks (1, 7, 300, 2, 690): row 500 is row 190 of the last)."""
+    model, _ = panda
+    q = np.tile(oracle.sample(model, 1, 0).q, (1000, 1))
+    q[500, 3] = np.nan
+    qs = da.from_array(q, chunks=((1, 7, 300, 2, 690), (9,)))
+    with dask.config.set(scheduler="synchronous"), \
+            pytest.raises(ValueError, match=r"q contains NaN or inf at index \(500, 3\)"):
+        cgadyn.crba(model, qs).compute()
+
+
+def test_a_fault_names_the_sample_of_the_whole_array():
+    """A batch fault (a free flyer's quaternion far from unit length) at row 7, chunks of 3."""
+    solo = cgadyn.load("solo12")
+    q = np.tile(cgadyn.neutral(solo), (10, 1))
+    q[7, 3:7] = [0.0, 0.0, 0.0, 3.0]
+    zeros = np.zeros((10, solo.nv))
+    with dask.config.set(scheduler="synchronous"), \
+            pytest.raises(ValueError, match=r"^q\[7, 3:7\], the quaternion"):
+        cgadyn.rnea(solo, chunked(q, 3), chunked(zeros, 3), chunked(zeros, 3)).compute()
+
+
+def test_a_diverging_rollout_is_named_by_its_index_in_the_batch(panda):
+    """Rollout 4 of 10 blows up (torques of 1e200) in chunks of three: the warning says
+    rollout 4, and that one of the chunk's rollouts 3-5 stopped."""
+    model, s = panda
+    taus = np.zeros((10, 20, model.nv))
+    taus[4] = 1e200
+    traj = cgadyn.simulate(model, s["q"][0], s["v"][0], 1e-3, 20, tau=chunked(taus, 3))
+    with dask.config.set(scheduler="synchronous"), \
+            pytest.warns(cgadyn.SimulationDiverged) as caught:
+        diverged = traj.diverged.compute()
+    assert list(np.flatnonzero(diverged)) == [4]
+    (message,) = [str(w.message) for w in caught]
+    assert "rollout 4 stopped" in message, message
+    assert "(1 of the 3 rollouts 3-5 of this dask chunk stopped; the batch holds 10)" in message

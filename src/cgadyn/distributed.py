@@ -13,6 +13,10 @@ paths only; the one-sample fast path never sees a dask array.
 
 from __future__ import annotations
 
+import re
+import threading
+import warnings
+
 import numpy as np
 
 from .algorithms.table import BY_NAME
@@ -48,11 +52,46 @@ def _aligned(arrays: tuple, sizes: tuple[int, ...], lead=None):
     return out
 
 
-def _run_block(name, model, gravity, f_ext, option, *blocks):
-    """One chunk: one compiled batch call; several outputs stacked on axis 1."""
+def _first_row(block_info) -> int:
+    """The global index of a chunk's first row (sample or rollout): dask's ``block_info``
+    gives the output block's location in the whole array."""
+    if not block_info or None not in block_info:  # dask's call on empty arrays for meta
+        return 0
+    return int(block_info[None]["array-location"][0][0])
+
+
+_SAMPLE_INDEX = (
+    re.compile(r"\bat index \((?P<i>\d+), "),  # "q contains NaN or inf at index (i, k)"
+    re.compile(r"^sample (?P<i>\d+): "),        # "sample i: singular ..."
+    re.compile(r"\b\w+\[(?P<i>\d+), "),          # "q[i, 3:7], the quaternion ..."
+)
+"""Where ``errors.explain`` names a sample of a batch: the index ``i`` is the chunk's."""
+
+
+def _shift(match: re.Match, offset: int) -> str:
+    start, end = match.span("i")
+    text = match.group(0)
+    base = match.start(0)
+    return text[:start - base] + str(int(match.group("i")) + offset) + text[end - base:]
+
+
+def _global_samples(message: str, offset: int) -> str:
+    """A chunk's error message with its sample indices made indices of the whole array:
+    ``calls.run`` sees the chunk alone and counts its samples from 0."""
+    for pattern in _SAMPLE_INDEX:
+        message = pattern.sub(lambda m: _shift(m, offset), message)
+    return message
+
+
+def _run_block(name, model, gravity, f_ext, option, *blocks, block_info=None):
+    """One chunk: one compiled batch call; several outputs stacked on axis 1. An error
+    names the sample by its index in the whole dask array, not in the chunk."""
     from .algorithms.calls import run
 
-    out = run(name, model, blocks, gravity, f_ext, option)
+    try:
+        out = run(name, model, blocks, gravity, f_ext, option)
+    except ValueError as exc:
+        raise ValueError(_global_samples(str(exc), _first_row(block_info))) from None
     return np.stack(out, axis=1) if isinstance(out, tuple) else out
 
 
@@ -81,12 +120,50 @@ def run(name: str, model, arrays: tuple, gravity, f_ext, option: int = 0):
     return tuple(stacked[:, i] for i in range(len(shapes)))
 
 
-def _simulate_block(model, dt, steps, kwargs, q0, v0, tau):
-    """One chunk of rollouts: ``[q, v, a, T, U, completed, diverged]`` on the last axis."""
-    from .sim.simulate import simulate
+_ROLLOUT = re.compile(r"\brollout (\d+)\b")
+_STOPPED = re.compile(r"\((\d+) of (\d+) rollouts stopped\)")
 
+
+def _global_rollouts(message: str, offset: int, total: int) -> str:
+    """A chunk's divergence message (``sim.simulate._message``) in terms of the whole
+    batch: its rollout index plus the chunk's offset, and which rollouts the chunk holds
+    (the others' stops are reported by their own chunks)."""
+    message = _ROLLOUT.sub(lambda m: f"rollout {int(m.group(1)) + offset}", message)
+    return _STOPPED.sub(
+        lambda m: f"({m.group(1)} of the {m.group(2)} rollouts {offset}-"
+                  f"{offset + int(m.group(2)) - 1} of this dask chunk stopped; the batch "
+                  f"holds {total})", message)
+
+
+_WARNINGS = threading.Lock()
+"""``warnings.catch_warnings`` swaps process-wide state: chunks running on dask's threads
+take turns (their compiled loops take turns anyway, under ``simulate``'s lock)."""
+
+
+def _simulate_chunk(model, dt, steps, kwargs, q0, v0, tau, offset: int, total: int):
+    """``simulate`` on one chunk, its warnings and errors naming rollouts by their index
+    in the whole batch of ``total``."""
+    from .sim.simulate import SimulationDiverged, simulate
+
+    try:
+        with _WARNINGS, warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", SimulationDiverged)
+            traj = simulate(model, q0, v0, dt, steps, tau=tau, **kwargs)
+    except ValueError as exc:
+        raise ValueError(_global_samples(str(exc), offset)) from None
+    for w in caught:
+        text = str(w.message)
+        if issubclass(w.category, SimulationDiverged):
+            text = _global_rollouts(text, offset, total)
+        warnings.warn(text, w.category, stacklevel=3)
+    return traj
+
+
+def _simulate_block(model, dt, steps, kwargs, total, q0, v0, tau, block_info=None):
+    """One chunk of rollouts: ``[q, v, a, T, U, completed, diverged]`` on the last axis."""
     q0, v0 = q0[:, 0], v0[:, 0]  # (b, 1, n): aligned with tau's axes for map_blocks
-    traj = simulate(model, q0, v0, dt, steps, tau=tau, **kwargs)
+    traj = _simulate_chunk(model, dt, steps, kwargs, q0, v0, tau, _first_row(block_info),
+                           total)
     B = q0.shape[0]
     flags = np.stack([np.asarray(traj.completed, dtype=float).reshape(B),
                       np.asarray(traj.diverged, dtype=float).reshape(B)], axis=1)
@@ -126,7 +203,8 @@ def simulate(model, q0, v0, dt, steps, tau, kwargs: dict):
         tau = da.zeros((q0.shape[0], steps, model.nv), chunks=(rows, steps, model.nv))
     nq, nv = model.nq, model.nv
     width = nq + 2 * nv + 4
-    out = da.map_blocks(_simulate_block, model, float(dt), steps, kwargs, q0[:, None, :],
+    out = da.map_blocks(_simulate_block, model, float(dt), steps, kwargs, q0.shape[0],
+                        q0[:, None, :],
                         v0[:, None, :], tau, dtype=float,
                         chunks=(rows, (steps + 1,), (width,)))
     cut = np.cumsum([0, nq, nv, nv, 1, 1, 1, 1])
