@@ -184,3 +184,13 @@ def test_cooperative_task_errors():
     panda = cgadyn.load("panda")
     with pytest.raises(ValueError, match="built for another model"):
         solve(panda, CooperativeTask(model, a, b, "relative", np.eye(4)))
+
+
+def test_cooperative_space_names_a_nan_in_q():
+    """A NaN in q is the caller's: named as q's, with its index and joint (it was blamed
+    on a Motor)."""
+    model = cgadyn.load("baxter")
+    q = cgadyn.neutral(model)
+    q[5] = np.nan
+    with pytest.raises(ValueError, match=r"^q contains NaN or inf at index \(5,\) \(joint "):
+        cooperative_space(model, q, "left_gripper", "right_gripper")

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..algorithms import _inputs
+from ..algorithms.errors import _nonfinite_input
 from ..cga.objects import Motor
 from . import _rows as R
 from ._cooperative import ABSOLUTE, RELATIVE
@@ -75,6 +76,8 @@ def cooperative_space(model, q, first, second, tools=None
     q = _inputs.state(model, q, "q", model.nq)
     if q.ndim != 1:
         raise ValueError(f"expected one configuration ({model.nq},), got {q.shape}")
+    if not np.all(np.isfinite(q)):  # else the motors' own check blames "Motor"
+        raise _nonfinite_input(model, {"q": q})
     Ma, Mr = np.empty(8), np.empty(8)
     Ja, Jr = np.empty((6, model.nv)), np.empty((6, model.nv))
     _cooperative_space(model.packed, np.ascontiguousarray(q), row, Ma, Ja, Mr, Jr)
