@@ -52,3 +52,27 @@ def test_floating_base_and_bad_arguments(capsys) -> None:
     assert "threads must be in 1.." in capsys.readouterr().err
     with pytest.raises(ValueError, match="batch"):
         bench.benchmark("double_pendulum", batches=(0,))
+
+
+def test_plot_tick_labels_do_not_overlap() -> None:
+    """The bar chart's names under the bars stay apart (the derivatives' long names ran into
+    each other)."""
+    import matplotlib.pyplot as plt
+
+    from cgadyn.bench import report
+
+    libs = {"cgadyn": 1.0, "pinocchio": 2.0, "pinocchio_loop": 3.0, "pinocchio_parallel": 0.5}
+    res = {"robot": "panda", "threads": 2, "batches": [1, 4096],
+           "single_us": {op: dict(libs) for op in OPS},
+           "batch_us_per_sample": {"4096": {op: dict(libs) for op in OPS}}}
+    fig = report.figure(res)
+    try:
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        for ax in fig.axes:
+            boxes = [t.get_window_extent(renderer) for t in ax.get_xticklabels()]
+            assert len(boxes) == len(OPS)
+            for a, b in zip(boxes, boxes[1:], strict=False):
+                assert not a.overlaps(b), (a, b)
+    finally:
+        plt.close(fig)

@@ -9,7 +9,7 @@ from pathlib import Path
 from .._json import dumps
 from .measure import OPS, PARALLEL, TARGETS
 
-__all__ = ["format_tables", "plot", "write_report"]
+__all__ = ["figure", "format_tables", "plot", "write_report"]
 
 LIB_NAMES = {"cgadyn": "cgadyn", "pinocchio": "Pinocchio", "pygafro": "pygafro",
              "pinocchio_loop": "Pinocchio loop", "pinocchio_parallel": "Pinocchio InParallel"}
@@ -131,6 +131,17 @@ def write_report(res: dict, outdir: str | Path, stem: str = "benchmark") -> list
 
 def plot(res: dict, path: str | Path) -> None:
     """Bar chart (log scale): single-call µs and per-sample µs at the largest batch."""
+    import matplotlib.pyplot as plt
+
+    fig = figure(res)
+    try:
+        fig.savefig(path, dpi=100)
+    finally:
+        plt.close(fig)
+
+
+def figure(res: dict):
+    """The figure of :func:`plot`, on the Agg backend; the caller closes it."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -144,8 +155,13 @@ def plot(res: dict, path: str | Path) -> None:
           ("cgadyn", "pinocchio_loop", "pinocchio_parallel"),
           f"batch {big}, µs per sample ({res['threads']} threads)")
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
+    return fig
+
+
+TICK_LABELS = {"rnea_derivatives": "rnea deriv.", "aba_derivatives": "aba deriv.",
+               "minverse": "M⁻¹"}
+"""Short names under the bars: the full ones overlap their neighbours (the tables keep
+them)."""
 
 
 def _bars(ax, table: dict[str, dict[str, float]], libs: Sequence[str], title: str) -> None:
@@ -156,7 +172,8 @@ def _bars(ax, table: dict[str, dict[str, float]], libs: Sequence[str], title: st
         pts = [(x, y) for x, y in zip(xs, ys, strict=True) if y is not None]
         if pts:
             ax.bar(*zip(*pts, strict=True), width=width, label=LIB_NAMES[lib])
-    ax.set_xticks(range(len(OPS)), OPS)
+    ax.set_xticks(range(len(OPS)), [TICK_LABELS.get(op, op) for op in OPS], rotation=30,
+                  ha="right", rotation_mode="anchor")
     ax.set_yscale("log")
     ax.set_title(title)
     ax.legend()

@@ -7,21 +7,54 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["plot_trajectory"]
+__all__ = ["plot_trajectory", "trajectory_figure"]
 
 
-def _coordinate_labels(model) -> list[str]:
-    """One label per configuration coordinate: the joint's name, indexed for multi-dof."""
+def _coordinate_labels(model, velocity: bool = False) -> list[str]:
+    """One label per configuration (or velocity) coordinate: the joint's name, indexed for
+    a joint of several coordinates (a free flyer's x, y, z, qx, ... or vx, vy, ...)."""
+    idx = model.idx_v if velocity else model.idx_q
     labels = []
     for j, name in enumerate(model.joint_names):
-        n = int(model.idx_q[j + 1] - model.idx_q[j])
-        labels += [name] if n == 1 else [f"{name}[{k}]" for k in range(n)]
+        n = int(idx[j + 1] - idx[j])
+        if model.joint_kinds[j] == "free_flyer":
+            parts = ("vx", "vy", "vz", "wx", "wy", "wz") if velocity else (
+                "x", "y", "z", "qx", "qy", "qz", "qw")
+            labels += [f"{name}.{p}" for p in parts[:n]]
+        else:
+            labels += [name] if n == 1 else [f"{name}[{k}]" for k in range(n)]
     return labels
+
+
+def _styles(count: int) -> list[dict]:
+    """A colour and line style per curve, distinct up to 40 curves: tab10 for a few,
+    tab20 beyond, then tab20 again dashed (the default cycle repeats after ten, which
+    makes a legend of solo12's 19 coordinates ambiguous)."""
+    import matplotlib
+
+    cmap = matplotlib.colormaps["tab10" if count <= 10 else "tab20"]
+    n = cmap.N
+    dashes = ("-", "--", ":", "-.")
+    return [{"color": cmap(i % n), "linestyle": dashes[(i // n) % len(dashes)]}
+            for i in range(count)]
+
+
+def _curves(ax, t: np.ndarray, x: np.ndarray, labels: list[str], ylabel: str) -> None:
+    """One curve per coordinate, each labelled, with a legend beside the panel in as many
+    columns as it takes to stay the panel's height (every coordinate named, however many)."""
+    for i, (label, style) in enumerate(zip(labels, _styles(len(labels)), strict=True)):
+        ax.plot(t, x[:, i], lw=1, label=label, **style)
+    ax.set_ylabel(ylabel)
+    ncol = 1 if len(labels) <= 12 else 2 if len(labels) <= 30 else 3
+    ax.legend(fontsize=7 if len(labels) <= 12 else 6, ncol=ncol, loc="upper left",
+              bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, handlelength=1.6,
+              columnspacing=1.0, frameon=False)
 
 
 def plot_trajectory(model, traj, path: str | os.PathLike, title: str | None = None) -> Path:
     """Write a figure of one trajectory (``cgadyn.simulate``'s result) to ``path``: joint
-    positions q(t), velocities v(t), and kinetic, potential and total energy.
+    positions q(t), velocities v(t), and kinetic, potential and total energy. Every
+    coordinate is named in a legend beside its panel, in columns when there are many.
 
     The format follows the extension (any that matplotlib writes); the path is checked
     first by ``cgadyn.commands.common.check_plot_path`` (a ``UsageError`` naming the
@@ -29,6 +62,19 @@ def plot_trajectory(model, traj, path: str | os.PathLike, title: str | None = No
     from ..commands.common import check_plot_path
 
     out = check_plot_path(str(path))
+    import matplotlib.pyplot as plt
+
+    fig = trajectory_figure(model, traj, title)
+    try:
+        fig.savefig(out, dpi=110)
+    finally:
+        plt.close(fig)
+    return out
+
+
+def trajectory_figure(model, traj, title: str | None = None):
+    """The matplotlib figure of :func:`plot_trajectory` (three panels: q, v, energy),
+    drawn on the Agg backend; the caller closes it."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -38,28 +84,20 @@ def plot_trajectory(model, traj, path: str | os.PathLike, title: str | None = No
     if np.asarray(traj.q).ndim != 2:
         raise ValueError(f"plot_trajectory draws one rollout; got q of shape "
                          f"{np.shape(traj.q)}")
-    fig, (ax_q, ax_v, ax_e) = plt.subplots(3, 1, figsize=(8, 9), sharex=True,
-                                           constrained_layout=True)
-    labels = _coordinate_labels(model)
-    for i, label in enumerate(labels):
-        ax_q.plot(t, traj.q[:, i], lw=1, label=label)
-    for i in range(model.nv):
-        ax_v.plot(t, traj.v[:, i], lw=1)
-    ax_q.set_ylabel("q (rad, m)")
-    ax_v.set_ylabel("v (rad/s, m/s)")
-    if len(labels) <= 12:
-        ax_q.legend(fontsize=7, ncol=min(4, len(labels)), loc="upper right")
+    wide = max(model.nq, model.nv) > 12
+    fig, (ax_q, ax_v, ax_e) = plt.subplots(3, 1, figsize=(11 if wide else 9.5, 9),
+                                           sharex=True, constrained_layout=True)
+    _curves(ax_q, t, np.asarray(traj.q), _coordinate_labels(model), "q (rad, m)")
+    _curves(ax_v, t, np.asarray(traj.v), _coordinate_labels(model, velocity=True),
+            "v (rad/s, m/s)")
     ax_e.plot(t, traj.kinetic, lw=1, label="kinetic T")
     ax_e.plot(t, traj.potential, lw=1, label="potential U")
     ax_e.plot(t, traj.energy, lw=1.5, color="k", label="total T + U")
     ax_e.set_ylabel("energy (J)")
     ax_e.set_xlabel("t (s)")
-    ax_e.legend(fontsize=7, loc="upper right")
+    ax_e.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0,
+                frameon=False)
     for ax in (ax_q, ax_v, ax_e):
         ax.grid(alpha=0.3)
     fig.suptitle(title or f"{model.name}: {traj.integrator}, dt = {traj.dt:g} s")
-    try:
-        fig.savefig(out, dpi=110)
-    finally:
-        plt.close(fig)
-    return out
+    return fig
