@@ -90,7 +90,7 @@ def test_frames_are_link_placements_with_visual_origins(pendulum_page):
                            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
             np.testing.assert_allclose(Rq, R, atol=1e-12)
     # each visual sits at its URDF origin in its link's frame, with the mesh's bytes inline
-    objects = [c for c in cmds if c["type"] == "set_object"]
+    objects = [c for c in cmds if c["type"] == "set_object" and c["path"] != "/cgadyn/floor"]
     assert len(objects) == len(vis)
     for c, v in zip(objects, vis, strict=True):
         data = c["object"]["geometries"][0]["data"]
@@ -169,4 +169,45 @@ def test_urdf_without_visuals_is_drawn_as_a_skeleton(tmp_path):
                        for li in range(model.nlinks))
     path = html.write_html(model, np.zeros((11, model.nq)), 0.1, tmp_path / "cp.html")
     _, cmds = _page_parts(path.read_text(encoding="utf-8"))
-    assert sum(c["type"] == "set_object" for c in cmds) == len(sk)
+    assert sum(c["type"] == "set_object" and c["path"] != "/cgadyn/floor"
+               for c in cmds) == len(sk)
+
+
+def test_an_mjcf_model_is_drawn_as_a_skeleton_at_its_joints():
+    """MJCF has no URDF visuals to read (``simulate --html`` refused it): a sphere at each
+    joint's origin, a cylinder from each joint to its children, in the right links."""
+    path = Path(__file__).resolve().parents[1] / "robots" / "slide_arm.xml"
+    model = cgadyn.load(str(path))
+    assert html.visuals(model, path) == []
+    sk = html.skeleton(model)
+    q = np.array([0.3, -0.4, 0.0, 0.7])  # the slide at 0: its bone ends at its origin
+    T = cgadyn.link_placements(model, q)
+    joints, _ = cgadyn.forward_kinematics(model, q)
+    origins = np.array([cgadyn.matrix_from_motor(m)[:3, 3] for m in joints])
+    spheres = [(T[v["link"]] @ v["origin"])[:3, 3] for v in sk if v["kind"] == "sphere"]
+    np.testing.assert_allclose(spheres, origins, atol=1e-12)
+    for v in sk:
+        if v["kind"] == "cylinder":  # ends at a joint and at one of its children
+            frame = T[v["link"]] @ v["origin"]
+            ends = [(frame @ [0, 0, z * v["size"][1] / 2, 1])[:3] for z in (-1, 1)]
+            assert min(np.linalg.norm(origins - ends[1], axis=1)) < 1e-12
+            assert min(np.linalg.norm(np.vstack([origins, [0, 0, 0]]) - ends[0],
+                                      axis=1)) < 1e-12
+
+
+def test_the_floor_is_a_grid_under_the_robot_seen_from_above(pendulum_page):
+    """meshcat's 20 m grid is hidden (renderers that drop lines passing behind the camera
+    showed only its far edge, like a ceiling seen from below); a grid sized to the robot
+    lies at z = 0 and the camera looks down on it from above."""
+    _, _, path = pendulum_page
+    text = path.read_text(encoding="utf-8")
+    meta, cmds = _page_parts(text)
+    assert {"type": "set_property", "path": "/Grid", "property": "visible",
+            "value": False} in cmds
+    (floor,) = [c for c in cmds if c.get("path") == "/cgadyn/floor"]
+    points = np.frombuffer(floor["object"]["geometries"][0]["data"]["attributes"]["position"]
+                           ["array"].data, dtype=np.float32).reshape(-1, 3)
+    assert meta["floor"] == 0.0 and np.all(points[:, 2] == 0.0)
+    c, r = np.array(meta["center"]), meta["radius"]
+    assert np.abs(points[:, :2] - c[:2]).max() < 2.5 * r  # about the robot, not 20 m
+    assert "h = Math.max(c[2] + 1.6 * r, meta.floor + 0.8 * r)" in text  # camera above it

@@ -65,9 +65,9 @@ def _viewer_js() -> str:
 # --- the URDF's visuals ---------------------------------------------------------------
 
 
-def _urdf_source(model, urdf) -> tuple[bytes, Path | None]:
+def _urdf_source(model, urdf) -> tuple[bytes | None, Path | None]:
     """The URDF XML and its file (None for text) of ``model``: ``urdf`` if given, else
-    the registry's file for the model's name."""
+    the registry's file for the model's name; ``(None, None)`` for an MJCF model."""
     from ..multibody import registry
 
     if urdf is None:
@@ -77,6 +77,8 @@ def _urdf_source(model, urdf) -> tuple[bytes, Path | None]:
             raise ValueError(f"robot {model.name!r} is not a registered robot: give the URDF "
                              f"it was loaded from (urdf=path) to find its meshes") from None
     kind, value, _ = registry.resolve(urdf if isinstance(urdf, os.PathLike | str) else str(urdf))
+    if kind == "mjcf":
+        return None, None
     if kind == "text":
         return value.encode("utf-8"), None
     if kind == "name":
@@ -141,6 +143,8 @@ def visuals(model, urdf=None) -> list[dict]:
     from ..multibody.urdf import _parse
 
     xml, path = _urdf_source(model, urdf)
+    if xml is None:  # MJCF: drawn as a skeleton (its geoms are not read)
+        return []
     robot = _parse(xml, repr(str(path)) if path else "the URDF text")
     materials = {m.name: tuple(float(c) for c in m.color.rgba)
                  for m in robot.materials if m.color is not None}
@@ -179,39 +183,54 @@ def visuals(model, urdf=None) -> list[dict]:
 _SKELETON_RGBA = (0.95, 0.55, 0.1, 1.0)
 
 
-def _joint_link(model, j: int) -> int:
-    """The link whose frame is joint ``j``'s frame (the world's root link for -1)."""
-    for li in range(model.nlinks):
-        if model.link_joint[li] == j and np.allclose(model.link_placement_matrices[li],
-                                                     np.eye(4)):
-            return li
-    raise ValueError(f"no link frame coincides with joint {j} of {model.name!r}")
+def _joint_anchor(model, j: int) -> tuple[int, np.ndarray] | None:
+    """A link that moves with joint ``j`` (the world for -1) and the joint's frame in that
+    link's frame: the link whose frame is the joint's where there is one (URDF), else the
+    first link of the joint (an MJCF joint may sit anywhere in its body). None for the
+    world of a robot that has no link fixed to it (a floating base)."""
+    attached = [li for li in range(model.nlinks) if model.link_joint[li] == j]
+    for li in attached:
+        if np.allclose(model.link_placement_matrices[li], np.eye(4)):
+            return li, np.eye(4)
+    if not attached:
+        if j < 0:
+            return None
+        raise ValueError(f"joint {model.joint_names[j]!r} of {model.name!r} moves no link")
+    li = attached[0]
+    return li, np.linalg.inv(np.asarray(model.link_placement_matrices[li], float))
 
 
 def skeleton(model) -> list[dict]:
-    """Visuals for a URDF without any: a sphere at every joint frame and a cylinder from
-    each joint frame's origin to its children's, fixed in the parent's link."""
+    """Visuals for a robot without any (a URDF without ``<visual>``, an MJCF model): a
+    sphere at every joint frame and a cylinder from each joint frame's origin to its
+    children's, fixed in the parent's link."""
     offsets = [np.asarray(model.placement_matrices[j][:3, 3]) for j in range(model.njoints)]
     lengths = [float(np.linalg.norm(p)) for p in offsets if np.linalg.norm(p) > 1e-9]
     r = 0.12 * (float(np.median(lengths)) if lengths else 0.5)
     out = []
     for j in range(model.njoints):
-        li = _joint_link(model, j)
-        out.append({"link": li, "origin": np.eye(4), "kind": "sphere", "size": [r],
+        li, frame = _joint_anchor(model, j)
+        out.append({"link": li, "origin": frame, "kind": "sphere", "size": [r],
                     "rgba": _SKELETON_RGBA})
         p, length = offsets[j], float(np.linalg.norm(offsets[j]))
-        if length < 1e-9:
+        parent = _joint_anchor(model, int(model.parents[j]))
+        if length < 1e-9 or parent is None:
             continue
-        z = p / length  # the cylinder's axis (URDF cylinders lie along z)
-        x = np.cross(z, [1.0, 0, 0] if abs(z[0]) < 0.9 else [0, 1.0, 0])
-        x /= np.linalg.norm(x)
-        frame = np.eye(4)
-        frame[:3, :3] = np.column_stack([x, np.cross(z, x), z])
-        frame[:3, 3] = 0.5 * p
-        parent = _joint_link(model, int(model.parents[j]))
-        out.append({"link": parent, "origin": frame, "kind": "cylinder",
-                    "size": [0.4 * r, length], "rgba": (0.6, 0.6, 0.65, 1.0)})
+        out.append({"link": parent[0], "origin": parent[1] @ _bone(p, length),
+                    "kind": "cylinder", "size": [0.4 * r, length],
+                    "rgba": (0.6, 0.6, 0.65, 1.0)})
     return out
+
+
+def _bone(p: np.ndarray, length: float) -> np.ndarray:
+    """The frame of a cylinder from the origin to ``p`` (URDF cylinders lie along z)."""
+    z = p / length
+    x = np.cross(z, [1.0, 0, 0] if abs(z[0]) < 0.9 else [0, 1.0, 0])
+    x /= np.linalg.norm(x)
+    frame = np.eye(4)
+    frame[:3, :3] = np.column_stack([x, np.cross(z, x), z])
+    frame[:3, 3] = 0.5 * p
+    return frame
 
 
 # --- meshcat commands ---------------------------------------------------------------------
@@ -309,12 +328,15 @@ def _commands(model, q: np.ndarray, dt: float, fps: float, urdf,
                  "options": {"play": True, "repetitions": 1_000_000 if loop else 1}})
     cmds.append({"type": "set_property", "path": "/Axes", "property": "visible",
                  "value": False})
-    return cmds, _framing(T, vis)
+    framing = _framing(T, vis)
+    cmds += _floor(framing)
+    return cmds, framing
 
 
 def _framing(T: np.ndarray, vis: list[dict]) -> dict:
     """Centre and radius (metres) for the camera: the box swept by the visuals' origins,
-    or the first frame's box when the robot travels more than three times its own size."""
+    or the first frame's box when the robot travels more than three times its own size;
+    and the height of the floor grid: z = 0 where that is near, else under the robot."""
     pts = np.stack([(T[:, v["link"]] @ v["origin"])[:, :3, 3] for v in vis], axis=1)
 
     def box(p):
@@ -323,9 +345,39 @@ def _framing(T: np.ndarray, vis: list[dict]) -> dict:
 
     center, radius = box(pts.reshape(-1, 3))
     c0, r0 = box(pts[0])
+    framed = pts
     if radius > 3 * r0:
-        center, radius = c0, r0
-    return {"center": [float(c) for c in center], "radius": radius}
+        center, radius, framed = c0, r0, pts[:1]
+    near = center[2] - 3 * radius <= 0.0 <= center[2] + radius  # the world's z = 0 in view
+    floor = 0.0 if near else float(framed[..., 2].min())
+    return {"center": [float(c) for c in center], "radius": radius, "floor": floor}
+
+
+def _floor(framing: dict) -> list[dict]:
+    """A floor grid under the robot, sized to it, in place of meshcat's 20 m one: some of
+    that one's lines always pass behind the camera, and renderers that drop such lines
+    instead of clipping them (headless Chromium's) drew only its far edge, which looked
+    like a ceiling seen from below."""
+    g, _ = require_viewer()
+    c, r = framing["center"], framing["radius"]
+    cell = _nice_step(r / 3.0)
+    n = int(math.ceil(1.6 * r / cell))
+    x0, y0 = (round(v / cell) * cell for v in c[:2])
+    ticks = np.arange(-n, n + 1) * cell
+    lines = []
+    for t in ticks:
+        lines += [(x0 + t, y0 - n * cell), (x0 + t, y0 + n * cell),
+                  (x0 - n * cell, y0 + t), (x0 + n * cell, y0 + t)]
+    points = np.array([[x, y, framing["floor"]] for x, y in lines], dtype=np.float32).T
+    grid = g.LineSegments(g.PointsGeometry(points), g.LineBasicMaterial(color=0x8a8a8a))
+    return [{"type": "set_property", "path": "/Grid", "property": "visible", "value": False},
+            {"type": "set_object", "path": "/cgadyn/floor", "object": grid.lower()}]
+
+
+def _nice_step(x: float) -> float:
+    """The step of 1, 2 or 5 times a power of ten nearest below ``x``."""
+    power = 10.0 ** math.floor(math.log10(x))
+    return max(m * power for m in (1.0, 2.0, 5.0) if m * power <= x)
 
 
 _PAGE = """<!DOCTYPE html>
@@ -347,11 +399,12 @@ JSON.parse(document.getElementById("cgadyn-commands").textContent).forEach(funct
   for (var i = 0; i < s.length; i++) bytes[i] = s.charCodeAt(i);
   viewer.handle_command_bytearray(bytes);
 }});
-// the camera frames the swept volume; its frame is y-up: world (x, y, z) is (x, z, -y)
+// the camera frames the swept volume from above, looking down at it; its frame (under
+// /Cameras/default/rotated) is y-up: world (x, y, z) is (x, z, -y) there
 var meta = JSON.parse(document.getElementById("cgadyn-animation").textContent);
-var c = meta.center, r = meta.radius;
+var c = meta.center, r = meta.radius, h = Math.max(c[2] + 1.6 * r, meta.floor + 0.8 * r);
 viewer.controls.target.set(c[0], c[2], -c[1]);
-viewer.camera.position.set(c[0] + 2.0 * r, c[2] + 1.6 * r, -c[1] + 1.5 * r);
+viewer.camera.position.set(c[0] + 2.0 * r, h, -c[1] + 1.5 * r);
 viewer.controls.update();
 viewer.set_dirty();
 </script>
