@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -129,6 +130,13 @@ def test_a_run_that_blows_up_stops_and_says_so():
     (["--plot", "a.xyz"], "extension '.xyz' is not a format matplotlib writes"),
     (["--html", "/nonexistent-dir/a.html"], "directory '/nonexistent-dir' does not exist"),
     (["--html", "a.png"], "expected a file ending in .html"),
+    (["--kp", "10"], "--kp sets the gains of the PD controller, but the controller is 'none': "
+                     "add --controller pd"),
+    (["--controller", "gravity", "--kd", "1", "--wn", "3"], "add --controller pd"),
+    (["--plot", "/proc/a.png"], "cannot write the plot '/proc/a.png': directory '/proc' is not "
+                                "writable"),
+    (["--html", "/proc/a.html"], "cannot write the animation '/proc/a.html': directory '/proc' "
+                                 "is not writable"),
 ])
 def test_user_errors(argv, expected):
     r = cgadyn_cmd("simulate", "double_pendulum", *argv)
@@ -152,3 +160,75 @@ def test_unknown_robot():
     r = cgadyn_cmd("simulate", "no_such_robot")
     assert r.returncode == 2 and "Traceback" not in r.stderr
     assert "cgadyn: error: unknown robot 'no_such_robot'" in r.stderr
+
+
+@pytest.mark.parametrize("argv, expected", [
+    (["--plot", "/proc/a.png"], "cannot write the plot '/proc/a.png'"),
+    (["--html", "/proc/a.html"], "cannot write the animation '/proc/a.html'"),
+])
+def test_unwritable_outputs_are_refused_before_the_run(monkeypatch, capsys, argv, expected):
+    """An output that cannot be written is a user error found before any computing (it was
+    "file not found" after the whole simulation)."""
+    if argv[0] == "--html":
+        pytest.importorskip("meshcat")
+
+    def must_not_run(*args, **kwargs):
+        raise AssertionError("the simulation ran before the output was checked")
+
+    monkeypatch.setattr(command, "simulate_chunked", must_not_run)
+    code = cli.main(["simulate", "double_pendulum", *argv])
+    err = capsys.readouterr().err
+    assert code == 2 and f"cgadyn: error: {expected}" in err and "not writable" in err
+
+
+def test_bench_output_is_checked_before_timing(monkeypatch, capsys, tmp_path):
+    import cgadyn.bench
+
+    def must_not_run(*args, **kwargs):
+        raise AssertionError("the benchmark ran before --output was checked")
+
+    monkeypatch.setattr(cgadyn.bench, "benchmark", must_not_run)
+    code = cli.main(["bench", "double_pendulum", "--output", "/proc/cgadyn-bench"])
+    err = capsys.readouterr().err
+    assert code == 2 and "cgadyn: error: cannot write the benchmark report into " \
+        "'/proc/cgadyn-bench': directory '/proc' is not writable" in err
+    (tmp_path / "file").write_text("")
+    code = cli.main(["bench", "double_pendulum", "--output", str(tmp_path / "file")])
+    assert code == 2 and "exists and is not a directory" in capsys.readouterr().err
+
+
+def test_html_of_an_mjcf_model(tmp_path, capsys):
+    """An MJCF model (no URDF visuals to read) is animated as a skeleton of its joints."""
+    pytest.importorskip("meshcat")
+    page = tmp_path / "arm.html"
+    arm = str(Path(__file__).resolve().parents[1] / "robots" / "slide_arm.xml")
+    code = cli.main(["simulate", arm, "--seconds", "0.2", "--html", str(page)])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    text = page.read_text(encoding="utf-8")
+    meta = json.loads(text.split('id="cgadyn-animation">')[1].split("</script>")[0])
+    assert meta["robot"] == "slide_arm" and meta["frames"] == 7
+    assert len(meta["links"]) >= 4  # the moving links, each animated
+    assert meta["floor"] == 0.0  # the floor grid at z = 0, near the arm
+
+
+def test_a_plot_names_every_coordinate():
+    """Above 12 coordinates (solo12: q 19, v 18) every curve is in a legend, in columns."""
+    import matplotlib.pyplot as plt
+
+    from cgadyn.sim.plot import trajectory_figure
+
+    solo = cgadyn.load("solo12")
+    q0 = cgadyn.neutral(solo)
+    traj = simulate(solo, q0, np.zeros(solo.nv), 1e-3, 5)
+    fig = trajectory_figure(solo, traj)
+    try:
+        ax_q, ax_v, _ = fig.axes
+        labels = [t.get_text() for t in ax_q.get_legend().get_texts()]
+        assert len(labels) == solo.nq == len(set(labels))
+        assert labels[:3] == ["root_joint.x", "root_joint.y", "root_joint.z"]
+        assert len(ax_v.get_legend().get_texts()) == solo.nv
+        colours = {(str(line.get_color()), line.get_linestyle()) for line in ax_q.lines}
+        assert len(colours) == solo.nq  # no two curves drawn alike
+    finally:
+        plt.close(fig)

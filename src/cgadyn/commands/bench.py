@@ -8,8 +8,8 @@ import argparse
 from .common import (
     DEFAULT_ROBOT,
     ROBOT_HELP,
-    UsageError,
     add_base_options,
+    check_output_dir,
     floating_base,
     positive_int,
     print_json,
@@ -42,12 +42,10 @@ def add_parser(sub) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from pathlib import Path
-
     from ..bench import benchmark, format_tables, write_report
 
-    if args.output and Path(args.output).exists() and not Path(args.output).is_dir():
-        raise UsageError(f"--output {args.output!r} exists and is not a directory")
+    if args.output:  # before minutes of timing, not after
+        check_output_dir(args.output, "the benchmark report")
     res = benchmark(args.robot, args.batch, args.threads, args.repeats, args.quick,
                     floating_base(args))
     if args.output:

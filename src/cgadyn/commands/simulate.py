@@ -29,6 +29,7 @@ from .common import (
     ROBOT_HELP,
     UsageError,
     add_base_options,
+    check_output_file,
     check_plot_path,
     floating_base,
     positive_float,
@@ -64,14 +65,17 @@ def add_parser(sub) -> None:
     p.add_argument("--controller", choices=CONTROLLERS, default="none",
                    help="none: passive; gravity: gravity compensation; pd: joint PD to the "
                         "neutral configuration plus gravity compensation (default none)")
-    p.add_argument("--wn", type=positive_float, default=WN,
+    p.add_argument("--wn", type=positive_float, default=None,
                    help=f"PD natural frequency in rad/s: K_p = diag(M(q_ref)) wn^2, "
                         f"K_d = 2 diag(M(q_ref)) wn, critically damped per joint, so that "
-                        f"light joints get light gains (default {WN:g})")
+                        f"light joints get light gains (default {WN:g}; with --controller "
+                        f"pd only)")
     p.add_argument("--kp", nargs="+", metavar="KP",
-                   help="PD stiffness instead: one number for every joint or nv numbers")
+                   help="PD stiffness instead: one number for every joint or nv numbers "
+                        "(with --controller pd only)")
     p.add_argument("--kd", nargs="+", metavar="KD",
-                   help="PD damping instead: one number for every joint or nv numbers")
+                   help="PD damping instead: one number for every joint or nv numbers "
+                        "(with --controller pd only)")
     p.add_argument("--q0", nargs="+", metavar="Q",
                    help="initial configuration, nq numbers separated by spaces or commas "
                         "(default: the neutral configuration)")
@@ -117,9 +121,7 @@ def check_html_path(path: str | None) -> Path | None:
     if p.suffix.lower() not in (".html", ".htm"):
         raise UsageError(f"cannot write the animation {path!r}: expected a file ending in "
                          f".html, got {p.suffix or '(no extension)'!r}")
-    if not p.parent.is_dir():
-        raise UsageError(f"cannot write the animation {path!r}: directory "
-                         f"{str(p.parent)!r} does not exist")
+    check_output_file(path, "the animation")
     from ..sim.html import MissingViewer, require_viewer
 
     try:
@@ -233,6 +235,17 @@ def _gains(tokens, model, name: str) -> np.ndarray | None:
     return gains[0] if size == 1 else gains
 
 
+def check_gains(args: argparse.Namespace) -> None:
+    """Gains are the PD controller's: ``--kp``, ``--kd`` or ``--wn`` with another
+    controller would be ignored, so they are refused, saying what to add."""
+    given = [name for name, value in (("--kp", args.kp), ("--kd", args.kd),
+                                      ("--wn", args.wn)) if value is not None]
+    if given and args.controller != "pd":
+        raise UsageError(f"{', '.join(given)} {'sets' if len(given) == 1 else 'set'} the gains "
+                         f"of the PD controller, but the controller is {args.controller!r}: "
+                         f"add --controller pd")
+
+
 def _controller(args, model):
     from ..algorithms import neutral
     from ..sim import PD, GravityCompensation
@@ -241,7 +254,7 @@ def _controller(args, model):
         return GravityCompensation()
     if args.controller == "pd":
         q_ref = np.asarray(neutral(model), float)
-        kp, kd = pd_gains(model, q_ref, args.wn)
+        kp, kd = pd_gains(model, q_ref, WN if args.wn is None else args.wn)
         kp_user, kd_user = _gains(args.kp, model, "--kp"), _gains(args.kd, model, "--kd")
         kp = kp if kp_user is None else kp_user
         kd = kd if kd_user is None else kd_user
@@ -256,6 +269,7 @@ def run(args: argparse.Namespace) -> int:
     if steps < 1:
         raise UsageError(f"--seconds {args.seconds:g} is shorter than one step of --dt "
                          f"{args.dt:g}")
+    check_gains(args)
     plot = check_plot_path(args.plot)
     html = check_html_path(args.html)
     model = registry.load(args.robot, floating_base=floating_base(args))
