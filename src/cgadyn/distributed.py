@@ -129,10 +129,16 @@ def _global_rollouts(message: str, offset: int, total: int) -> str:
     batch: its rollout index plus the chunk's offset, and which rollouts the chunk holds
     (the others' stops are reported by their own chunks)."""
     message = _ROLLOUT.sub(lambda m: f"rollout {int(m.group(1)) + offset}", message)
-    return _STOPPED.sub(
-        lambda m: f"({m.group(1)} of the {m.group(2)} rollouts {offset}-"
-                  f"{offset + int(m.group(2)) - 1} of this dask chunk stopped; the batch "
-                  f"holds {total})", message)
+    return _STOPPED.sub(lambda m: _chunk_note(int(m.group(1)), int(m.group(2)), offset, total),
+                        message)
+
+
+def _chunk_note(stopped: int, size: int, offset: int, total: int) -> str:
+    """"(k of the b rollouts i-j of this dask chunk stopped; the batch holds B)"."""
+    if size == 1:
+        return f"(the only rollout of its dask chunk; the batch holds {total})"
+    return (f"({stopped} of the {size} rollouts {offset}-{offset + size - 1} of this dask "
+            f"chunk stopped; the batch holds {total})")
 
 
 _WARNINGS = threading.Lock()
