@@ -12,6 +12,10 @@ angular about its centre of mass. In world coordinates (as in ``crba``), velocit
 k of joint j moves the composite body ``I^c_j`` (j and its descendants) with the twist
 ``S^w_k``, whose momentum wrench ``F_k = I^c_j[S^w_k]`` (eq. 15) is at the world's origin;
 moved to the centre of mass, its moment is ``n - c × f``: ``A_g[:, k] = (f, n - c × f)``.
+A robot that is one tree on a free-flyer root is computed in its root body's frame instead
+(``kinematics.frame_motors`` with ``free_roots_at_rest``, as ``crba``), where nothing
+carries the base's distance from the origin, and its rows and c are then turned to the
+world: ``A_g = diag(R, R) A'_g`` and ``c = R c' + p`` with ``M^w_root = T(p) R``.
 """
 
 from __future__ import annotations
@@ -36,7 +40,7 @@ from ..kernels.rigid import (
 from ..multibody.joints import joint_twist
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
-from .kinematics import world_motors
+from .kinematics import frame_motors, free_root, world_motors
 from .status import OK
 
 
@@ -102,7 +106,8 @@ def centroidal_core(m, q, Ag, com, option, work):
     if status != OK:
         return status
     Mw, M, tmp8, c, s, _, _, _, _, _, _, Ic, Sw, F = _workspace(ws.data_pointer(work), m)
-    world_motors(m, q, c, s, tmp8, M, Mw)
+    local = one_free_tree(m)
+    frame_motors(m, q, c, s, tmp8, M, Mw, local)  # the root body's frame, or the world
     for j in range(m.n):
         r, p = rigid_frame(Mw[j])
         for k in range(m.iv[j], m.iv[j + 1]):
@@ -128,8 +133,32 @@ def centroidal_core(m, q, Ag, com, option, work):
         Ag[3, k] = n1 - (com[1] * f3 - com[2] * f2)  # n - c × f
         Ag[4, k] = n2 - (com[2] * f1 - com[0] * f3)
         Ag[5, k] = n3 - (com[0] * f2 - com[1] * f1)
+    if local:
+        _to_world(M[0], Ag, com)
     status = check_result(com)
     return status if status != OK else check_result(Ag)
+
+
+@inline
+def one_free_tree(m):
+    """True when the model is one tree on a free-flyer root (joint 0, the only root): its
+    whole momentum can be computed in the root body's frame."""
+    for j in range(1, m.n):
+        if m.parents[j] < 0:
+            return False
+    return m.n > 0 and free_root(m.parents[0], m.types[0])
+
+
+@inline
+def _to_world(root, Ag, com):
+    """``A_g = diag(R, R) A'_g`` and ``c = R c' + p``, from the root body's frame to the
+    world's, ``root = M^w_root = T(p) R``."""
+    r, p = rigid_frame(root)
+    for k in range(Ag.shape[1]):
+        Ag[0, k], Ag[1, k], Ag[2, k] = rigid_rotate(r, Ag[0, k], Ag[1, k], Ag[2, k])
+        Ag[3, k], Ag[4, k], Ag[5, k] = rigid_rotate(r, Ag[3, k], Ag[4, k], Ag[5, k])
+    x, y, z = rigid_rotate(r, com[0], com[1], com[2])
+    com[0], com[1], com[2] = x + p[0], y + p[1], z + p[2]
 
 
 @inline

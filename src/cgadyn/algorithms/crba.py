@@ -1,4 +1,10 @@
-"""Joint-space mass matrix by composite rigid bodies (CRBA), in CGA, in world coordinates.
+"""Joint-space mass matrix by composite rigid bodies (CRBA), in CGA, in one frame per tree.
+
+The frame is the world's for a fixed base and the root body's own for a free-flyer root
+(``kinematics.frame_motors`` with ``free_roots_at_rest``): with the base twist in the base
+frame, M does not depend on where the base is, and computed in the world every product
+would carry the base's distance from the origin, losing digits as its square (a drone in
+UTM coordinates, a robot a kilometre away). Below, "world" means that frame.
 
 Forward pass: the world motor of each body ``M^w_j = M^w_λ M_j`` (``kinematics``); from its
 rotation and translation, built once (``rigid_frame``), the columns of the joint's motion
@@ -23,7 +29,7 @@ from ..kernels import dot
 from ..kernels.rigid import rigid_apply, rigid_frame, rigid_move_inertia, rigid_move_twist
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
-from .kinematics import world_motors
+from .kinematics import frame_motors
 from .status import OK
 
 
@@ -36,7 +42,7 @@ def crba_core(m, q, H, option, work):
         return status
     n, iv, parents = m.n, m.iv, m.parents
     Ic, Sw, Mw, M, tmp8, c, s = _workspace(ws.data_pointer(work), m)
-    world_motors(m, q, c, s, tmp8, M, Mw)  # M^w_j = M^w_λ X_j M_J(q_j)
+    frame_motors(m, q, c, s, tmp8, M, Mw, True)  # M^w_j = M^w_λ X_j M_J(q_j), free roots at rest
     for j in range(n):
         r, p = rigid_frame(Mw[j])  # R and p of M^w_j
         for k in range(iv[j], iv[j + 1]):
