@@ -23,6 +23,8 @@ QUATERNION = 4
 """A free flyer's quaternion is far from unit length."""
 WRONG_SHAPE = 5
 """An array's shape does not fit the model (batch entries check their inputs)."""
+DIVERGED = 6
+"""A rollout: a velocity past the bound one step can resolve (``sim.rollout``)."""
 
 JOINT_UNIT = 256
 SAMPLE_UNIT = 1 << 24

@@ -66,6 +66,15 @@ NQ = (1, 1, 1, 7)
 NV = (1, 1, 1, 6)
 """Size of a joint's velocity, by type."""
 
+ACTUATED = (True, True, True, False)
+"""Whether a joint of this type has an actuator of its own, by type: a free flyer has none
+(nothing pushes on a floating base but contact and other external forces), so controllers
+leave its coordinates alone."""
+SPEEDS = (("angular",), ("angular",), ("linear",), ("free",) * 3 + ("angular",) * 3)
+"""What each velocity coordinate of a joint is, by type: an angular rate, the rate of a
+slide inside the robot, or the linear velocity of a free body (which may fall as long as
+it likes). ``simulate`` bounds each one by what one step can resolve."""
+
 KIND_TYPE = {"revolute": REVOLUTE, "continuous": REVOLUTE_UNBOUNDED, "prismatic": PRISMATIC,
              "free_flyer": FREE_FLYER}
 """The joint kinds a model records (URDF's names, and ``free_flyer``) and their types."""

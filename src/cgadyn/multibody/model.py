@@ -18,7 +18,17 @@ from functools import cached_property
 
 import numpy as np
 
-from .joints import FREE_FLYER, KIND_TYPE, NQ, NV, PRISMATIC, TYPE_NAMES, unit_axes
+from .joints import (
+    ACTUATED,
+    FREE_FLYER,
+    KIND_TYPE,
+    NQ,
+    NV,
+    PRISMATIC,
+    SPEEDS,
+    TYPE_NAMES,
+    unit_axes,
+)
 from .packed import pack
 
 JOINT_KINDS = tuple(KIND_TYPE)
@@ -330,6 +340,22 @@ class Model:
     def floating_base(self) -> bool:
         """True when the root joint is a free flyer (``root_joint``)."""
         return bool(self.njoints) and int(self.joint_types[0]) == FREE_FLYER
+
+    @property
+    def actuated(self) -> np.ndarray:
+        """(nv,) bool: the velocity coordinates an actuator drives (``joints.ACTUATED``):
+        every joint's but a free flyer's. Controllers act on these alone."""
+        return self._per_coordinate(ACTUATED).astype(bool)
+
+    def coordinate_speeds(self) -> tuple[str, ...]:
+        """What each velocity coordinate is (``joints.SPEEDS``): ``"angular"``,
+        ``"linear"`` (a slide) or ``"free"`` (a free body's linear velocity)."""
+        return tuple(kind for t in self.joint_types for kind in SPEEDS[int(t)])
+
+    def _per_coordinate(self, table) -> np.ndarray:
+        """A per-type table of ``joints`` spread over the velocity coordinates."""
+        return np.repeat([table[int(t)] for t in self.joint_types],
+                         np.diff(self.idx_v)) if self.njoints else np.zeros(0)
 
     @property
     def nlinks(self) -> int:

@@ -7,9 +7,14 @@ gravity compensation,
 
 with ``q_ref ⊖ q`` the difference on the configuration manifold (``cgadyn.difference``:
 an unbounded revolute joint's error wrapped to (-π, π], a free flyer's as a body twist).
-``GravityCompensation``: ``τ_ctrl = g(q)`` alone. Gains are non-negative, one number for
-every joint or one per velocity coordinate (nv); their shapes are checked against the model
-when ``simulate`` runs.
+``GravityCompensation``: ``τ_ctrl = g(q)`` alone.
+
+Both act on the actuated coordinates only (``Model.actuated``): a free flyer has no
+actuator, so its entries of ``τ_ctrl`` are zero (gravity compensation compensates the
+joints, and a floating robot falls unless contact holds it). Gains are non-negative: one
+number for every actuated coordinate, one per actuated coordinate, or one per velocity
+coordinate (nv) with zeros on the free flyer's; their shapes are checked against the model
+when ``simulate`` runs (``actuated_gains``).
 """
 
 from __future__ import annotations
@@ -38,11 +43,38 @@ def _gain(x, name: str) -> np.ndarray:
     return g
 
 
+def actuated_gains(model, gain: np.ndarray, name: str) -> np.ndarray:
+    """``gain`` (a number, (n_actuated,) or (nv,)) as (nv,), zero on the coordinates no
+    actuator drives; a ``ValueError`` for any other shape, or for a nonzero gain on such a
+    coordinate."""
+    act = model.actuated
+    out = np.zeros(model.nv)
+    if gain.shape == ():
+        out[act] = gain
+    elif gain.shape == (int(act.sum()),) and gain.shape != (model.nv,):
+        out[act] = gain
+    elif gain.shape == (model.nv,):
+        if np.any(gain[~act] != 0.0):
+            raise ValueError(f"PD gain {name} acts on the free flyer's coordinates "
+                             f"{np.flatnonzero(~act).tolist()}, which no actuator drives; "
+                             f"expected zeros there (or one gain per actuated coordinate)")
+        out[:] = gain
+    elif act.all():
+        raise ValueError(f"PD gain {name} must be a number or have shape ({model.nv},), "
+                         f"got {gain.shape}")
+    else:
+        raise ValueError(f"PD gain {name} must be a number, one per actuated coordinate "
+                         f"({int(act.sum())},) or one per velocity coordinate "
+                         f"({model.nv},), got shape {gain.shape}")
+    return out
+
+
 @dataclass(frozen=True, eq=False)
 class PD:
     """``τ = K_p (q_ref ⊖ q) + K_d (v_ref - v) [+ g(q)]``.
 
-    ``kp``, ``kd``: numbers or arrays (nv,); ``q_ref`` (nq,): the configuration to hold, by
+    ``kp``, ``kd``: numbers or arrays (``actuated_gains``); ``q_ref`` (nq,): the
+    configuration to hold (its actuated coordinates: a free base is not held), by
     default each rollout's initial one; ``v_ref`` (nv,): by default zero;
     ``gravity_compensation``: add ``g(q)`` (with the simulation's gravity).
     """
@@ -63,7 +95,8 @@ class PD:
 
 @dataclass(frozen=True)
 class GravityCompensation:
-    """``τ = g(q) = RNEA(q, 0, 0)``: holds a robot at rest wherever it is."""
+    """``τ = g(q) = RNEA(q, 0, 0)`` on the actuated coordinates: holds a fixed-base robot at
+    rest wherever it is; a floating one still falls (its base wrench is not applied)."""
 
     def flags(self) -> int:
         return GRAVITY

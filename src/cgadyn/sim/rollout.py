@@ -23,10 +23,22 @@ for one-dof joints, ``M exp(V / 2)`` for a free flyer). With ``h = dt``:
   corrected by the inverse of the exponential's differential (Munthe-Kaas), so the order
   there is lower, as with the same scheme written on Pinocchio's ``integrate``.
 
+Only the actuated coordinates are driven: ``τ_ctrl`` is multiplied coordinate by coordinate
+by the model's actuation selector (1 for a joint's coordinate, 0 for a free flyer's: nothing
+pushes on a floating base but external forces), so gravity compensation compensates the
+joints only and a PD law has no gains on the base.
+
 Every core called here (``aba_core``, ``rnea_core``, ``energy_core``) allocates nothing and
 takes a workspace; each rollout owns one. Compiled code never raises: a rollout whose step
-fails (a fault of ABA, or a state that is no longer finite) stops there with a status, and
-the loop records how many steps it completed.
+fails (a fault of ABA, a state that is no longer finite, or a speed past its bound) stops
+there with a status, and the loop records how many steps it completed. The speed bound of
+each velocity coordinate (``DIVERGED``) is what one step can resolve: an angle that turns
+more than half a turn in one step, or a slide that moves further than the robot is large,
+is an integration that has diverged, and is caught before ABA meets the overflowing state.
+
+States are kept every ``every`` steps (state 0, every, 2 every, ...) and the last one; with
+``every = 0`` only the last. The loop steps in two state buffers of its own and writes only
+the states kept, so a long run needs memory for those alone.
 
 The loop over steps computes no energy: ``energies`` computes the kinetic and potential
 energy of every state reached afterwards, in one parallel call over all states, when a
@@ -48,7 +60,7 @@ from ..algorithms.energy import energy_core
 from ..algorithms.energy import workspace_size as energy_workspace
 from ..algorithms.rnea import rnea_core
 from ..algorithms.rnea import workspace_size as rnea_workspace
-from ..algorithms.status import NONFINITE_RESULT, OK, fault
+from ..algorithms.status import DIVERGED, NONFINITE_RESULT, OK, fault
 from ..multibody.joints import has_free_flyer, joint_difference, joint_integrate
 from ..multibody.packed import unpack
 
@@ -58,12 +70,27 @@ RK4, SEMI_IMPLICIT_EULER, EULER = 0, 1, 2
 PD, GRAVITY = 1, 2
 """Controller flags: joint-space PD around ``(q_ref, v_ref)``, gravity compensation."""
 
+KP, KD, ACTUATED, SPEED_BOUND = 0, 1, 2, 3
+"""The rows of ``coords`` (4, nv), one value per velocity coordinate: the PD gains K_p and
+K_d, the actuation selector (1 actuated, 0 not), the speed bound."""
+
 
 @inline
 def closed_loop_acceleration(m, q, v, u, f, ctrl, qdd, sc, work):
     """``qdd = ABA(q, v, u + τ_ctrl(q, v))`` (the module's first equations); ``ctrl`` the
-    controller ``(flags, gains (2, nv), q_ref (nq), v_ref (nv))``. A status."""
-    flags, gains, q_ref, v_ref = ctrl
+    controller ``(flags, coords (4, nv), q_ref (nq), v_ref (nv))``. A status; ``qdd`` NaN
+    where it fails."""
+    status = _closed_loop(m, q, v, u, f, ctrl, qdd, sc, work)
+    if status != OK:
+        for k in range(m.nv):
+            qdd[k] = np.nan
+    return status
+
+
+@inline
+def _closed_loop(m, q, v, u, f, ctrl, qdd, sc, work):
+    """``closed_loop_acceleration``, its ``qdd`` undefined where it fails."""
+    flags, coords, q_ref, v_ref = ctrl
     if flags == 0:  # no feedback: τ = τ_ol
         return aba_core(m, q, v, u, f, qdd, 0, work)
     tau, g, dq, zero, none, tmp = sc[2], sc[3], sc[4], sc[5], sc[6], sc[7]
@@ -74,12 +101,12 @@ def closed_loop_acceleration(m, q, v, u, f, ctrl, qdd, sc, work):
         if status != OK:
             return status
         for k in range(m.nv):
-            tau[k] += g[k]
+            tau[k] += coords[ACTUATED, k] * g[k]  # the actuated coordinates' share of g(q)
     if flags & PD:
         for j in range(m.n):
             joint_difference(m, j, q, q_ref, tmp, dq)  # q_ref ⊖ q
-        for k in range(m.nv):
-            tau[k] += gains[0, k] * dq[k] + gains[1, k] * (v_ref[k] - v[k])
+        for k in range(m.nv):  # K_p, K_d zero where not actuated
+            tau[k] += coords[KP, k] * dq[k] + coords[KD, k] * (v_ref[k] - v[k])
     return aba_core(m, q, v, tau, f, qdd, 0, work)
 
 
@@ -131,13 +158,23 @@ def step(m, method, q, v, u, f, ctrl, dt, qn, vn, a, sc, work):
         _advance(m, q, tau, w, tmp, dq, qn)
     if not (finite(qn) and finite(vn)):
         return fault(NONFINITE_RESULT, -1)
+    return _within_bounds(m, vn, ctrl[1])
+
+
+@inline
+def _within_bounds(m, v, coords):
+    """OK, or ``DIVERGED`` at the joint of the first velocity coordinate past its speed
+    bound (the module's docstring)."""
+    for k in range(m.nv):
+        if abs(v[k]) > coords[SPEED_BOUND, k]:
+            return fault(DIVERGED, m.dof_joint[k])
     return OK
 
 
 @inline
 def workspace_size(n, nq, nv, nl):
     """The floats of one rollout's scratch (``_scratch``)."""
-    return 12 * nv + nq + 24
+    return 15 * nv + 3 * nq + 24
 
 
 @inline
@@ -149,7 +186,8 @@ def core_workspace_size(n, nq, nv, nl):
 @inline
 def _scratch(buf, m):
     """K, K̈ (4, nv) the RK4 stages' velocities and accelerations, τ, g, δ, 0 (nv), no
-    wrenches (0, 6), tmp (3, 8), the stage configuration (nq)."""
+    wrenches (0, 6), tmp (3, 8), the stage configuration (nq); the loop's state (q, v) and
+    the next one (nq, nv each) and the acceleration (nv)."""
     K, o = ws.carve(buf, 0, (4, m.nv))
     Ka, o = ws.carve(buf, o, (4, m.nv))
     tau, o = ws.carve(buf, o, (m.nv,))
@@ -159,26 +197,34 @@ def _scratch(buf, m):
     none, o = ws.carve(buf, o, (0, 6))
     tmp, o = ws.carve(buf, o, (3, 8))
     qs, o = ws.carve(buf, o, (m.nq,))
+    q, o = ws.carve(buf, o, (m.nq,))
+    v, o = ws.carve(buf, o, (m.nv,))
+    qn, o = ws.carve(buf, o, (m.nq,))
+    vn, o = ws.carve(buf, o, (m.nv,))
+    a, o = ws.carve(buf, o, (m.nv,))
     for k in range(m.nv):
         zero[k] = 0.0
-    return K, Ka, tau, g, dq, zero, none, tmp, qs
+    return K, Ka, tau, g, dq, zero, none, tmp, qs, q, v, qn, vn, a
 
 
 @parallel
-def rollouts(packed, method, q0, v0, u, f, flags, gains, q_ref, v_ref, dt, Q, V, A,
-             completed, status):
-    """``B = q0.shape[0]`` rollouts of ``Q.shape[1] - 1`` steps, in parallel.
+def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, steps, every,
+             Q, V, A, completed, status):
+    """``B = q0.shape[0]`` rollouts of ``steps`` steps, in parallel.
 
-    ``q0`` (B, nq), ``v0`` (B, nv); ``u`` the open-loop torques (1 or B, steps, nv);
-    ``f`` wrenches (0, 1 or B, n, 6); ``gains`` (2, nv) ``K_p, K_d``;
-    ``q_ref`` (B, nq), ``v_ref`` (B, nv). Writes ``Q`` (B, steps+1, nq), ``V``, ``A``
-    (B, steps+1, nv), and per rollout the steps ``completed`` and the ``status`` (0, or the
-    fault that stopped it). The acceleration at the last state takes the last open-loop
-    torque. The outputs come in filled with NaN; a rollout that stops leaves NaN after the
-    last state it reached.
+    ``q0`` (B, nq), ``v0`` (B, nv); ``u`` the open-loop torques (1 or B, steps or 1, nv),
+    one row held over every step where it has one;
+    ``f`` wrenches (0, 1 or B, n, 6); ``coords`` (4, nv) per velocity coordinate (``KP``,
+    ``KD``, ``ACTUATED``, ``SPEED_BOUND``); ``q_ref`` (B, nq), ``v_ref`` (B, nv); ``every``
+    the states kept (``kept_row``). Writes the kept states into ``Q`` (B, rows, nq), ``V``,
+    ``A`` (B, rows, nv), and per rollout the steps ``completed`` and the ``status`` (0, or
+    the fault that stopped it). The acceleration at the last state takes the last open-loop
+    torque. The outputs come in filled with NaN; a rollout that stops writes the last state
+    it reached into the row of that state, or the next one (``stop_row``), and leaves NaN
+    after it.
     """
     m = unpack(packed)
-    B, steps = Q.shape[0], Q.shape[1] - 1
+    B, held = q0.shape[0], u.shape[1]
     size = workspace_size(m.n, m.nq, m.nv, m.nl)
     csize = core_workspace_size(m.n, m.nq, m.nv, m.nl)
     for b in prange(B):
@@ -187,55 +233,92 @@ def rollouts(packed, method, q0, v0, u, f, flags, gains, q_ref, v_ref, dt, Q, V,
         heap = np.empty(csize)
         work = ws.carve(ws.data_pointer(heap), 0, (csize,))[0]  # bare: no reference counts
         sc = _scratch(ws.data_pointer(buf), mb)
+        q, v, qn, vn, a = sc[9], sc[10], sc[11], sc[12], sc[13]
         # bare views of this rollout's rows (no reference counts in the loop over steps)
-        Qb = _rows(Q[b], steps + 1, mb.nq)
-        Vb = _rows(V[b], steps + 1, mb.nv)
-        Ab = _rows(A[b], steps + 1, mb.nv)
-        ub = _rows(u[0], steps, mb.nv)  # shared by all rollouts, or
+        rows = Q.shape[1]
+        Qb = _rows(Q[b], rows, mb.nq)
+        Vb = _rows(V[b], rows, mb.nv)
+        Ab = _rows(A[b], rows, mb.nv)
+        ub = _rows(u[0], held, mb.nv)  # shared by all rollouts, or
         if u.shape[0] > 1:
-            ub = _rows(u[b], steps, mb.nv)  # this rollout's own
+            ub = _rows(u[b], held, mb.nv)  # this rollout's own
+        hold = 1 if held == steps else 0  # a row per step, or one for all
         fb = sc[6]  # no wrenches, or
         if f.shape[0] == 1:
             fb = _rows(f[0], mb.n, 6)
         elif f.shape[0] > 1:
             fb = _rows(f[b], mb.n, 6)
-        ctrl = (flags, _rows(gains, 2, mb.nv), _rows(q_ref[b], 1, mb.nq)[0],
+        ctrl = (flags, _rows(coords, 4, mb.nv), _rows(q_ref[b], 1, mb.nq)[0],
                 _rows(v_ref[b], 1, mb.nv)[0])
         for k in range(mb.nq):
-            Qb[0, k] = q0[b, k]
+            q[k] = q0[b, k]
         for k in range(mb.nv):
-            Vb[0, k] = v0[b, k]
+            v[k] = v0[b, k]
         s = OK
         done = 0
         for i in range(steps):
-            s = step(mb, method, Qb[i], Vb[i], ub[i], fb, ctrl, dt, Qb[i + 1], Vb[i + 1],
-                     Ab[i], sc, work)
+            s = step(mb, method, q, v, ub[hold * i], fb, ctrl, dt, qn, vn, a, sc, work)
+            r = kept_row(i, steps, every)
+            if r >= 0:
+                _keep(q, v, a, Qb[r], Vb[r], Ab[r])
             if s != OK:
                 break
+            for k in range(mb.nq):
+                q[k] = qn[k]
+            for k in range(mb.nv):
+                v[k] = vn[k]
             done = i + 1
         if s == OK:
-            s = closed_loop_acceleration(mb, Qb[steps], Vb[steps], ub[steps - 1], fb, ctrl,
-                                         Ab[steps], sc, work)
+            s = closed_loop_acceleration(mb, q, v, ub[hold * (steps - 1)], fb, ctrl, a, sc,
+                                         work)
+            r = kept_row(steps, steps, every)
+            _keep(q, v, a, Qb[r], Vb[r], Ab[r])
+        elif kept_row(done, steps, every) < 0:
+            r = stop_row(done, every)
+            _keep(q, v, a, Qb[r], Vb[r], Ab[r])
         completed[b] = done
         status[b] = s
-        if s != OK:
-            _blank(Qb, Vb, Ab, done)
+
+
+@inline
+def kept_row(i, steps, every):
+    """The row of ``Q`` that keeps state ``i``, or -1: states ``0, every, 2 every, ...`` and
+    the last (``steps``); ``every = 0`` keeps the last alone (row 0)."""
+    if every == 0:
+        return 0 if i == steps else -1
+    if i % every == 0:
+        return i // every
+    return i // every + 1 if i == steps else -1
+
+
+@inline
+def stop_row(done, every):
+    """The row that keeps the last state a stopped rollout reached, ``done``, where
+    ``kept_row`` keeps none: the one after the last row it filled."""
+    return 0 if every == 0 else done // every + 1
+
+
+def kept_rows(steps: int, every: int) -> int:
+    """The rows of ``Q`` for ``steps`` steps keeping every ``every``-th state
+    (``kept_row``)."""
+    return 1 if every == 0 else steps // every + 1 + (steps % every != 0)
+
+
+@inline
+def _keep(q, v, a, Qr, Vr, Ar):
+    """Write a state and its acceleration (NaN where ``step`` could not compute it) into
+    its row."""
+    for k in range(q.shape[0]):
+        Qr[k] = q[k]
+    for k in range(v.shape[0]):
+        Vr[k] = v[k]
+        Ar[k] = a[k]
 
 
 @inline
 def _rows(x, rows, cols):
     """A C-contiguous array ``x`` as a bare (rows, cols) view (``_views.carve``)."""
     return ws.carve(ws.data_pointer(x), 0, (rows, cols))[0]
-
-
-@inline
-def _blank(Q, V, A, done):
-    """NaN in every entry after the last state reached (index ``done``), where a failed
-    step may have written part of its result."""
-    for i in range(done + 1, Q.shape[0]):
-        Q[i, :] = np.nan
-        V[i, :] = np.nan
-        A[i, :] = np.nan
 
 
 @parallel

@@ -7,6 +7,7 @@ loop of ``rollout.py`` once, parallel over rollouts; it then words what stopped 
 from __future__ import annotations
 
 import numbers
+import os
 import warnings
 
 import numba
@@ -15,23 +16,43 @@ import numpy as np
 from .. import distributed
 from ..algorithms import _inputs
 from ..algorithms.api import energy as _energy
+from ..algorithms.api import link_placements
 from ..algorithms.calls import _PARALLEL
-from ..algorithms.status import NONFINITE_RESULT, QUATERNION, SINGULAR, decode
+from ..algorithms.configuration import neutral
+from ..algorithms.status import DIVERGED, NONFINITE_RESULT, QUATERNION, SINGULAR, decode
 from ..multibody.packed import DEFAULT_GRAVITY
-from .controllers import PD, GravityCompensation
-from .rollout import EULER, RK4, SEMI_IMPLICIT_EULER, energies, rollouts
+from .controllers import PD, GravityCompensation, actuated_gains
+from .rollout import (
+    ACTUATED,
+    EULER,
+    KD,
+    KP,
+    RK4,
+    SEMI_IMPLICIT_EULER,
+    SPEED_BOUND,
+    energies,
+    kept_row,
+    kept_rows,
+    rollouts,
+)
 from .trajectory import Deferred, Trajectory
 
 INTEGRATORS = {"rk4": RK4, "semi_implicit_euler": SEMI_IMPLICIT_EULER, "euler": EULER}
 
 
 class SimulationDiverged(RuntimeWarning):
-    """A rollout stopped before its last step: its state stopped being finite, or ABA
-    found a singular articulated inertia. ``Trajectory.diverged`` says which."""
+    """A rollout stopped before its last step: its state diverged (a speed past what one step
+    resolves, or no longer finite), or ABA found a singular articulated inertia.
+    ``Trajectory.diverged`` says which rollouts, ``Trajectory.message`` why."""
+
+
+MEMORY_SHARE = 0.8
+"""The share of the memory available that the states of one ``simulate`` call may take."""
 
 
 def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravity=None,
-             f_ext=None, controller=None) -> Trajectory:
+             f_ext=None, controller=None, record_every: int = 1,
+             final_only: bool = False) -> Trajectory:
     """Integrate ``q̈ = ABA(q, v, τ)`` for ``steps`` steps of ``dt`` seconds.
 
     ``q0`` (nq,) and ``v0`` (nv,) for one rollout, or (B, nq) / (B, nv) for B (either one
@@ -41,12 +62,19 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     ``rollout.py``); ``gravity``: a world-frame 3-vector, default (0, 0, -9.81);
     ``f_ext``: constant external forces as for ``aba``, (n, 6) or (B, n, 6); ``controller``:
     None, ``PD(...)`` or ``GravityCompensation()``, evaluated inside the compiled loop and
-    added to ``tau``.
+    added to ``tau`` on the actuated coordinates (a free flyer is never pushed by a
+    controller: ``Model.actuated``); ``record_every``: keep every k-th state (0, k, 2k, ...)
+    and the last, so that a long run needs memory for those alone; ``final_only``: keep the
+    last state only.
 
-    Returns a ``Trajectory``. A rollout that blows up (a state no longer finite, a singular
-    articulated inertia) stops at that step: the ``Trajectory`` holds it up to there, says
-    so (``diverged``, ``completed``, ``message``), and a ``SimulationDiverged`` warning is
-    issued (turn it into an error with ``warnings.simplefilter("error", SimulationDiverged)``).
+    Returns a ``Trajectory`` of the states kept. A rollout that diverges (a joint turning
+    more than half a turn in one step, a slide moving further than the robot is large, a
+    state no longer finite) or meets a singular articulated inertia stops at that step: the
+    ``Trajectory`` holds it up to there, says so (``diverged``, ``completed``, ``message``:
+    the step, the rollout, the quantity), and a ``SimulationDiverged`` warning is issued
+    (turn it into an error with ``warnings.simplefilter("error", SimulationDiverged)``).
+    A run whose states would not fit in the memory available is refused before it starts,
+    with what to reduce.
 
     dask arrays of states (``q0``/``v0`` (B, n), ``tau`` (B, steps, nv), chunked along B)
     give a ``Trajectory`` of dask arrays, one compiled call per chunk (``cgadyn.distributed``).
@@ -56,7 +84,11 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {', '.join(map(repr, INTEGRATORS))}, "
                          f"got {integrator!r}")
+    every = _every(record_every, final_only, steps)
     if any(distributed.is_dask(x) for x in (q0, v0, tau)):  # chunks of rollouts, scheduled by dask
+        if every != 1:
+            raise ValueError("record_every and final_only are not available with dask arrays "
+                             "of states yet; chunk the run along the rollouts instead")
         return distributed.simulate(model, q0, v0, dt, steps, tau, dict(
             integrator=integrator, gravity=gravity, f_ext=f_ext, controller=controller))
     gravity = DEFAULT_GRAVITY if gravity is None else gravity
@@ -66,32 +98,40 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     u = _torques(model, tau, steps)
     batch = _batch({"q0": q0, "v0": v0, "tau": u if u.ndim == 3 else None})
     B = batch or 1
+    rows = kept_rows(steps, every)
+    _fits(model, B, steps, rows)
     q0 = np.array(np.broadcast_to(q0, (B, model.nq)))  # own copies: one compiled signature
     v0 = np.array(np.broadcast_to(v0, (B, model.nv)))
     _energy(model, q0, v0, gravity)  # finite states, unit quaternions: its ValueError
-    u = u.reshape((-1, steps, model.nv))
+    u = u.reshape((-1, u.shape[-2], model.nv))
     f = _inputs.external(model, f_ext, (B,) if batch else ())
     f = np.empty((0, model.njoints, 6)) if f is None else np.array(
         f.reshape(-1, model.njoints, 6))
-    flags, gains, q_ref, v_ref = _controller(model, controller, q0, B)
+    coords = np.zeros((4, model.nv))
+    coords[SPEED_BOUND] = speed_bounds(model, dt)
+    coords[ACTUATED] = model.actuated
+    flags, q_ref, v_ref = _controller(model, controller, q0, B, coords)
 
-    shape = (B, steps + 1)
+    shape = (B, rows)
     Q, V, A = (np.full(shape + (n,), np.nan) for n in (model.nq, model.nv, model.nv))
     completed = np.zeros(B, dtype=np.int64)
     status = np.zeros(B, dtype=np.int64)
     with _PARALLEL:
-        rollouts(packed, INTEGRATORS[integrator], q0, v0, u, f, flags, gains, q_ref, v_ref,
-                 dt, Q, V, A, completed, status)
-    message = _message(model, status, completed, dt, steps, batch)
+        rollouts(packed, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, q_ref, v_ref,
+                 dt, steps, every, Q, V, A, completed, status)
+    message = _message(model, status, completed, dt, steps, batch, coords, A)
     if message:
         warnings.warn(message, SimulationDiverged, stacklevel=2)
-    t = dt * np.arange(steps + 1)
+    t = _times(dt, steps, every, rows)
     diverged = status != 0
-    last = np.where(diverged, completed, steps)  # the last state each rollout reached
+    last = np.array([_last_row(int(c), steps, every) if d else rows - 1
+                     for c, d in zip(completed, diverged, strict=True)], dtype=np.int64)
     if not batch:
         end = int(last[0]) + 1
-        Q, V, A, t = Q[0, :end], V[0, :end], A[0, :end], t[:end]
+        Q, V, A, t = Q[0, :end], V[0, :end], A[0, :end], t[:end].copy()
         completed, diverged = int(completed[0]), bool(diverged[0])
+        if diverged:
+            t[-1] = completed * dt  # the last state it reached
     deferred = Deferred(lambda: _energies(packed, Q, V, last))
     return Trajectory(t=t, q=Q, v=V, a=A, kinetic=deferred, potential=deferred,
                       completed=completed, diverged=diverged,
@@ -110,6 +150,87 @@ def _energies(packed, Q, V, last):
     return E[..., 0], E[..., 1]
 
 
+def _every(record_every, final_only, steps: int) -> int:
+    """The compiled loop's ``every`` (``rollout.kept_row``): 0 for ``final_only``."""
+    if not isinstance(final_only, bool | np.bool_):
+        raise ValueError(f"final_only must be True or False, got {final_only!r}")
+    if isinstance(record_every, bool) or not isinstance(record_every, numbers.Integral) \
+            or record_every < 1:
+        raise ValueError(f"record_every must be a positive integer (keep every k-th state), "
+                         f"got {record_every!r}")
+    return 0 if final_only else int(min(record_every, steps))
+
+
+def _times(dt: float, steps: int, every: int, rows: int) -> np.ndarray:
+    """The time of each row kept (``rollout.kept_row``): ``every`` steps apart, the last at
+    ``steps dt``."""
+    if every == 0:
+        return np.array([steps * dt])
+    t = dt * every * np.arange(rows)
+    t[-1] = steps * dt
+    return t
+
+
+def _last_row(done: int, steps: int, every: int) -> int:
+    """The row holding the last state a stopped rollout reached (``rollout.rollouts``)."""
+    r = kept_row.py_func(done, steps, every)
+    return r if r >= 0 else (0 if every == 0 else done // every + 1)
+
+
+def available_memory() -> int:
+    """Bytes of memory available to a new allocation (Linux's ``MemAvailable``; the free
+    physical pages elsewhere)."""
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+
+
+def _fits(model, B: int, steps: int, rows: int) -> None:
+    """Refuse, before anything is allocated, a run whose kept states (q, v, q̈ and the two
+    energies of each) would take more than ``MEMORY_SHARE`` of the memory available."""
+    per_row = 8 * (model.nq + 2 * model.nv + 2)
+    need, have = B * rows * per_row, int(MEMORY_SHARE * available_memory())
+    if need <= have:
+        return
+    fit = have // (B * per_row)  # rows that fit; kept_rows(steps, k) <= steps / k + 2
+    every = -(-steps // (fit - 2)) if fit >= 3 else 0
+    fix = (f"record_every={every} (keep every {every}-th state)" if every
+           else "fewer rollouts")
+    raise ValueError(f"simulate: {B} rollout(s) of {rows} kept states of {model.name!r} need "
+                     f"{_size(need)}, more than the {_size(have)} of memory available; "
+                     f"reduce the steps or the rollouts, keep fewer states with {fix}, or "
+                     f"only the last with final_only=True")
+
+
+def _size(n: float) -> str:
+    for unit in ("bytes", "KiB", "MiB", "GiB", "TiB", "PiB"):
+        if n < 1024 or unit == "PiB":
+            return f"{n:.1f} {unit}" if unit != "bytes" else f"{int(n)} bytes"
+        n /= 1024
+    return ""
+
+
+def speed_bounds(model, dt: float) -> np.ndarray:
+    """(nv,) the speed past which a rollout has diverged, by what each velocity coordinate
+    is (``Model.coordinate_speeds``): an angle turning more than half a turn in one step
+    (π / dt), a slide moving further in one step than the robot is large (its links'
+    extent in the neutral configuration plus 1 m, over dt); a free body's linear velocity
+    is not bounded (it may fall as long as it likes)."""
+    kinds = model.coordinate_speeds()
+    out = np.full(model.nv, np.inf)
+    out[[k == "angular" for k in kinds]] = np.pi / dt
+    if "linear" in kinds:
+        origins = link_placements(model, neutral(model))[:, :3, 3]
+        size = float(np.max(np.ptp(origins, axis=0))) + 1.0 if origins.size else 1.0
+        out[[k == "linear" for k in kinds]] = size / dt
+    return out
+
+
 def _positive(dt) -> float:
     if isinstance(dt, bool) or not isinstance(dt, numbers.Real) or not np.isfinite(dt) \
             or dt <= 0:
@@ -124,10 +245,13 @@ def _steps(steps) -> int:
 
 
 def _torques(model, tau, steps: int) -> np.ndarray:
-    """Open-loop torques as (steps, nv) or (B, steps, nv) float64; zeros for None."""
+    """Open-loop torques as (steps, nv) or (B, steps, nv) float64; for None one row of
+    zeros (1, nv), which the loop holds over every step."""
     nv = model.nv
     if tau is None:
-        return np.zeros((steps, nv))
+        return np.zeros((1, nv))
+    if np.iscomplexobj(tau):
+        raise ValueError("tau has complex values; expected real torques")
     try:
         u = np.asarray(tau, dtype=float)
     except (TypeError, ValueError):
@@ -146,29 +270,30 @@ def _torques(model, tau, steps: int) -> np.ndarray:
 def _batch(arrays: dict) -> int:
     """The common number of rollouts B of the batched arrays (0: one rollout)."""
     sizes = {k: a.shape[0] for k, a in arrays.items() if a is not None and a.ndim >= 2}
+    empty = [k for k, n in sizes.items() if n == 0]
+    if empty:
+        raise ValueError(f"{empty[0]} holds no rollout (shape {arrays[empty[0]].shape}); "
+                         f"expected at least one row")
     if len(set(sizes.values())) > 1:
         detail = ", ".join(f"{k} {arrays[k].shape}" for k in sizes)
         raise ValueError(f"the batched inputs disagree on the number of rollouts: {detail}")
     return next(iter(sizes.values()), 0)
 
 
-def _controller(model, controller, q0: np.ndarray, B: int):
-    """``(flags, gains (2, nv), q_ref (B, nq), v_ref (B, nv))`` for the compiled loop."""
+def _controller(model, controller, q0: np.ndarray, B: int, coords: np.ndarray):
+    """``(flags, q_ref (B, nq), v_ref (B, nv))`` for the compiled loop; a PD law's gains
+    into ``coords`` (``rollout.KP``, ``KD``), zero where no actuator drives."""
     nq, nv = model.nq, model.nv
-    gains = np.zeros((2, nv))
     q_ref, v_ref = q0.copy(), np.zeros((B, nv))
     if controller is None:
-        return 0, gains, q_ref, v_ref
+        return 0, q_ref, v_ref
     if isinstance(controller, GravityCompensation):
-        return controller.flags(), gains, q_ref, v_ref
+        return controller.flags(), q_ref, v_ref
     if not isinstance(controller, PD):
         raise ValueError(f"controller must be None, cgadyn.PD(...) or "
                          f"cgadyn.GravityCompensation(), got {controller!r}")
-    for row, (name, g) in enumerate((("kp", controller.kp), ("kd", controller.kd))):
-        if g.shape not in ((), (nv,)):
-            raise ValueError(f"PD gain {name} must be a number or have shape ({nv},), "
-                             f"got {g.shape}")
-        gains[row] = g
+    coords[KP] = actuated_gains(model, controller.kp, "kp")
+    coords[KD] = actuated_gains(model, controller.kd, "kd")
     if controller.q_ref is not None:
         ref = _inputs.state(model, controller.q_ref, "q_ref", nq)
         if ref.ndim != 1 or not np.all(np.isfinite(ref)):
@@ -180,29 +305,51 @@ def _controller(model, controller, q0: np.ndarray, B: int):
         if ref.ndim != 1 or not np.all(np.isfinite(ref)):
             raise ValueError(f"v_ref must be one finite velocity ({nv},), got {ref!r}")
         v_ref[:] = ref
-    return controller.flags(), gains, q_ref, v_ref
+    return controller.flags(), q_ref, v_ref
 
 
-_REASONS = {
-    NONFINITE_RESULT: "the state stopped being finite (the step is too large for the "
-                      "motion, or the torques too strong)",
-    SINGULAR: "a singular articulated-body inertia",
-    QUATERNION: "a free flyer's quaternion left unit length",
-}
+_CAUSE = "the step dt is likely too large for the motion, or the gains or torques too strong"
+
+
+def _reason(model, code: int, joint: int, k: int, coords: np.ndarray, dt: float,
+            initial: bool) -> str:
+    """Why a rollout stopped after ``k`` steps, in words: divergence (the quantity that blew
+    up, and the likely cause) or, when ABA failed on the ``initial`` state itself, a fault
+    of the model or of that state."""
+    name = f" {model.joint_names[joint]!r}" if joint >= 0 else ""
+    if code == DIVERGED:
+        dofs = model.joint_dofs(joint)
+        bound = float(np.min(coords[SPEED_BOUND, dofs.start:dofs.stop]))
+        unit, what = (("rad/s", "half a turn") if bound == np.pi / dt
+                      else ("m/s", "further than the robot is large"))
+        return (f"the state diverged: a velocity of joint{name} passed {bound:.3g} {unit}, "
+                f"moving {what} in one step of dt = {dt:g} s; {_CAUSE}")
+    if code == NONFINITE_RESULT:
+        return f"the state diverged: it stopped being finite; {_CAUSE}"
+    if code == SINGULAR and not initial:
+        return (f"the state diverged: the articulated-body inertia at joint{name} lost "
+                f"positive definiteness in floating point within step {k + 1}, from a "
+                f"state where it had it; {_CAUSE}")
+    if code == SINGULAR:
+        return (f"a singular articulated-body inertia at joint{name} in the initial state "
+                f"(a subtree without mass?)")
+    if code == QUATERNION:
+        return f"a free flyer's quaternion left unit length; {_CAUSE}"
+    return f"status {code}"
 
 
 def _message(model, status: np.ndarray, completed: np.ndarray, dt: float, steps: int,
-             batch: int) -> str:
-    """What stopped the rollouts that stopped ("" if none did)."""
+             batch: int, coords: np.ndarray, A: np.ndarray) -> str:
+    """What stopped the rollouts that stopped ("" if none did); ``A`` the accelerations
+    kept, NaN in row 0 where ABA failed on a rollout's initial state."""
     stopped = np.flatnonzero(status)
     if stopped.size == 0:
         return ""
     first = int(stopped[0])
     code, joint, _ = decode(int(status[first]))
-    reason = _REASONS.get(code, f"status {int(status[first])}")
-    if joint >= 0:
-        reason += f" at joint {model.joint_names[joint]!r}"
     k = int(completed[first])
+    initial = k == 0 and not np.isfinite(A[first, 0]).all()
+    reason = _reason(model, code, joint, k, coords, dt, initial)
     where = f"rollout {first} " if batch else ""
     more = f" ({stopped.size} of {batch} rollouts stopped)" if batch else ""
     return (f"simulation of {model.name!r}: {where}stopped after {k} of {steps} steps "

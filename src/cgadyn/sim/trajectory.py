@@ -51,16 +51,20 @@ class _Energy:
 class Trajectory:
     """Rollouts of ``steps`` steps of ``dt`` from ``t = 0``.
 
-    One rollout: ``q`` (steps+1, nq), ``v``, ``a`` (steps+1, nv), ``kinetic``,
-    ``potential``, ``energy = kinetic + potential`` (steps+1,); B rollouts: the same with a
-    leading B. ``a[i]`` is the acceleration at state i (at the last state with the last
-    open-loop torque). ``completed``: the steps each rollout completed (an int, or (B,));
+    One rollout: ``q`` (rows, nq), ``v``, ``a`` (rows, nv), ``kinetic``, ``potential``,
+    ``energy = kinetic + potential`` (rows,) at the times ``t`` (rows,); B rollouts: the same
+    with a leading B. The rows are the states kept: all steps+1 by default, every k-th and
+    the last with ``record_every=k``, the last alone with ``final_only=True``. ``a[i]`` is
+    the acceleration at the state of row i (at the last state with the last open-loop
+    torque). ``completed``: the steps each rollout completed (an int, or (B,));
     ``diverged``: whether it stopped early because its state stopped being finite or ABA
     failed (bool, or (B,)); ``message`` says why ("" when every rollout completed).
 
     A rollout that stopped holds its states up to the last one reached: one rollout's
     arrays (and ``t``) are cut there, B rollouts keep their common length with NaN after
-    each stop (``simulate`` also warns, ``SimulationDiverged``).
+    each stop (``simulate`` also warns, ``SimulationDiverged``). Where states are kept every
+    k steps, the last state a stopped rollout reached fills the row after the last one it
+    filled on the grid (at ``completed * dt``, which ``t`` of one rollout says).
 
     ``kinetic`` and ``potential`` from ``simulate`` are computed when one of them (or
     ``energy``) is first read, from the states ``q``, ``v`` then held, in one parallel
