@@ -232,3 +232,42 @@ def test_a_plot_names_every_coordinate():
         assert len(colours) == solo.nq  # no two curves drawn alike
     finally:
         plt.close(fig)
+
+
+def test_a_long_run_keeps_every_kth_state(monkeypatch):
+    """The chunked run keeps the states of one ``simulate`` call with ``record_every``, and
+    a run too long for ``MAX_KEPT`` states keeps every k-th by default."""
+    model = cgadyn.load("double_pendulum")
+    monkeypatch.setattr(command, "PROGRESS_AFTER", 0.0)
+    chunked = command.simulate_chunked(model, Q0, V0, 1e-3, 1537, "rk4", None, every=100)
+    traj = simulate(model, Q0, V0, 1e-3, 1537, record_every=100)
+    assert chunked.completed == 1537 and len(chunked.t) == 17
+    for key in ("q", "v", "a", "energy"):
+        np.testing.assert_array_equal(getattr(chunked, key), getattr(traj, key), err_msg=key)
+    np.testing.assert_allclose(chunked.t, traj.t, rtol=1e-14)
+    from cgadyn.sim.rollout import kept_rows
+
+    every = command.record_every(10 ** 8, None)
+    assert kept_rows(10 ** 8, every) <= command.MAX_KEPT < kept_rows(10 ** 8, every - 1)
+    assert command.record_every(1000, None) == 1 and command.record_every(1000, 7) == 7
+
+
+def test_a_floating_robot_under_pd_falls():
+    """The PD controller of the command drives the joints, never the free base: solo12 falls
+    (no ground yet), its base by about g t² / 2."""
+    r = cgadyn_cmd("simulate", "solo12", "--controller", "pd", "--seconds", "0.3", "--json",
+                   "--record-every", "50", "--no-progress")
+    assert r.returncode == 0, r.stderr
+    out = strict_json(r.stdout)
+    q = np.array(out["q"])
+    assert len(q) == 7 and out["record_every"] == 50
+    assert q[0, 2] - q[-1, 2] == pytest.approx(0.5 * 9.81 * 0.3 ** 2, rel=0.05)
+    assert out["actuated"] == [False] * 6 + [True] * 12
+    assert np.all(np.array(out["gains"]["kp"])[:6] == 0.0)
+
+
+@pytest.mark.parametrize("value", ["0", "-3", "2.5", "x"])
+def test_record_every_must_be_a_positive_integer(value):
+    r = cgadyn_cmd("simulate", "double_pendulum", "--record-every", value)
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert "argument --record-every: expected a positive integer" in r.stderr

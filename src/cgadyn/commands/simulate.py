@@ -46,6 +46,24 @@ WN = 10.0
 """rad/s: the default natural frequency of the ``pd`` controller's joints."""
 PROGRESS_AFTER = 1.0
 """Seconds: a run expected to take longer than this draws a progress bar."""
+MAX_KEPT = 100_001
+"""The states a run keeps unless ``--record-every`` says otherwise: a longer run keeps every
+k-th (the first k that fits), so that its memory and its JSON stay bounded."""
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
+    return value
+
+
+def record_every(steps: int, given: int | None) -> int:
+    """``--record-every``, or the smallest k that keeps at most ``MAX_KEPT`` states."""
+    return given if given is not None else max(1, -(-steps // (MAX_KEPT - 2)))
 
 
 def add_parser(sub) -> None:
@@ -88,6 +106,9 @@ def add_parser(sub) -> None:
     p.add_argument("--html", metavar="FILE", help="write a self-contained animation of the "
                    "robot with its meshes, for a browser, to FILE.html (needs meshcat: pip "
                    "install 'cgadyn[viewer]')")
+    p.add_argument("--record-every", type=_positive_int, metavar="K",
+                   help=f"keep every K-th state and the last (default 1, or as many as keep "
+                        f"at most {MAX_KEPT} states of a long run)")
     p.add_argument("--no-progress", dest="progress", action="store_false",
                    help="never draw the progress bar")
     add_base_options(p)
@@ -152,16 +173,17 @@ class _Progress:
 
 
 def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, controller,
-                     progress: bool = True):
-    """``cgadyn.simulate(model, q0, v0, dt, steps, ...)`` as a sequence of calls, each
-    continuing from the last state, with a progress bar when the whole is expected to take
-    longer than :data:`PROGRESS_AFTER` seconds. Returns one ``Trajectory`` (its message
-    gives the step and time of the whole run)."""
+                     progress: bool = True, every: int = 1):
+    """``cgadyn.simulate(model, q0, v0, dt, steps, ..., record_every=every)`` as a sequence
+    of calls, each continuing from the last state and each a whole number of ``every``
+    steps (so that the states kept are those of one call), with a progress bar when the
+    whole is expected to take longer than :data:`PROGRESS_AFTER` seconds. Returns one
+    ``Trajectory`` (its message gives the step and time of the whole run)."""
     from ..sim import Trajectory, simulate
 
-    parts: dict[str, list] = {k: [] for k in ("q", "v", "a", "kinetic", "potential")}
+    parts: dict[str, list] = {k: [] for k in ("t", "q", "v", "a", "kinetic", "potential")}
     q, v, done, message, bar = q0, v0, 0, "", None
-    chunk = 1  # the first call compiles: one step, then a measured chunk sets the pace
+    chunk = every  # the first call compiles: one kept row, then a measured chunk sets the pace
     while done < steps:
         n = min(chunk, steps - done)
         start = time.perf_counter()
@@ -174,33 +196,34 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # the message is reported once, below
                 traj = simulate(model, q, v, dt, n, integrator=integrator,
-                                controller=controller)
+                                controller=controller, record_every=every)
         finally:
             if notice is not None:
                 notice.cancel()
         took = time.perf_counter() - start
         first = 0 if done == 0 else 1
         for k in parts:
-            parts[k].append(np.asarray(getattr(traj, k))[first:])
+            x = traj.t + done * dt if k == "t" else getattr(traj, k)
+            parts[k].append(np.asarray(x)[first:])
         done += int(traj.completed)
         if traj.diverged:
             message = _stopped(traj.message, done, steps, dt)
             break
         q, v = traj.q[-1], traj.v[-1]
-        if chunk == 1:
-            chunk = min(1000, steps)
+        if done == n:
+            chunk = max(1, min(1000, steps) // every) * every
         else:
             rate = n / max(took, 1e-9)  # steps per second
             if bar is None and progress and (steps - done) / rate > PROGRESS_AFTER:
                 bar = _Progress(steps)
-            chunk = max(1, int(rate * 0.25))  # four updates a second
+            chunk = max(1, int(rate * 0.25) // every) * every  # four updates a second
         if bar is not None and done < steps:
             bar.update(done)
     if bar is not None:
         bar.update(done, final=True)
     out = {k: np.concatenate(v) for k, v in parts.items()}
-    return Trajectory(t=dt * np.arange(len(out["q"])), **out, completed=len(out["q"]) - 1,
-                      diverged=bool(message), dt=dt, integrator=integrator, message=message)
+    return Trajectory(**out, completed=done, diverged=bool(message), dt=dt,
+                      integrator=integrator, message=message)
 
 
 def _stopped(message: str, done: int, steps: int, dt: float) -> str:
@@ -218,10 +241,11 @@ def _compiling() -> None:
 
 def pd_gains(model, q_ref: np.ndarray, wn: float) -> tuple[np.ndarray, np.ndarray]:
     """``K_p = diag(M(q_ref)) wn²``, ``K_d = 2 diag(M(q_ref)) wn``: each joint alone, with
-    the inertia it moves at ``q_ref``, a critically damped oscillator of frequency ``wn``."""
+    the inertia it moves at ``q_ref``, a critically damped oscillator of frequency ``wn``;
+    zero on the coordinates no actuator drives (a free flyer's)."""
     from ..algorithms import crba
 
-    m = np.diag(np.asarray(crba(model, q_ref)))
+    m = np.where(model.actuated, np.diag(np.asarray(crba(model, q_ref))), 0.0)
     return m * wn**2, 2.0 * m * wn
 
 
@@ -285,15 +309,17 @@ def run(args: argparse.Namespace) -> int:
 
         visuals(model, _urdf(args.robot, registry))
 
+    every = record_every(steps, args.record_every)
     start = time.perf_counter()
     traj = simulate_chunked(model, q0, v0, args.dt, steps, args.integrator, controller,
-                            progress=args.progress)
+                            progress=args.progress, every=every)
     wall = time.perf_counter() - start
     drift = traj.energy_drift() if controller is None else None  # a passive run
     summary = {"robot": model.name, "base": "free flyer" if model.floating_base else "fixed",
                "nq": model.nq, "nv": model.nv, "integrator": args.integrator,
                "dt": args.dt, "steps": steps, "seconds": steps * args.dt,
-               "controller": args.controller,
+               "record_every": every, "states_kept": len(traj.t),
+               "controller": args.controller, "actuated": model.actuated,
                "gains": {"kp": controller.kp, "kd": controller.kd}
                if args.controller == "pd" else None,
                "completed": traj.completed, "diverged": traj.diverged,
@@ -308,7 +334,7 @@ def run(args: argparse.Namespace) -> int:
     if html is not None:
         from ..sim.html import write_html
 
-        write_html(model, traj.q, args.dt, html, urdf=_urdf(args.robot, registry))
+        write_html(model, traj.q, args.dt * every, html, urdf=_urdf(args.robot, registry))
     if args.json:
         arrays = {k: getattr(traj, k) for k in ("t", "q", "v", "a", "kinetic", "potential",
                                                 "energy")}
@@ -337,7 +363,9 @@ def _summary_text(s: dict, plot, html) -> str:
              f"{s['integrator']}, dt {s['dt']:g} s, {s['seconds']:g} s ({s['steps']} steps), "
              f"controller {s['controller']}",
              f"  simulated {s['completed']} steps in {s['wall_seconds']:.3g} s "
-             f"({rate:.3g} steps/s)",
+             f"({rate:.3g} steps/s), kept {s['states_kept']} states"
+             + (f" (every {s['record_every']}th and the last)" if s["record_every"] > 1
+                else ""),
              f"  q(end) = {_vec(s['q_final'])}",
              f"  v(end) = {_vec(s['v_final'])}",
              f"  energy E(0) = {s['energy_initial']:.10g} J, E(end) = "
