@@ -63,7 +63,7 @@ def _positive_int(text: str) -> int:
 
 def record_every(steps: int, given: int | None) -> int:
     """``--record-every``, or the smallest k that keeps at most ``MAX_KEPT`` states."""
-    return given if given is not None else max(1, -(-steps // (MAX_KEPT - 2)))
+    return given if given is not None else max(1, -(-steps // (MAX_KEPT - 1)))
 
 
 def add_parser(sub) -> None:
@@ -181,7 +181,7 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
     ``Trajectory`` (its message gives the step and time of the whole run)."""
     from ..sim import Trajectory, simulate
 
-    parts: dict[str, list] = {k: [] for k in ("t", "q", "v", "a", "kinetic", "potential")}
+    parts: dict[str, list] = {k: [] for k in ("i", "q", "v", "a", "kinetic", "potential")}
     q, v, done, message, bar = q0, v0, 0, "", None
     chunk = every  # the first call compiles: one kept row, then a measured chunk sets the pace
     while done < steps:
@@ -202,8 +202,8 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
                 notice.cancel()
         took = time.perf_counter() - start
         first = 0 if done == 0 else 1
-        for k in parts:
-            x = traj.t + done * dt if k == "t" else getattr(traj, k)
+        for k in parts:  # "i": the step of each state kept
+            x = np.rint(traj.t / dt).astype(np.int64) + done if k == "i" else getattr(traj, k)
             parts[k].append(np.asarray(x)[first:])
         done += int(traj.completed)
         if traj.diverged:
@@ -222,7 +222,9 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
     if bar is not None:
         bar.update(done, final=True)
     out = {k: np.concatenate(v) for k, v in parts.items()}
-    return Trajectory(**out, completed=done, diverged=bool(message), dt=dt,
+    i = out.pop("i")  # the times as one call gives them (sim.simulate._times)
+    t = np.where(i % every == 0, (dt * every) * (i // every), dt * i)
+    return Trajectory(t=t, **out, completed=done, diverged=bool(message), dt=dt,
                       integrator=integrator, message=message)
 
 
