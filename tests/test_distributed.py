@@ -79,6 +79,17 @@ def test_dask_simulate_equals_numpy(panda):
     np.testing.assert_array_equal(traj.v.compute(), ref.v)
 
 
+def test_dask_simulate_keeps_every_kth_state(panda):
+    model, s = panda
+    for kwargs in (dict(record_every=7), dict(final_only=True)):
+        traj = cgadyn.simulate(model, chunked(s["q"]), chunked(s["v"]), 1e-3, 20, **kwargs)
+        ref = cgadyn.simulate(model, s["q"], s["v"], 1e-3, 20, **kwargs)
+        q, e = dask.compute(traj.q, traj.energy)
+        np.testing.assert_array_equal(q, ref.q)
+        np.testing.assert_array_equal(e, ref.energy)
+        np.testing.assert_array_equal(traj.t, ref.t)
+
+
 def test_dask_bad_input(panda):
     model, s = panda
     with pytest.raises(ValueError, match="every other state must be"):

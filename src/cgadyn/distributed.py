@@ -175,7 +175,8 @@ def _simulate_block(model, dt, steps, kwargs, total, q0, v0, tau, block_info=Non
                       np.asarray(traj.diverged, dtype=float).reshape(B)], axis=1)
     return np.concatenate([traj.q, traj.v, traj.a, traj.kinetic[..., None],
                            traj.potential[..., None],
-                           np.broadcast_to(flags[:, None, :], (B, steps + 1, 2))], axis=-1)
+                           np.broadcast_to(flags[:, None, :], (B, traj.q.shape[1], 2))],
+                          axis=-1)
 
 
 def simulate(model, q0, v0, dt, steps, tau, kwargs: dict):
@@ -185,10 +186,13 @@ def simulate(model, q0, v0, dt, steps, tau, kwargs: dict):
     shows in ``completed`` and ``diverged`` (and as a warning where the chunk ran)."""
     import dask.array as da
 
-    from .sim.simulate import _steps
+    from .sim.rollout import kept_rows
+    from .sim.simulate import _every, _steps, _times
     from .sim.trajectory import Trajectory
 
     steps = _steps(steps)
+    every = _every(kwargs.get("record_every", 1), kwargs.get("final_only", False), steps)
+    kept = kept_rows(steps, every)  # the rows of each rollout (``rollout.kept_row``)
     q0, v0 = _aligned((q0, v0), (model.nq, model.nv),
                       lead=tau if not (is_dask(q0) or is_dask(v0)) else None)
     rows = q0.chunks[0]
@@ -212,10 +216,10 @@ def simulate(model, q0, v0, dt, steps, tau, kwargs: dict):
     out = da.map_blocks(_simulate_block, model, float(dt), steps, kwargs, q0.shape[0],
                         q0[:, None, :],
                         v0[:, None, :], tau, dtype=float,
-                        chunks=(rows, (steps + 1,), (width,)))
+                        chunks=(rows, (kept,), (width,)))
     cut = np.cumsum([0, nq, nv, nv, 1, 1, 1, 1])
     q, v, a, T, U, done, diverged = (out[..., cut[i]:cut[i + 1]] for i in range(7))
-    return Trajectory(t=dt * np.arange(steps + 1), q=q, v=v, a=a, kinetic=T[..., 0],
+    return Trajectory(t=_times(dt, steps, every, kept), q=q, v=v, a=a, kinetic=T[..., 0],
                       potential=U[..., 0],
                       completed=done[:, 0, 0].astype(np.int64),
                       diverged=diverged[:, 0, 0].astype(bool), dt=float(dt),

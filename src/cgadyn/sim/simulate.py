@@ -86,11 +86,9 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
                          f"got {integrator!r}")
     every = _every(record_every, final_only, steps)
     if any(distributed.is_dask(x) for x in (q0, v0, tau)):  # chunks of rollouts, scheduled by dask
-        if every != 1:
-            raise ValueError("record_every and final_only are not available with dask arrays "
-                             "of states yet; chunk the run along the rollouts instead")
         return distributed.simulate(model, q0, v0, dt, steps, tau, dict(
-            integrator=integrator, gravity=gravity, f_ext=f_ext, controller=controller))
+            integrator=integrator, gravity=gravity, f_ext=f_ext, controller=controller,
+            record_every=record_every, final_only=final_only))
     gravity = DEFAULT_GRAVITY if gravity is None else gravity
     packed = _inputs.packed(model, gravity)
     q0 = _inputs.state(model, q0, "q0", model.nq)
