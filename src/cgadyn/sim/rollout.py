@@ -323,8 +323,8 @@ def _rows(x, rows, cols):
 
 @parallel
 def energies(packed, Q, V, last, E, threads):
-    """``E[b, i] = (T, U)`` (``energy_core``) of the states ``Q[b, i], V[b, i]`` that rollout
-    b reached, ``i <= last[b]``, in parallel chunks of the B (steps+1) states; ``E`` comes
+    """``E[b, i] = (T, U)`` (``energy_core``) of the states kept ``Q[b, i], V[b, i]`` that
+    rollout b reached, rows ``i <= last[b]``, in parallel chunks of all B rows; ``E`` comes
     in filled with NaN, which stays after each rollout's last state (and where a state's
     energy is not finite)."""
     m = unpack(packed)

@@ -137,8 +137,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
 
 
 def _energies(packed, Q, V, last):
-    """``(kinetic, potential)`` of the states ``Q``, ``V`` ((B, steps+1, ·), or one
-    rollout's (k, ·)) up to each rollout's ``last`` state, NaN after it: one parallel
+    """``(kinetic, potential)`` of the states kept ``Q``, ``V`` ((B, rows, ·), or one
+    rollout's (k, ·)) up to each rollout's ``last`` row, NaN after it: one parallel
     compiled call (``rollout.energies``)."""
     Q3, V3 = (np.ascontiguousarray(x.reshape((-1,) + x.shape[-2:])) for x in (Q, V))
     E = np.full(Q3.shape[:2] + (2,), np.nan)
