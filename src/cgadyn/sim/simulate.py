@@ -34,6 +34,7 @@ from .rollout import (
     kept_row,
     kept_rows,
     rollouts,
+    stop_row,
 )
 from .trajectory import Deferred, Trajectory
 
@@ -172,7 +173,7 @@ def _times(dt: float, steps: int, every: int, rows: int) -> np.ndarray:
 def _last_row(done: int, steps: int, every: int) -> int:
     """The row holding the last state a stopped rollout reached (``rollout.rollouts``)."""
     r = kept_row.py_func(done, steps, every)
-    return r if r >= 0 else (0 if every == 0 else done // every + 1)
+    return r if r >= 0 else stop_row.py_func(done, every)
 
 
 def available_memory() -> int:
