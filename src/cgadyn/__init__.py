@@ -74,7 +74,7 @@ __all__ = sorted([*_LAZY, "NativeExtensionMissing"])
 class NativeExtensionMissing(RuntimeWarning):
     """Issued once, when the compiled algorithms are first imported, where the C extension
     ``cgadyn._native`` was not built (no C compiler at install time; ``setup.py`` makes it
-    optional): one-sample calls then take numba's dispatcher, 6-12x slower. Defined here,
+    optional): one-sample calls then take numba's dispatcher, several times slower. Defined here,
     outside the modules that warn, so that it can be filtered before they load."""
 
 

@@ -4,7 +4,7 @@ Every compiled function of the package is declared with one of these decorators,
 its role:
 
 - ``inline``: a small kernel (a motor product, a sandwich) that numba inlines into every
-  compiled caller (``inline="always"``: the recursions run about 30 % faster than with calls);
+  compiled caller (``inline="always"``: no call per kernel, and values stay in registers);
 - ``core``: the body of an algorithm, one sample; the only liberty taken with IEEE
   arithmetic is fusing a multiply and an add into one FMA instruction (``contract``);
 - ``serial``: any other compiled function;
@@ -19,7 +19,7 @@ Every one uses numpy's error model: a float division by zero gives inf or NaN (w
 algorithms report as a status) instead of raising, since compiled code must not raise.
 
 Machine code is cached on disk (``__pycache__`` beside the sources, or ``NUMBA_CACHE_DIR``,
-or numba's user cache directory) so that a second process starts in about a second. numba
+or numba's user cache directory) so that a second process loads it instead of compiling. numba
 keys a cached function on its own file only, not on the kernels it inlines from other
 files, so this module first compares the fingerprint of the package's compiled code
 (``_sources.compiled_fingerprint``) with the one its cache was built from and, when that

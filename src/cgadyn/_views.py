@@ -1,6 +1,6 @@
 """Array views on raw memory for compiled code: stack buffers and reference-free views.
 
-Inside a one-sample call that computes in under a microsecond, a heap allocation, an array
+Inside a one-sample call, whose arithmetic is short, a heap allocation, an array
 reshape and the reference counting of views each cost a measurable share. These helpers
 give compiled code bare C-contiguous views instead (``numba.carray`` on a pointer): of a
 buffer on the caller's stack, or of an argument array. Such a view owns nothing; it is

@@ -2,13 +2,14 @@
 
 A batch of derivatives on a large robot returns a block of a hundred MiB or more (talos,
 4096 samples of ``rnea_derivatives``: 142 MiB). The kernel maps a fresh block page by page
-and zeroes each page on its first touch, which cost 10-20 % of such a batch on the
-benchmark machine; a block that an earlier call returned and its caller has since dropped
-is mapped already. So the blocks of batch outputs are kept here, up to ``KEEP_BYTES`` in
-all, the newest last, and a call takes a kept block of its size once nothing but this
-module refers to it: every output array is a view of its block and holds a reference to
-it, so a block is reused only when no result of its call is alive. A caller that keeps its
-results gets new blocks, and this module never holds more than ``KEEP_BYTES``.
+and zeroes each page on its first touch, a cost that grows with the block and that the
+batch's arithmetic does not hide; a block that an earlier call returned and its caller has
+since dropped is mapped already. So the blocks of batch outputs are kept here, up to
+``KEEP_BYTES`` in all, the newest last, and a call takes a kept block of its size once
+nothing but this module refers to it: every output array is a view of its block and holds
+a reference to it, so a block is reused only when no result of its call is alive. A caller
+that keeps its results gets new blocks, and this module never holds more than
+``KEEP_BYTES``.
 """
 
 from __future__ import annotations

@@ -30,9 +30,10 @@ Second forward pass (j = 1..n), with V̇_0 = -g::
 A one-dof joint whose S_j is ±e_i (an axis along one of its frame's axes, as URDFs mostly
 write them: the packed model's ``unit_axis``, from ``joints.unit_axes``) takes U_j, τ̂_j
 and D_j from coefficient i of Î_j and Ŵ_j, and adds S_j q̈_j to coefficient i of V̇_j: the
-same numbers without the products (a twelfth of ABA's time on the panda).
+same numbers without the products.
 
-A one-dof joint never forms Ĩ_j (its stores and loads cost a twelfth of ABA's time):
+A one-dof joint never forms Ĩ_j (a 6x6 matrix stored per joint and loaded back, work that
+the parent's update can skip):
 ``inertia_congruence_downdate_add`` moves ``Î_j - U_j G_jᵀ`` into the parent's inertia,
 forming it as ``Î_j`` is loaded, and the bias wrench takes
 ``Ĩ_j[c_j] = Î_j[c_j] + U_j (G_jᵀ · c_j)``::

@@ -52,8 +52,8 @@ if not NATIVE_ENABLED:
 """``cgadyn._native``: ``"loaded"``, ``"missing (why)"`` or ``"disabled (by what)"``."""
 
 NATIVE_MISSING_ADVICE = (
-    "single calls (rnea, aba, crba, ...) go through numba's dispatcher instead, 6-12x "
-    "slower (on the panda: rnea 17 µs instead of 1.4, crba 11 instead of 1.2; batches are "
+    "single calls (rnea, aba, crba, ...) go through numba's dispatcher instead, several "
+    "times slower, since it types, unboxes and boxes every argument (batches are "
     "unaffected). To build it, install a C compiler (gcc or clang, e.g. `apt install gcc`, "
     "or Xcode's command line tools) and reinstall cgadyn the way it was installed (`pip "
     "install --force-reinstall --no-deps .` or `pip install -e .` in a checkout)")
@@ -96,8 +96,8 @@ class Entry:
     def outputs(self, model, batch: tuple[int, ...]) -> list[np.ndarray]:
         """Output arrays with undefined contents. Several outputs are views of one block,
         each starting on a 64-byte boundary: freed together, separate arrays of a few MiB
-        would go back to the kernel and cost a page fault per 4 KiB on the next batch
-        (about a quarter of the rnea derivatives' time on the panda), where one block of
+        would go back to the kernel and cost a page fault per 4 KiB on the next batch,
+        where one block of
         4 MiB or more is mapped in huge pages (numpy asks for them). A batch's block is one
         that an earlier batch returned and its caller dropped, where there is one
         (``_blocks``)."""

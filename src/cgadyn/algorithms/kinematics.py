@@ -29,7 +29,8 @@ def free_root(parent, joint_type):
     """True for a free flyer at the root of its tree (a joint of this parent and type):
     ``frame_motors`` with ``free_roots_at_rest`` puts its tree in the root body's own frame
     (M5, D14). It takes numbers, not the model: inlined with the model as its argument and
-    called per joint, this test made ``minverse`` 1.5 times slower on the panda."""
+    called per joint, the test handed the model's views over at every joint, which slowed
+    the recursions that call it."""
     return parent < 0 and joint_type == FREE_FLYER
 
 

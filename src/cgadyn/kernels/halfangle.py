@@ -2,9 +2,10 @@
 
 A revolute axis is a line (B² = -1): ``(c, s) = (cos q/2, sin q/2)``; a prismatic axis is
 a direction (B² = 0): ``(c, s) = (1, q/2)``. The recursions need one such pair per joint,
-and libm's ``sincos`` costs about 10 ns a call and runs one angle at a time: about 15% of
-the panda's mass matrix. ``multibody.joints.joint_scalars`` computes all pairs in one
-branch-free loop that LLVM vectorises, with ``half_angle_sincos``:
+and libm's ``sincos`` is a call per angle, one angle at a time, which the compiler does
+not vectorise: on a small robot, a sizeable share of the mass matrix.
+``multibody.joints.joint_scalars`` computes all pairs in one branch-free loop that LLVM
+vectorises, with ``half_angle_sincos``:
 
 - Cody-Waite reduction ``x = k π/2 + r``, ``|r| <= π/4``, with π/2 split in three parts;
   the first two carry 33 significant bits, so ``k P1`` and ``k P2`` are exact for

@@ -1,7 +1,7 @@
 """An on-disk cache of loaded models, so a second process need not parse the URDF again.
 
-Parsing a URDF imports yourdfpy (and trimesh), which costs most of a second; a model is a
-few kilobytes of arrays. ``cached(xml, key, build)`` returns the model stored under a
+Parsing a URDF imports yourdfpy (and trimesh), which is slow next to reading back a model,
+a few kilobytes of arrays. ``cached(xml, key, build)`` returns the model stored under a
 hash of the URDF text, the loader's options (``key``) and the fingerprint of the package's
 code (its version and every source file, generated kernels included: ``cgadyn._sources``),
 or builds and stores it. Files are ``.npz`` archives read with ``allow_pickle=False``; an

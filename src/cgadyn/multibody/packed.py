@@ -1,7 +1,7 @@
 """The model packed into one float64 buffer, the form in which compiled code receives it.
 
 Every array handed to compiled code from Python costs time to unbox, a large share of a
-call that computes in a microsecond; a pointer handed to a C entry point costs nothing. So
+one-sample call, whose arithmetic is short; a pointer handed to a C entry point costs nothing. So
 the compiled algorithms take everything they read about the model as one buffer, and
 ``unpack`` cuts it back into bare C-contiguous views (``cgadyn._views``), returned as a
 ``ModelView``. The integers are stored as their int64 bit patterns (both types are 8 bytes
