@@ -249,6 +249,7 @@ def _user_errors(tmp) -> list[tuple[list[str], str]]:
     ]
 
 
+@pytest.mark.cli
 def test_every_user_error_in_a_subprocess(tmp_path):
     """Each error: status 2, one ``cgadyn: error:`` line naming the problem, no traceback.
     The subprocesses run side by side."""
@@ -263,6 +264,7 @@ def test_every_user_error_in_a_subprocess(tmp_path):
         assert "cgadyn: error: " in err and message in err, (argv, err)
 
 
+@pytest.mark.cli
 def test_console_entry_point_subprocess():
     proc = subprocess.run([sys.executable, "-m", "cgadyn.cli", "validate", "double_pendulum",
                            "--samples", "3"], capture_output=True, text=True, timeout=600)

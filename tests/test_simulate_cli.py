@@ -33,6 +33,7 @@ def strict_json(text: str):
     return json.loads(text, parse_constant=refuse)
 
 
+@pytest.mark.cli
 def test_json_equals_simulate():
     r = cgadyn_cmd("simulate", "double_pendulum", "--seconds", "0.5", "--dt", "0.002",
                    "--q0", "1,-0.5", "--v0", "0.3", "0", "--json")
@@ -101,6 +102,7 @@ def test_plot_and_html_files(tmp_path, capsys):
         assert "MeshCat.Viewer" in text and '"frames": 10' in text
 
 
+@pytest.mark.cli
 def test_a_run_that_blows_up_stops_and_says_so():
     r = cgadyn_cmd("simulate", "double_pendulum", "--seconds", "5", "--dt", "0.05",
                    "--controller", "pd", "--kp", "1e9", "--kd", "1e9", "--q0", "1", "0",
@@ -114,6 +116,7 @@ def test_a_run_that_blows_up_stops_and_says_so():
     assert np.all(np.isfinite(np.array(out["q"])))
 
 
+@pytest.mark.cli
 @pytest.mark.parametrize("argv, expected", [
     (["--dt", "0"], "argument --dt: must be a positive finite number"),
     (["--dt=-1e-3"], "argument --dt: must be a positive finite number"),
@@ -156,6 +159,7 @@ def test_html_without_meshcat_says_how_to_install(monkeypatch, capsys, tmp_path)
     assert "pip install 'cgadyn[viewer]'" in err
 
 
+@pytest.mark.cli
 def test_unknown_robot():
     r = cgadyn_cmd("simulate", "no_such_robot")
     assert r.returncode == 2 and "Traceback" not in r.stderr
@@ -252,6 +256,7 @@ def test_a_long_run_keeps_every_kth_state(monkeypatch):
     assert command.record_every(1000, None) == 1 and command.record_every(1000, 7) == 7
 
 
+@pytest.mark.cli
 def test_a_floating_robot_under_pd_falls():
     """The PD controller of the command drives the joints, never the free base: solo12 falls
     (no ground yet), its base by about g t² / 2."""
@@ -266,6 +271,7 @@ def test_a_floating_robot_under_pd_falls():
     assert np.all(np.array(out["gains"]["kp"])[:6] == 0.0)
 
 
+@pytest.mark.cli
 @pytest.mark.parametrize("value", ["0", "-3", "2.5", "x"])
 def test_record_every_must_be_a_positive_integer(value):
     r = cgadyn_cmd("simulate", "double_pendulum", "--record-every", value)

@@ -9,8 +9,11 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import cgadyn
+
+pytestmark = pytest.mark.cli
 
 SRC = str(Path(cgadyn.__file__).resolve().parents[1])
 
