@@ -264,6 +264,7 @@ print(json.dumps({"rnea": cgadyn.rnea(m, q, v, a).tolist(),
 """
 
 
+@pytest.mark.slow
 def test_without_the_c_extension_the_dispatcher_gives_the_same_numbers():
     """``CGADYN_NATIVE=0``: one-sample calls go through numba's dispatcher instead."""
     runs = []

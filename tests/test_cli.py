@@ -249,6 +249,7 @@ def _user_errors(tmp) -> list[tuple[list[str], str]]:
     ]
 
 
+@pytest.mark.slow
 @pytest.mark.cli
 def test_every_user_error_in_a_subprocess(tmp_path):
     """Each error: status 2, one ``cgadyn: error:`` line naming the problem, no traceback.
@@ -264,6 +265,7 @@ def test_every_user_error_in_a_subprocess(tmp_path):
         assert "cgadyn: error: " in err and message in err, (argv, err)
 
 
+@pytest.mark.slow
 @pytest.mark.cli
 def test_console_entry_point_subprocess():
     proc = subprocess.run([sys.executable, "-m", "cgadyn.cli", "validate", "double_pendulum",

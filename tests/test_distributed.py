@@ -103,6 +103,7 @@ def _numpy_reference(model, q, v, a):
     return cgadyn.rnea(model, q, v, a), cgadyn.simulate(model, q, v, 1e-3, 20).q
 
 
+@pytest.mark.slow
 @pytest.mark.cluster
 def test_local_cluster_two_processes(panda):
     """Chunks on two worker processes give exactly what numpy gives in one process. The

@@ -31,6 +31,7 @@ def _failing(call, times: int) -> None:
             raise AssertionError("expected a ValueError")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("batch", [False, True])
 def test_failing_calls_leak_no_references(batch):
     q = np.zeros((64, 9)) if batch else Z.copy()
@@ -51,6 +52,7 @@ def _rss_mib() -> float:
         return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
 
 
+@pytest.mark.slow
 def test_failing_batches_free_their_memory():
     """Twenty failing batches of 1e5 states used to keep about 140 MiB for good."""
     q = np.random.default_rng(0).uniform(-1, 1, (100_000, 9))
@@ -138,6 +140,7 @@ print(numba.threading_layer(), sum(bad))
 """
 
 
+@pytest.mark.slow
 def test_batches_from_four_threads_under_the_workqueue_layer():
     """numba's workqueue layer aborts the process when two threads enter parallel code at
     once; cgadyn runs one batch at a time."""

@@ -1,5 +1,5 @@
-"""Without the C extension ``cgadyn._native`` single calls take numba's dispatcher, 6-14x
-slower: that is said once, with a ``NativeExtensionMissing`` warning when the compiled
+"""Without the C extension ``cgadyn._native`` single calls take numba's dispatcher, several
+times slower: that is said once, with a ``NativeExtensionMissing`` warning when the compiled
 algorithms load, and by ``cgadyn info``. Each case runs in a fresh interpreter, the
 extension's import made to fail as where it was never built."""
 
@@ -13,6 +13,9 @@ import sys
 import pytest
 
 import cgadyn
+
+pytestmark = pytest.mark.slow
+
 
 SCRIPT = """
 import json, sys, warnings

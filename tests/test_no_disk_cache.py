@@ -13,7 +13,12 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 import cgadyn
+
+pytestmark = pytest.mark.slow
+
 
 SCRIPT = """
 import warnings

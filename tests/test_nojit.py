@@ -8,8 +8,12 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 import cgadyn
+
+pytestmark = pytest.mark.slow
+
 
 SCRIPT = """
 import json, numpy as np, cgadyn

@@ -66,7 +66,7 @@ def test_3d_body_acceleration_matches_pinocchio_aba(seed):
     np.testing.assert_allclose(ours, ref, rtol=0, atol=1e-10)
 
 
-@pytest.mark.parametrize("d", [1, 2, 3, 4])
+@pytest.mark.parametrize("d", [1, 2, 3, pytest.param(4, marks=pytest.mark.slow)])
 def test_rk4_conserves_energy_without_damping_and_contact(d):
     """Bound: |E(t) - E(0)| <= 1e-6 E(0) over 2 s (400 RK4 steps, h = 5 ms), hypercube on
     the spring under gravity (figs. 2.4/2.5 without damping and floor)."""

@@ -140,6 +140,7 @@ def robot_pixels(png: Path) -> dict:
             "colours": len(np.unique(img.reshape(-1, 3), axis=0))}
 
 
+@pytest.mark.slow
 @pytest.mark.browser
 @pytest.mark.skipif(CHROMIUM is None, reason="no chromium to render the page")
 def test_chromium_shows_the_robot(pendulum_page, tmp_path):

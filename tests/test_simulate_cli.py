@@ -116,6 +116,7 @@ def test_a_run_that_blows_up_stops_and_says_so():
     assert np.all(np.isfinite(np.array(out["q"])))
 
 
+@pytest.mark.slow
 @pytest.mark.cli
 @pytest.mark.parametrize("argv, expected", [
     (["--dt", "0"], "argument --dt: must be a positive finite number"),
@@ -256,6 +257,7 @@ def test_a_long_run_keeps_every_kth_state(monkeypatch):
     assert command.record_every(1000, None) == 1 and command.record_every(1000, 7) == 7
 
 
+@pytest.mark.slow
 @pytest.mark.cli
 def test_a_floating_robot_under_pd_falls():
     """The PD controller of the command drives the joints, never the free base: solo12 falls

@@ -17,8 +17,12 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import cgadyn
+
+pytestmark = pytest.mark.slow
+
 
 SCRIPT = """
 import numpy as np

@@ -13,7 +13,7 @@ import pytest
 
 import cgadyn
 
-pytestmark = pytest.mark.cli
+pytestmark = [pytest.mark.cli, pytest.mark.slow]
 
 SRC = str(Path(cgadyn.__file__).resolve().parents[1])
 
