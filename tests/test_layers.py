@@ -79,8 +79,7 @@ def _root_definitions() -> set[str]:
 
 MODULES = _modules()
 ROOT_OWN = _root_definitions()
-FACADE = max((cgadyn._LAZY[name] for name in cgadyn._LAZY),
-             key=lambda module: RANK[module.split(".")[1]])
+FACADE = max(cgadyn._LAZY.values(), key=lambda module: RANK[module.split(".")[1]])
 """What ``import cgadyn`` stands for: the module of its highest lazy name (the package
 reaches every layer its public names come from)."""
 
@@ -93,7 +92,7 @@ def _targets(module: str, node: ast.Import | ast.ImportFrom) -> list[str]:
         return [FACADE if n == "cgadyn" else n for n in names if n.split(".")[0] == "cgadyn"]
     if node.level:
         base = module.split(".")
-        if not MODULES[module].name == "__init__.py":
+        if MODULES[module].name != "__init__.py":
             base = base[:-1]
         base = base[:len(base) - (node.level - 1)]
         origin = ".".join(base + ([node.module] if node.module else []))
