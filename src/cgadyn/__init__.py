@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import importlib
 
+from . import _arrays
+
 __version__ = "0.1.0"
 
 _LAZY = {
@@ -69,6 +71,10 @@ _LAZY = {
 }
 
 __all__ = sorted([*_LAZY, "NativeExtensionMissing"])
+
+# dask arrays of samples run chunk by chunk, each chunk one compiled batch call; declared
+# here, at the top of the layers, so that the call layer below never imports the module.
+_arrays.serve("dask", "cgadyn.distributed")
 
 
 class NativeExtensionMissing(RuntimeWarning):

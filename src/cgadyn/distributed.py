@@ -6,9 +6,11 @@ samples with numba's threads), scheduled by dask (``dask.array.map_blocks``). Th
 therefore runs on a laptop (dask's threads) or on a ``dask.distributed`` cluster (the
 model travels to the workers by pickle: a ``Model`` pickles to a few kilobytes).
 
-Nothing here is imported, and dask is not imported, unless an input is a dask array:
-``calls.run`` and ``simulate`` look at the type's module (``is_dask``) on their checked
-paths only; the one-sample fast path never sees a dask array.
+This module lies above the call layer and ``sim``: it imports them, they never import it.
+``cgadyn/__init__.py`` declares it the server of dask arrays (``_arrays``), and the checked
+paths of ``calls.run`` and ``simulate`` hand it their inputs when one of them is a dask
+array (``run``, ``simulate`` below); nothing here is imported, nor dask, before such an
+array arrives. The one-sample fast path never sees a dask array.
 """
 
 from __future__ import annotations

@@ -14,9 +14,9 @@ C entry point, which allocates nothing but the result. Anything else, and any fa
 3. turns a status other than 0 into the ``ValueError`` of ``errors.explain``.
 
 The C entry points are compiled (or loaded from numba's disk cache) and registered with
-``cgadyn._native`` on their first use. Batches run under a lock: numba's workqueue
-threading layer (its fallback where OpenMP and TBB are missing) aborts the process when two
-threads enter parallel code at once, and a batch already uses every thread.
+``cgadyn._native`` on their first use. Batches run under ``_threads.PARALLEL_LOCK``. Arrays
+of another library go whole to the module that serves them (``_arrays``), above this
+layer, which calls ``run`` again on numpy chunks.
 """
 
 from __future__ import annotations
@@ -29,7 +29,8 @@ import warnings
 import numba
 import numpy as np
 
-from .. import distributed
+from .. import _arrays
+from .._threads import PARALLEL_LOCK
 from ..multibody.packed import DEFAULT_GRAVITY
 from . import _blocks, _entries, _inputs
 from .errors import explain
@@ -65,7 +66,6 @@ if NATIVE_STATUS.startswith("missing"):
     warnings.warn(f"cgadyn's C extension cgadyn._native is {NATIVE_STATUS}: "
                   f"{NATIVE_MISSING_ADVICE}", NativeExtensionMissing, stacklevel=2)
 
-_PARALLEL = threading.Lock()
 _REGISTER = threading.Lock()
 
 
@@ -134,7 +134,7 @@ class Entry:
         forces = ()
         if self.algorithm.forces:
             forces = (f if f is not None else np.empty((0, model.njoints, 6)),)
-        with _PARALLEL:
+        with PARALLEL_LOCK:
             status = self.batch(packed, *x, *forces, *out, option, numba.get_num_threads())
         return int(status), tuple(out)
 
@@ -156,8 +156,9 @@ ndarray or tuple; the caller then calls ``run``."""
 def run(name: str, model, arrays: tuple, gravity=DEFAULT_GRAVITY, f_ext=None, option: int = 0):
     """The checked path of algorithm ``name`` on ``arrays`` (its inputs, in table order):
     its output, or a tuple of its outputs, for one sample or a batch."""
-    if any(distributed.is_dask(a) for a in arrays):  # chunk by chunk
-        return distributed.run(name, model, arrays, gravity, f_ext, option)
+    server = _arrays.server(arrays)
+    if server is not None:  # another library's arrays, served above
+        return server.run(name, model, arrays, gravity, f_ext, option)
     entry = ENTRIES[name]
     alg = entry.algorithm
     x = _inputs.states(model, arrays, alg.inputs)

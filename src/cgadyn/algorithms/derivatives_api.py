@@ -13,10 +13,11 @@ from __future__ import annotations
 import numpy as np
 
 from . import _inputs
-from .calls import SLOTS, fast, run
+from ._public import fast_first
 
 G = _inputs.DEFAULT_GRAVITY
-_RNEA_D, _ABA_D, _MINV = SLOTS["rnea_derivatives"], SLOTS["aba_derivatives"], SLOTS["minverse"]
+_rnea_d, _aba_d = fast_first("rnea_derivatives"), fast_first("aba_derivatives")
+_minverse = fast_first("minverse")
 
 
 def rnea_derivatives(model, q, v, a, gravity=G, f_ext=None):
@@ -24,27 +25,16 @@ def rnea_derivatives(model, q, v, a, gravity=G, f_ext=None):
 
     ``f_ext``: external forces per joint as for ``rnea``.
     """
-    if gravity is G and f_ext is None:
-        out = fast(_RNEA_D, model.packed, q, v, a, None, 0)
-        if out.__class__ is tuple:
-            return out
-    return run("rnea_derivatives", model, (q, v, a), gravity, f_ext)
+    return _rnea_d(model, q, v, a, gravity, f_ext)
 
 
 def aba_derivatives(model, q, v, tau, gravity=G, f_ext=None):
     """``(∂q̈/∂q, ∂q̈/∂v, ∂q̈/∂τ)`` of forward dynamics at (q, v, τ), the last being
     ``M(q)⁻¹``; ``∂q̈/∂q = -M⁻¹ ∂τ/∂q`` at ``q̈ = aba(q, v, τ)``."""
-    if gravity is G and f_ext is None:
-        out = fast(_ABA_D, model.packed, q, v, tau, None, 0)
-        if out.__class__ is tuple:
-            return out
-    return run("aba_derivatives", model, (q, v, tau), gravity, f_ext)
+    return _aba_d(model, q, v, tau, gravity, f_ext)
 
 
 def minverse(model, q) -> np.ndarray:
     """``M(q)⁻¹``, full and symmetric, from the articulated-body recursion in O(n nv),
     without forming M (``docs/derivatives.md``, M1-M5)."""
-    out = fast(_MINV, model.packed, q, None, None, None, 0)
-    if out.__class__ is np.ndarray:
-        return out
-    return run("minverse", model, (q,))
+    return _minverse(model, q)

@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import kernels as K
+from .._threads import PARALLEL_LOCK
 from ..kernels.layout import BIVECTOR_SIGN, QUATERNION_OF_ROTOR
 from .poses import motors_from_matrices
 
@@ -125,11 +126,13 @@ def matrix_from_motor(M) -> np.ndarray:
 
     m = _vec(M, 8, "motor")
     flat = np.ascontiguousarray(m.reshape(-1, 8))
-    n = motor_normalize_batch(flat, np.empty_like(flat))
+    with PARALLEL_LOCK:
+        n = motor_normalize_batch(flat, np.empty_like(flat))
+        translation = motor_translation_batch(n, np.empty((len(n), 3)))
     w, x, y, z = _quaternion_of(n[:, :4]).T
     out = np.zeros((len(n), 4, 4))
     out[:, :3, :3] = np.moveaxis(_rotation(w, x, y, z), (0, 1), (-2, -1))
-    out[:, :3, 3] = motor_translation_batch(n, np.empty((len(n), 3)))
+    out[:, :3, 3] = translation
     out[:, 3, 3] = 1.0
     return out.reshape(m.shape[:-1] + (4, 4))
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._threads import PARALLEL_LOCK
 from ..algebra import Multivector
 from ..algebra.multivector import format_terms
 from ..kernels import batch as KB
@@ -31,7 +32,8 @@ def _run(kernel, out_tail: tuple[int, ...], *args: tuple[np.ndarray, int]) -> np
         # C-contiguous and writable: one compiled specialisation per kernel
         flat.append(np.require(a, float, ["C", "W"]).reshape((size,) + core))
     out = np.empty((size,) + out_tail)
-    kernel(*flat, out)
+    with PARALLEL_LOCK:
+        kernel(*flat, out)
     return out.reshape(batch + out_tail)
 
 

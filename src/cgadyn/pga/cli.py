@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 
 from .._json import dumps
+from .._paths import check_plot_path
 
 __all__ = ["add_parser", "run"]
 
@@ -39,7 +40,6 @@ def _add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run the simulation; returns the exit code. Bad arguments raise ``ValueError`` or
     ``UsageError``, which ``cgadyn.cli.main`` reports (exit status 2)."""
-    from ..commands.common import check_plot_path
     from .simulate import hypercube_on_spring
 
     check_plot_path(args.plot)  # before the work: a bad path is a usage error

@@ -7,6 +7,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .._paths import check_plot_path
+
 __all__ = ["plot_trajectory", "trajectory_figure"]
 
 
@@ -57,10 +59,8 @@ def plot_trajectory(model, traj, path: str | os.PathLike, title: str | None = No
     coordinate is named in a legend beside its panel, in columns when there are many.
 
     The format follows the extension (any that matplotlib writes); the path is checked
-    first by ``cgadyn.commands.common.check_plot_path`` (a ``UsageError`` naming the
+    first by ``cgadyn._paths.check_plot_path`` (a ``UsageError`` naming the
     problem)."""
-    from ..commands.common import check_plot_path
-
     out = check_plot_path(str(path))
     import matplotlib.pyplot as plt
 

@@ -13,11 +13,11 @@ import warnings
 import numba
 import numpy as np
 
-from .. import distributed
+from .. import _arrays
+from .._threads import PARALLEL_LOCK
 from ..algorithms import _inputs
 from ..algorithms.api import energy as _energy
 from ..algorithms.api import link_placements
-from ..algorithms.calls import _PARALLEL
 from ..algorithms.configuration import neutral
 from ..algorithms.status import DIVERGED, NONFINITE_RESULT, QUATERNION, SINGULAR, decode
 from ..multibody.packed import DEFAULT_GRAVITY
@@ -86,8 +86,9 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
         raise ValueError(f"integrator must be one of {', '.join(map(repr, INTEGRATORS))}, "
                          f"got {integrator!r}")
     every = _every(record_every, final_only, steps)
-    if any(distributed.is_dask(x) for x in (q0, v0, tau)):  # chunks of rollouts, scheduled by dask
-        return distributed.simulate(model, q0, v0, dt, steps, tau, dict(
+    server = _arrays.server((q0, v0, tau))
+    if server is not None:  # dask arrays: chunks of rollouts, scheduled by dask
+        return server.simulate(model, q0, v0, dt, steps, tau, dict(
             integrator=integrator, gravity=gravity, f_ext=f_ext, controller=controller,
             record_every=record_every, final_only=final_only))
     gravity = DEFAULT_GRAVITY if gravity is None else gravity
@@ -115,7 +116,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     Q, V, A = (np.full(shape + (n,), np.nan) for n in (model.nq, model.nv, model.nv))
     completed = np.zeros(B, dtype=np.int64)
     status = np.zeros(B, dtype=np.int64)
-    with _PARALLEL:
+    with PARALLEL_LOCK:
         rollouts(packed, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, q_ref, v_ref,
                  dt, steps, every, Q, V, A, completed, status)
     message = _message(model, status, completed, dt, steps, batch, coords, A)
@@ -143,7 +144,7 @@ def _energies(packed, Q, V, last):
     compiled call (``rollout.energies``)."""
     Q3, V3 = (np.ascontiguousarray(x.reshape((-1,) + x.shape[-2:])) for x in (Q, V))
     E = np.full(Q3.shape[:2] + (2,), np.nan)
-    with _PARALLEL:
+    with PARALLEL_LOCK:
         energies(packed, Q3, V3, np.asarray(last, dtype=np.int64), E, numba.get_num_threads())
     E = E.reshape(Q.shape[:-1] + (2,))
     return E[..., 0], E[..., 1]

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from .._threads import PARALLEL_LOCK
 from ..algorithms import _inputs
 from ..cga.objects import Geometric, Motor
 from ..cga.poses import motors_from_matrices
@@ -190,7 +191,9 @@ def inverse_kinematics(model, link: str | int, target, q0=None, *, carried=None,
     dim = R.DIMS[int(rows[0, 0, R.KIND])]
     q, res, info = np.empty((B, model.nq)), np.empty((B, dim)), np.empty((B, 4))
     lower, upper = _limits(model)
-    status = solve_batch(model.packed, q0, lower, upper, rows, options, q, res, info, threads)
+    with PARALLEL_LOCK:
+        status = solve_batch(model.packed, q0, lower, upper, rows, options, q, res, info,
+                             threads)
     bad = np.flatnonzero(status)
     if bad.size:
         raise ValueError(f"inverse kinematics: the residual is not finite for target "
