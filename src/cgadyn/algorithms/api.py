@@ -14,7 +14,7 @@ import numpy as np
 from ..cga.conventions import twist_from_motion
 from . import _inputs
 from .calls import SLOTS, fast, run
-from .jacobian import FRAMES, LOCAL, LOCAL_WORLD_ALIGNED, WORLD
+from .jacobian import LOCAL, LOCAL_WORLD_ALIGNED, WORLD
 
 G = _inputs.DEFAULT_GRAVITY
 _RNEA, _ABA, _CRBA = SLOTS["rnea"], SLOTS["aba"], SLOTS["crba"]
@@ -28,7 +28,7 @@ def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
     shape (n, 6) (``n = model.njoints``) or (B, n, 6).
     """
     if gravity is G and f_ext is None:
-        tau = fast(_RNEA, model.packed, q, v, a, None, 0)
+        tau = fast(_RNEA, model.packed, q, v, a, None)
         if tau.__class__ is _ndarray:
             return tau
     return run("rnea", model, (q, v, a), gravity, f_ext)
@@ -37,7 +37,7 @@ def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
 def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
     """Joint accelerations ``q̈`` of forward dynamics (Algorithms 1 and 3)."""
     if gravity is G and f_ext is None:
-        qdd = fast(_ABA, model.packed, q, v, tau, None, 0)
+        qdd = fast(_ABA, model.packed, q, v, tau, None)
         if qdd.__class__ is _ndarray:
             return qdd
     return run("aba", model, (q, v, tau), gravity, f_ext)
@@ -45,7 +45,7 @@ def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
 
 def crba(model, q) -> np.ndarray:
     """Joint-space mass matrix ``M(q)``, full and symmetric, (nv, nv) or (B, nv, nv)."""
-    H = fast(_CRBA, model.packed, q, None, None, None, 0)
+    H = fast(_CRBA, model.packed, q)
     if H.__class__ is _ndarray:
         return H
     return run("crba", model, (q,))
@@ -89,8 +89,7 @@ def jacobian(model, q, link: str | int, frame: str = "world", layout: str = "pin
         raise ValueError(f"frame must be one of {sorted(_FRAMES)}, got {frame!r}")
     if layout not in ("pinocchio", "twist"):
         raise ValueError(f"layout must be 'pinocchio' or 'twist', got {layout!r}")
-    option = FRAMES * _inputs.link_index(model, link) + _FRAMES[frame]
-    J = run("jacobian", model, (q,), option=option)
+    J = run("jacobian", model, (q,), options=(_inputs.link_index(model, link), _FRAMES[frame]))
     return twist_from_motion(np.swapaxes(J, -1, -2)) if layout == "twist" else J
 
 

@@ -25,7 +25,7 @@ def rnea_derivatives(model, q, v, a, gravity=G, f_ext=None):
     ``f_ext``: external forces per joint as for ``rnea``.
     """
     if gravity is G and f_ext is None:
-        out = fast(_RNEA_D, model.packed, q, v, a, None, 0)
+        out = fast(_RNEA_D, model.packed, q, v, a, None)
         if out.__class__ is tuple:
             return out
     return run("rnea_derivatives", model, (q, v, a), gravity, f_ext)
@@ -35,7 +35,7 @@ def aba_derivatives(model, q, v, tau, gravity=G, f_ext=None):
     """``(∂q̈/∂q, ∂q̈/∂v, ∂q̈/∂τ)`` of forward dynamics at (q, v, τ), the last being
     ``M(q)⁻¹``; ``∂q̈/∂q = -M⁻¹ ∂τ/∂q`` at ``q̈ = aba(q, v, τ)``."""
     if gravity is G and f_ext is None:
-        out = fast(_ABA_D, model.packed, q, v, tau, None, 0)
+        out = fast(_ABA_D, model.packed, q, v, tau, None)
         if out.__class__ is tuple:
             return out
     return run("aba_derivatives", model, (q, v, tau), gravity, f_ext)
@@ -44,7 +44,7 @@ def aba_derivatives(model, q, v, tau, gravity=G, f_ext=None):
 def minverse(model, q) -> np.ndarray:
     """``M(q)⁻¹``, full and symmetric, from the articulated-body recursion in O(n nv),
     without forming M (``docs/derivatives.md``, M1-M5)."""
-    out = fast(_MINV, model.packed, q, None, None, None, 0)
+    out = fast(_MINV, model.packed, q)
     if out.__class__ is np.ndarray:
         return out
     return run("minverse", model, (q,))
