@@ -16,7 +16,7 @@ import pytest
 from numba import njit
 
 import cgadyn
-from cgadyn.algorithms import _entries
+from cgadyn.algorithms.calls import ENTRIES
 from cgadyn.algorithms.table import ALGORITHMS
 from cgadyn.cga.conventions import motion_from_twist
 from cgadyn.multibody import build_model
@@ -37,10 +37,10 @@ def test_the_c_extension_is_built_and_used():
 
     cgadyn.rnea(PANDA, Q, V, A)
     assert fast is _native.call
-    tau = fast(SLOTS["rnea"], PANDA.packed, Q, V, A, None, 0)
+    tau = fast(SLOTS["rnea"], PANDA.packed, Q, V, A, None)
     np.testing.assert_array_equal(tau, cgadyn.rnea(PANDA, Q, V, A))
-    assert fast(SLOTS["rnea"], PANDA.packed, Q.tolist(), V, A, None, 0) is None  # not canonical
-    assert fast(SLOTS["rnea"], PANDA.packed, Q[:8], V, A, None, 0) is None  # wrong length
+    assert fast(SLOTS["rnea"], PANDA.packed, Q.tolist(), V, A, None) is None  # not canonical
+    assert fast(SLOTS["rnea"], PANDA.packed, Q[:8], V, A, None) is None  # wrong length
 
 
 def variants(x: np.ndarray) -> list:
@@ -93,7 +93,7 @@ def test_odd_batches_give_the_canonical_answer_and_compile_one_signature(k):
         assert g.dtype == np.float64 and g.flags.c_contiguous
     for alg in ALGORITHMS:
         for kind in ("single", "batch"):
-            entry = getattr(_entries, f"{alg.name}_{kind}")
+            entry = getattr(ENTRIES[alg.name], kind)
             assert len(entry.signatures) <= 1, (entry, entry.signatures)
 
 

@@ -10,6 +10,7 @@ algorithm) is edited; each directory, used again, must give the edited code's nu
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import subprocess
@@ -60,3 +61,41 @@ def test_an_edited_kernel_heals_every_cache_directory(tmp_path: Path):
     joints.write_text(text.replace(*EDIT))
     assert np.allclose(_run(tmp_path, first), after, rtol=0, atol=1e-12)
     assert np.allclose(_run(tmp_path, second), after, rtol=0, atol=1e-12)
+
+
+def test_an_edit_throws_away_only_the_machine_code_that_depends_on_it(tmp_path, monkeypatch):
+    """After an edit of ``algorithms/aba.py``, ``_jit._heal`` deletes the cached functions of
+    every file whose imports reach ``aba.py`` (aba's core, its entries, the rollouts) and
+    keeps the others (rnea's core and entries): a new process loads rnea from the cache."""
+    from numba.core import config
+    from numba.core.caching import UserProvidedCacheLocator
+
+    from cgadyn import _jit, _sources
+
+    monkeypatch.setattr(config, "CACHE_DIR", str(tmp_path))
+    edited = _sources.PACKAGE / "algorithms" / "aba.py"
+    prints = _sources.closure_fingerprints()
+    depends = {p for p in prints if edited in _sources.closure(p)}
+    rel = {str(p.relative_to(_sources.PACKAGE)) for p in depends}
+    assert {"algorithms/aba.py", "algorithms/entries/aba.py", "sim/rollout.py"} <= rel
+    assert not {"algorithms/rnea.py", "algorithms/entries/rnea.py"} & rel
+    made = {}
+    for src in {p.parent for p in prints}:
+        sub = UserProvidedCacheLocator.get_suitable_cache_subpath(str(src / "__init__.py"))
+        d = tmp_path / sub
+        d.mkdir(parents=True)
+        stamp = {p.name: ("before the edit" if p in depends else fp)
+                 for p, fp in prints.items() if p.parent == src}
+        (d / _jit.STAMP).write_text(json.dumps(stamp))
+        for p in prints:
+            if p.parent == src:
+                f = d / f"{p.stem}.some_function-12.py311.nbi"
+                f.write_text("")
+                made[f] = p
+    _jit._heal()
+    for f, p in made.items():
+        assert f.exists() == (p not in depends), (f, p)
+    for src in {p.parent for p in prints}:
+        sub = UserProvidedCacheLocator.get_suitable_cache_subpath(str(src / "__init__.py"))
+        assert json.loads((tmp_path / sub / _jit.STAMP).read_text()) == {
+            p.name: fp for p, fp in prints.items() if p.parent == src}

@@ -1,25 +1,29 @@
-"""Generate ``src/cgadyn/algorithms/_entries.py``: the compiled entry points of every algorithm.
+"""Generate ``src/cgadyn/algorithms/entries/``: the compiled entry points of every algorithm.
 
-Each record of ``src/cgadyn/algorithms/table.py`` gets three entry points around its core
-``<module>.<name>_core(m, inputs..., [f,] outputs..., option, work) -> status``:
+Each record of ``src/cgadyn/algorithms/table.py`` gets one module, ``entries/<name>.py``,
+with three entry points around its core
+``<module>.<name>_core(m, inputs..., [f,] outputs..., options..., work) -> status``:
 
-- ``<name>_single(packed, inputs..., [f,] outputs..., option)``: one sample, its workspace
-  on the call's stack (on the heap above ``STACK_FLOATS``);
-- ``<name>_native(pk, x0, x1, x2, f, nf, o0, o1, o2, option)``: the same from raw pointers,
-  a C function (``numba.cfunc``) that ``cgadyn._native`` calls with the arrays' data, sizes
-  read from the packed model's header;
-- ``<name>_batch(packed, inputs..., [f,] outputs..., option, threads)``: (B, ...) samples in
-  parallel chunks, one heap workspace per chunk; checks the shapes. A record with a
-  ``group`` module hands each chunk to that module's ``<name>_group``.
+- ``<name>_single(packed, inputs..., [f,] outputs..., options...)``: one sample, its
+  workspace on the call's stack (on the heap above ``STACK_FLOATS``);
+- ``<name>_native(pk, x, f, nf, o, options)``: the same from raw pointers, a C function
+  (``numba.cfunc``, signature in ``_pointers.py``) that ``cgadyn._native`` calls with the
+  arrays' data, sizes read from the packed model's header;
+- ``<name>_batch(packed, inputs..., [f,] outputs..., options..., threads)``: (B, ...)
+  samples in parallel chunks, one heap workspace per chunk; checks the shapes. A record
+  with a ``group`` module hands each chunk to that module's ``<name>_group``.
 
 They differ between algorithms only in names and arities, and numba caches compiled code
 per function of a real file, so they are written out here rather than made by a closure
-factory (whose functions would share one cache name).
+factory (whose functions would share one cache name). One module per algorithm, because
+the package's disk cache is invalidated per file and per the files it imports
+(``cgadyn._sources``): editing ``aba.py`` recompiles the entries of the algorithms that
+use it, not those of rnea.
 
 Usage::
 
-    python tools/generate_entries.py            # rewrite the file
-    python tools/generate_entries.py --check    # exit 1 if the committed file is stale
+    python tools/generate_entries.py            # rewrite the modules
+    python tools/generate_entries.py --check    # exit 1 if a committed module is stale
 
 The table is read by file path, so this script never imports the package it generates for.
 """
@@ -29,12 +33,14 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import sys
+import textwrap
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 TABLE = ROOT / "src" / "cgadyn" / "algorithms" / "table.py"
-TARGET = ROOT / "src" / "cgadyn" / "algorithms" / "_entries.py"
-MAX_INPUTS, MAX_OUTPUTS = 3, 3
+TARGET = ROOT / "src" / "cgadyn" / "algorithms" / "entries"
+MAX_INPUTS, MAX_OUTPUTS, MAX_OPTIONS = 8, 8, 8
+"""The bounds of ``cgadyn/_native.c`` (``MAX_IN``, ``MAX_OUT``, ``MAX_OPT``)."""
 
 
 def load_table():
@@ -59,50 +65,52 @@ def entries(alg) -> str:
     inputs = [name for name, _ in alg.inputs]
     outputs = [f"o{i}" for i in range(len(alg.outputs))]
     forces = ["f"] if alg.forces else []
-    args = inputs + forces + outputs
+    options = list(alg.options)
+    args = inputs + forces + outputs + options
     core = alg.core
-    ws = f"{alg.name}_workspace(m.n, m.nq, m.nv, m.nl)"
+    ws = "workspace_size(m.n, m.nq, m.nv, m.nl)"
     lines = [
         "", "",
         "@serial",
-        f"def {alg.name}_single(packed, {', '.join(args)}, option):",
+        f"def {alg.name}_single(packed, {', '.join(args)}):",
         f'    """One sample of ``{alg.core}``; its workspace on this call\'s stack."""',
         "    m = unpack(packed)",
         f"    size = {ws}",
         "    if size <= STACK_FLOATS:",
-        f"        return {core}(m, {', '.join(args)}, option, stack_buffer(size))",
-        f"    return {core}(m, {', '.join(args)}, option, np.empty(size))",
+        f"        return {core}(m, {', '.join(args)}, stack_buffer(size))",
+        f"    return {core}(m, {', '.join(args)}, np.empty(size))",
         "", "",
         "@native(SIGNATURE)",
-        f"def {alg.name}_native(pk, x0, x1, x2, f, nf, o0, o1, o2, option):",
+        f"def {alg.name}_native(pk, x, f, nf, o, options):",
         f'    """``{alg.name}_single`` on raw pointers, for ``cgadyn._native``."""',
         "    packed = packed_array(pk)",
         "    m = unpack(packed)",
     ]
-    call = [f"carray(x{i}, {shape((dim,))})" for i, (_, dim) in enumerate(alg.inputs)]
+    call = [f"carray(x[{i}], {shape((dim,))})" for i, (_, dim) in enumerate(alg.inputs)]
     call += ["carray(f, (nf, 6))"] if alg.forces else []
-    call += [f"carray(o{i}, {shape(dims)})" for i, dims in enumerate(alg.outputs)]
+    call += [f"carray(o[{i}], {shape(dims)})" for i, dims in enumerate(alg.outputs)]
+    call += [f"options[{i}]" for i in range(len(options))]
     lines.append(f"    return {alg.name}_single(")
     lines.append("        packed,")
-    lines += [f"        {c}," for c in call]
-    lines.append("        option)")
+    lines += [f"        {c}," for c in call[:-1]]
+    lines.append(f"        {call[-1]})")
     checks = [f"{x}.shape[1] != m.{dim}" for x, dim in alg.inputs]
     checks += [f"{x}.shape[0] != batch" for x in inputs[1:]]
     checks += [f"{o}.shape[0] != batch" for o in outputs]
     if alg.forces:
         checks += ["(f.shape[0] != 0 and f.shape[0] != batch)", "f.shape[1] != m.n"]
     per_sample = [f"{x}[b]" for x in inputs] + (["fb"] if alg.forces else [])
-    per_sample += [f"{o}[b]" for o in outputs]
+    per_sample += [f"{o}[b]" for o in outputs] + options
     lines += [
         "", "",
         "@parallel",
-        f"def {alg.name}_batch(packed, {', '.join(args)}, option, threads):",
+        f"def {alg.name}_batch(packed, {', '.join(args)}, threads):",
         f'    """(B, ...) samples of ``{alg.core}`` in parallel chunks; a status."""',
         "    m = unpack(packed)",
         f"    batch = {inputs[0]}.shape[0]",
         "    if (" + "\n            or ".join(checks) + "):",
         "        return WRONG_SHAPE",
-        f"    size = {alg.name}_group_workspace(m.n, m.nq, m.nv, m.nl)" if alg.group else
+        "    size = group_workspace_size(m.n, m.nq, m.nv, m.nl)" if alg.group else
         f"    size = {ws}",
         "    starts, stops = chunks(batch, threads)",
         "    status = np.zeros(starts.shape[0], dtype=np.int64)",
@@ -112,8 +120,7 @@ def entries(alg) -> str:
     ]
     if alg.group:
         lines += [
-            f"        s = {alg.name}_group(mc, {', '.join(args)}, starts[c], stops[c], option,"
-            " work)",
+            f"        s = {alg.name}_group(mc, {', '.join(args)}, starts[c], stops[c], work)",
             "        if s != OK:",
             "            status[c] = s",
         ]
@@ -125,7 +132,7 @@ def entries(alg) -> str:
     if alg.forces:
         lines.append("            fb = f[b] if f.shape[0] > 0 else none")
     lines += [
-        f"            s = {core}(mc, {', '.join(per_sample)}, option, work)",
+        f"            s = {core}(mc, {', '.join(per_sample)}, work)",
         "            if s != OK:",
         "                status[c] = at_sample(s, b)",
         "                break",
@@ -143,61 +150,71 @@ def _first_fault() -> list[str]:
     ]
 
 
-HEADER = '''"""Compiled entry points of the algorithms of ``table.py``: one sample, C, batch.
-
-GENERATED by tools/generate_entries.py from ``table.py``: do not edit by hand.
-"""
-
-import numpy as np
-from numba import carray, prange, types
-
-from .._jit import native, parallel, serial
-from .._views import as_int64
-from ..multibody.packed import HEADER, unpack
-{imports}
-from ._workspace import STACK_FLOATS, chunks, stack_buffer
-from .status import OK, WRONG_SHAPE, at_sample
-
-_P = types.CPointer(types.float64)
-SIGNATURE = types.int64(_P, _P, _P, _P, _P, types.int64, _P, _P, _P, types.int64)
-"""``(packed, x0, x1, x2, f, nf, o0, o1, o2, option) -> status``: unused inputs and
-outputs are ignored; ``f`` holds ``nf`` (0 or n) wrenches."""
+GENERATED = "GENERATED by tools/generate_entries.py from ``table.py``: do not edit by hand."
 
 
-@serial
-def packed_array(pk):
-    """The packed model at ``pk`` as an array, its length read from its header."""
-    return carray(pk, (carray(as_int64(pk), (HEADER,))[HEADER - 1],))
-'''
+def module(alg) -> str:
+    """The module of one algorithm's entry points."""
+    imports = [
+        "import numpy as np",
+        "from numba import carray, prange",
+        "",
+        "from ..._jit import native, parallel, serial",
+        "from ...multibody.packed import unpack",
+        "from .._pointers import SIGNATURE, packed_array",
+        "from .._workspace import STACK_FLOATS, chunks, stack_buffer",
+        f"from ..{alg.module} import {alg.core}, workspace_size",
+    ]
+    if alg.group:
+        imports.append(f"from ..{alg.group} import {alg.name}_group")
+        imports.append(f"from ..{alg.group} import workspace_size as group_workspace_size")
+    imports.append("from ..status import OK, WRONG_SHAPE" + ("" if alg.group else ", at_sample"))
+    doc = (f'"""Compiled entry points of ``{alg.name}``: one sample, C, batch.\n\n'
+           f'{GENERATED}\n"""\n\n')
+    return doc + "\n".join(imports) + "\n" + entries(alg) + "\n"
 
 
-def generate() -> str:
+def package(table) -> str:
+    names = textwrap.fill(", ".join(f"``{alg.name}``" for alg in table.ALGORITHMS) + ".", 92)
+    return (f'"""The compiled entry points of each algorithm of ``table.py``, one module '
+            f'per algorithm:\n{names}\n\nImported by '
+            f'``calls.Entry``.\n\n{GENERATED}\n"""\n')
+
+
+def generate() -> dict[str, str]:
+    """File name → text of every module of ``entries/``."""
     table = load_table()
     for alg in table.ALGORITHMS:
-        assert len(alg.inputs) <= MAX_INPUTS and len(alg.outputs) <= MAX_OUTPUTS, alg.name
-    imports = "\n".join(
-        f"from .{alg.module} import {alg.core}\nfrom .{alg.module} import workspace_size as "
-        f"{alg.name}_workspace" for alg in sorted(table.ALGORITHMS, key=lambda a: a.module))
-    imports += "".join(
-        f"\nfrom .{alg.group} import {alg.name}_group\nfrom .{alg.group} import workspace_size "
-        f"as {alg.name}_group_workspace" for alg in table.ALGORITHMS if alg.group)
-    return HEADER.format(imports=imports) + "".join(
-        entries(alg) + "\n" for alg in table.ALGORITHMS)
+        assert len(alg.inputs) <= MAX_INPUTS, alg.name
+        assert len(alg.outputs) <= MAX_OUTPUTS, alg.name
+        assert len(alg.options) <= MAX_OPTIONS, alg.name
+    files = {"__init__.py": package(table)}
+    files.update({f"{alg.name}.py": module(alg) for alg in table.ALGORITHMS})
+    return files
 
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--check", action="store_true", help="fail if the file is stale")
+    parser.add_argument("--check", action="store_true", help="fail if the files are stale")
     args = parser.parse_args()
-    text = generate()
+    files = generate()
+    present = {p.name for p in TARGET.glob("*.py")} if TARGET.is_dir() else set()
     if args.check:
-        if (TARGET.read_text() if TARGET.exists() else "") != text:
-            print(f"{TARGET} is stale: run python tools/generate_entries.py", file=sys.stderr)
+        stale = sorted(name for name, text in files.items()
+                       if not (TARGET / name).is_file() or (TARGET / name).read_text() != text)
+        stale += sorted(present - set(files))
+        if stale:
+            print(f"{TARGET}: {', '.join(stale)} stale: run python tools/generate_entries.py",
+                  file=sys.stderr)
             return 1
         print(f"{TARGET} is up to date")
         return 0
-    TARGET.write_text(text)
-    print(f"wrote {TARGET}")
+    TARGET.mkdir(exist_ok=True)
+    for name in present - set(files):
+        (TARGET / name).unlink()
+    for name, text in files.items():
+        (TARGET / name).write_text(text)
+    print(f"wrote {len(files)} files in {TARGET}")
     return 0
 
 

@@ -9,7 +9,7 @@ are declared by name, by the package itself (``cgadyn/__init__.py``, the top of 
 layer: ``dask`` is served by ``cgadyn.distributed``), and imported when the first such
 array arrives: without one, neither the module nor its library is imported.
 
-A serving module has ``run(name, model, arrays, gravity, f_ext, option)``, the algorithm
+A serving module has ``run(name, model, arrays, gravity, f_ext, options)``, the algorithm
 ``name`` of ``algorithms/table.py`` on its arrays, and ``simulate(model, q0, v0, dt, steps,
 tau, kwargs)``, ``cgadyn.simulate`` on them (``kwargs``: simulate's other arguments).
 """

@@ -21,16 +21,19 @@ algorithms report as a status) instead of raising, since compiled code must not 
 Machine code is cached on disk (``__pycache__`` beside the sources, or ``NUMBA_CACHE_DIR``,
 or numba's user cache directory) so that a second process loads it instead of compiling. numba
 keys a cached function on its own file only, not on the kernels it inlines from other
-files, so this module first compares the fingerprint of the package's compiled code
-(``_sources.compiled_fingerprint``) with the one its cache was built from and, when that
-code has changed, deletes the package's cached machine code: a cache never outlives the
-code it was compiled from. Where numba finds no writable cache location at all, decorating
-with ``cache=True`` raises ``RuntimeError`` at import; here the package then compiles in
-memory instead, with one warning, and works the same (only slower to start).
+files, so this module first compares, for each file of compiled code, the fingerprint of
+the files it depends on (``_sources.closure_fingerprints``) with the one its cache was built
+from and, where they differ, deletes that file's cached machine code: a cache never outlives
+the code it was compiled from, and an edit recompiles only what depends on it. Where numba
+finds no writable cache location at all, decorating with ``cache=True`` raises
+``RuntimeError`` at import; here the package then compiles in memory instead, with one
+warning, and works the same (only slower to start). What compiles is said on stderr while
+it compiles (``_progress``).
 """
 
 from __future__ import annotations
 
+import json
 import threading
 import warnings
 from collections.abc import Callable
@@ -39,7 +42,8 @@ from pathlib import Path
 import numba
 from numba.extending import intrinsic
 
-from ._sources import compiled_fingerprint, compiled_sources
+from . import _progress
+from ._sources import closure_fingerprints, compiled_sources
 
 __all__ = ["caching", "core", "inline", "intrinsic", "native", "parallel", "serial"]
 
@@ -47,17 +51,18 @@ _CACHE = [True]
 """Whether numba can cache on disk: True until a decoration finds no cache location."""
 
 
-STAMP = "cgadyn-sources.txt"
-"""The file, in each directory of cached machine code, naming the sources it was built from."""
+STAMP = "cgadyn-sources.json"
+"""The file, in each directory of cached machine code, naming the fingerprint of each source
+file (``_sources.closure_fingerprints``) its machine code was built from."""
 
 
-def _cache_dirs() -> list[list[Path]]:
+def _cache_dirs() -> list[tuple[Path, list[Path]]]:
     """Where numba may keep the machine code of the package's compiled functions: for every
-    directory of compiled sources (``_sources.compiled_sources``), the directories numba's
-    locators derive from it, in the order numba tries them: under ``NUMBA_CACHE_DIR`` where
-    that is set, ``__pycache__``, under the user-wide cache. Under the two caches, numba
-    names the directory by the source directory's name and a SHA-1 of its whole path
-    (``get_suitable_cache_subpath``)."""
+    directory of compiled sources (``_sources.compiled_sources``), that directory and the
+    directories numba's locators derive from it, in the order numba tries them: under
+    ``NUMBA_CACHE_DIR`` where that is set, ``__pycache__``, under the user-wide cache. Under
+    the two caches, numba names the directory by the source directory's name and a SHA-1 of
+    its whole path (``get_suitable_cache_subpath``)."""
     from numba.core import config
     from numba.core.caching import UserProvidedCacheLocator
     from numba.misc.appdirs import AppDirs
@@ -67,38 +72,52 @@ def _cache_dirs() -> list[list[Path]]:
     for src in sorted({path.parent for path in compiled_sources()}):
         sub = UserProvidedCacheLocator.get_suitable_cache_subpath(str(src / "__init__.py"))
         given = [Path(config.CACHE_DIR) / sub] if config.CACHE_DIR else []
-        found.append([*given, src / "__pycache__", user / sub])
+        found.append((src, [*given, src / "__pycache__", user / sub]))
     return found
+
+
+def _read_stamp(d: Path) -> dict[str, str]:
+    try:
+        stamp = json.loads((d / STAMP).read_text())
+    except (OSError, ValueError):
+        return {}
+    return stamp if isinstance(stamp, dict) else {}
 
 
 def _heal() -> None:
     """Delete the package's cached machine code wherever it was compiled from other sources.
 
-    Every cache directory carries its own stamp (``STAMP``), so that one last used by other
-    sources (under another ``NUMBA_CACHE_DIR``, say) is healed when it is used again. The
-    first directory numba will try is made now and stamped, so that the code numba caches
-    there later is known to be this code's."""
-    stamp = compiled_fingerprint()
-    for dirs in _cache_dirs():
+    Each source file's fingerprint covers the files it imports, directly or not
+    (``_sources.closure_fingerprints``); a file's cached functions (numba names them
+    ``<file stem>.<function>-<line>.py*.nbi`` and ``.nbc``) are deleted where the stamp
+    of their directory (``STAMP``: file name → fingerprint) names another fingerprint, so an
+    edit throws away the machine code of the files that depend on it and no other. Every
+    cache directory carries its own stamp, so that one last used by other sources (under
+    another ``NUMBA_CACHE_DIR``, say) is healed when it is used again. The first directory
+    numba will try is made now and stamped, so that the code numba caches there later is
+    known to be this code's."""
+    prints = closure_fingerprints()
+    for src, dirs in _cache_dirs():
+        now = {p.name: fp for p, fp in prints.items() if p.parent == src}
         try:
             dirs[0].mkdir(parents=True, exist_ok=True)
         except OSError:
             pass  # not writable: numba tries the next one
         for d in dirs:
-            try:
-                if (d / STAMP).read_text() == stamp:
-                    continue
-            except OSError:
-                pass
             if not d.is_dir():
                 continue
+            stamp = _read_stamp(d)
+            if stamp == now:
+                continue
+            fresh = {Path(name).stem for name, fp in now.items() if stamp.get(name) == fp}
             for f in [*d.glob("*.nbi"), *d.glob("*.nbc")]:
-                try:
-                    f.unlink()
-                except OSError:
-                    pass
+                if f.name.split(".", 1)[0] not in fresh:  # stale, or of a file now gone
+                    try:
+                        f.unlink()
+                    except OSError:
+                        pass
             try:
-                (d / STAMP).write_text(stamp)
+                (d / STAMP).write_text(json.dumps(now, indent=0, sort_keys=True))
             except OSError:
                 pass  # read-only: numba will not cache here either
 
@@ -163,6 +182,7 @@ class Native:
         if self._cfunc is None:
             with self._lock:
                 if self._cfunc is None:
-                    self._cfunc = _compile(numba.cfunc, self.py_func, sig=self.signature,
-                                           error_model="numpy")
+                    with _progress.frame(self.py_func):
+                        self._cfunc = _compile(numba.cfunc, self.py_func, sig=self.signature,
+                                               error_model="numpy")
         return self._cfunc.address

@@ -4,19 +4,26 @@
  * A one-sample call of a recursive algorithm computes in about a microsecond; numba's own
  * dispatcher spends more than that on typing, unboxing and boxing its arguments. This module
  * holds a table of C entry points (numba cfuncs, one per algorithm, see
- * cgadyn/algorithms/_entries.py) and calls them with the arrays' data pointers:
+ * cgadyn/algorithms/entries/) and calls them with the arrays' data pointers:
  *
- *     register(slot, address, inputs, outputs)
- *         inputs:  the size code of each input vector (up to 3);
- *         outputs: the shape of each output, a tuple of size codes (up to 3 outputs).
+ *     register(slot, address, inputs, outputs, forces, options)
+ *         inputs:  the size code of each input vector;
+ *         outputs: the shape of each output, a tuple of size codes;
+ *         forces:  whether the entry takes external wrenches (an (n, 6) array or None);
+ *         options: how many integer arguments follow (a link, a frame, ...).
  *         A size code is a number >= 0, or -1, -2, -3, -4 for the model's n, nq, nv, nl,
  *         read from the header of the packed model (cgadyn/multibody/packed.py).
- *     call(slot, packed, x0, x1, x2, f, option)
- *         The outputs, freshly allocated (one array, or a tuple of them), when every input
- *         is a C-contiguous aligned float64 numpy array of its size (extra inputs are
- *         ignored; f is None or an (n, 6) array of wrenches) and the entry returns status 0;
- *         the status (an int) when it returns another; None when an input is anything else
- *         or the slot is empty, and the Python caller then takes its checked path.
+ *     call(slot, packed, x..., [f,] option...)
+ *         The outputs, freshly allocated (one array, or a tuple of them), when the call has
+ *         the registered number of arguments, every input is a C-contiguous aligned float64
+ *         numpy array of its size, f (where the entry takes it) is None or an (n, 6) array,
+ *         every option an int, and the entry returns status 0; the status (an int) when it
+ *         returns another; None when an argument is anything else or the slot is empty,
+ *         and the Python caller then takes its checked path.
+ *
+ * The entry point is called as entry(packed, x, f, nf, o, options): x and o arrays of data
+ * pointers (inputs, outputs), f the nf wrenches, options the integers, so that an
+ * algorithm may have any number of each up to the bounds below.
  *
  * It never raises for bad input (only MemoryError), never keeps a reference, and holds the
  * GIL throughout (releasing it costs more than a call computes).
@@ -27,14 +34,15 @@
 #include <numpy/arrayobject.h>
 
 #define SLOTS 64
-#define MAX_IN 3
-#define MAX_OUT 3
-#define MAX_DIMS 3
+#define MAX_IN 8
+#define MAX_OUT 8
+#define MAX_OPT 8
+#define MAX_DIMS 4
 #define HEADER 5 /* n, nq, nv, nl, length */
+#define ABI 2      /* the calling convention above; cgadyn.algorithms.calls checks it */
 
-typedef long long (*entry_t)(double *packed, double *x0, double *x1, double *x2, double *f,
-                             long long nf, double *o0, double *o1, double *o2,
-                             long long option);
+typedef long long (*entry_t)(double *packed, double **x, double *f, long long nf, double **o,
+                             long long *options);
 
 typedef struct {
     entry_t fn;
@@ -43,6 +51,8 @@ typedef struct {
     int n_out;
     int ndim[MAX_OUT];
     long long dims[MAX_OUT][MAX_DIMS];
+    int forces;
+    int n_opt;
 } slot_t;
 
 static slot_t slots[SLOTS];
@@ -72,16 +82,24 @@ static int read_codes(PyObject *seq, long long *out, int max, const char *what) 
 }
 
 static PyObject *register_entry(PyObject *self, PyObject *args) {
-    int slot;
+    int slot, forces, options;
     unsigned long long address;
     PyObject *inputs, *outputs;
-    if (!PyArg_ParseTuple(args, "iKOO", &slot, &address, &inputs, &outputs)) return NULL;
+    if (!PyArg_ParseTuple(args, "iKOOpi", &slot, &address, &inputs, &outputs, &forces,
+                          &options))
+        return NULL;
     if (slot < 0 || slot >= SLOTS) {
         PyErr_Format(PyExc_ValueError, "slot %d outside 0..%d", slot, SLOTS - 1);
         return NULL;
     }
+    if (options < 0 || options > MAX_OPT) {
+        PyErr_Format(PyExc_ValueError, "0 to %d options", MAX_OPT);
+        return NULL;
+    }
     slot_t s = {0};
     s.fn = (entry_t)address;
+    s.forces = forces;
+    s.n_opt = options;
     if ((s.n_in = read_codes(inputs, s.in, MAX_IN, "inputs")) < 0) return NULL;
     PyObject *fast = PySequence_Fast(outputs, "outputs");
     if (!fast) return NULL;
@@ -116,8 +134,8 @@ static double *data(PyObject *o, int ndim, const long long *dims) {
 }
 
 static PyObject *call(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
-    if (nargs != 7) {
-        PyErr_SetString(PyExc_TypeError, "call(slot, packed, x0, x1, x2, f, option)");
+    if (nargs < 2) {
+        PyErr_SetString(PyExc_TypeError, "call(slot, packed, x..., [f,] option...)");
         return NULL;
     }
     long slot = PyLong_AsLong(args[0]);
@@ -126,7 +144,8 @@ static PyObject *call(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
         Py_RETURN_NONE;
     }
     const slot_t *s = &slots[slot];
-    if (!s->fn || !PyArray_CheckExact(args[1])) Py_RETURN_NONE;
+    if (!s->fn || nargs != 2 + s->n_in + s->forces + s->n_opt || !PyArray_CheckExact(args[1]))
+        Py_RETURN_NONE;
     PyArrayObject *p = (PyArrayObject *)args[1];
     if (PyArray_TYPE(p) != NPY_DOUBLE || PyArray_NDIM(p) != 1 || !PyArray_IS_C_CONTIGUOUS(p) ||
         !PyArray_ISALIGNED(p) || PyArray_DIMS(p)[0] < HEADER)
@@ -135,26 +154,31 @@ static PyObject *call(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
     const long long *header = (const long long *)packed;
     if (header[HEADER - 1] != PyArray_DIMS(p)[0]) Py_RETURN_NONE;
 
-    double *x[MAX_IN] = {packed, packed, packed};
+    double *x[MAX_IN];
     for (int i = 0; i < s->n_in; i++) {
         long long size = resolve(s->in[i], header);
         if (!(x[i] = data(args[2 + i], 1, &size))) Py_RETURN_NONE;
     }
     double *f = packed;
     long long nf = 0;
-    if (args[5] != Py_None) {
+    if (s->forces && args[2 + s->n_in] != Py_None) {
         long long dims[2] = {header[0], 6};
-        if (!(f = data(args[5], 2, dims))) Py_RETURN_NONE;
+        if (!(f = data(args[2 + s->n_in], 2, dims))) Py_RETURN_NONE;
         nf = header[0];
     }
-    long long option = PyLong_AsLongLong(args[6]);
-    if (option == -1 && PyErr_Occurred()) {
-        PyErr_Clear();
-        Py_RETURN_NONE;
+    long long options[MAX_OPT];
+    for (int i = 0; i < s->n_opt; i++) {
+        PyObject *o = args[2 + s->n_in + s->forces + i];
+        if (!PyLong_CheckExact(o)) Py_RETURN_NONE;
+        options[i] = PyLong_AsLongLong(o);
+        if (options[i] == -1 && PyErr_Occurred()) {
+            PyErr_Clear();
+            Py_RETURN_NONE;
+        }
     }
 
-    PyObject *out[MAX_OUT] = {NULL, NULL, NULL};
-    double *o[MAX_OUT] = {packed, packed, packed};
+    PyObject *out[MAX_OUT];
+    double *o[MAX_OUT];
     for (int i = 0; i < s->n_out; i++) {
         npy_intp dims[MAX_DIMS];
         for (int d = 0; d < s->ndim[i]; d++) dims[d] = (npy_intp)resolve(s->dims[i][d], header);
@@ -165,7 +189,7 @@ static PyObject *call(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
         }
         o[i] = (double *)PyArray_DATA((PyArrayObject *)out[i]);
     }
-    long long status = s->fn(packed, x[0], x[1], x[2], f, nf, o[0], o[1], o[2], option);
+    long long status = s->fn(packed, x, f, nf, o, options);
     if (status != 0) {
         for (int i = 0; i < s->n_out; i++) Py_DECREF(out[i]);
         return PyLong_FromLongLong(status);
@@ -182,9 +206,10 @@ static PyObject *call(PyObject *self, PyObject *const *args, Py_ssize_t nargs) {
 
 static PyMethodDef methods[] = {
     {"register", register_entry, METH_VARARGS,
-     "register(slot, address, inputs, outputs): an entry point and its array sizes."},
+     "register(slot, address, inputs, outputs, forces, options): an entry point, its array "
+     "sizes, whether it takes wrenches and how many integer options."},
     {"call", (PyCFunction)(void (*)(void))call, METH_FASTCALL,
-     "call(slot, packed, x0, x1, x2, f, option): outputs, a status, or None."},
+     "call(slot, packed, x..., [f,] option...): outputs, a status, or None."},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_native",
@@ -193,5 +218,10 @@ static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_native",
 
 PyMODINIT_FUNC PyInit__native(void) {
     import_array();
-    return PyModule_Create(&module);
+    PyObject *m = PyModule_Create(&module);
+    if (m && PyModule_AddIntConstant(m, "ABI", ABI) < 0) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    return m;
 }

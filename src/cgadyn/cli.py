@@ -68,7 +68,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help(sys.stderr)
         return 2
     try:
-        return int(args.func(args))
+        status = int(args.func(args))
+        _compiled_total()
+        return status
     except BrokenPipeError:  # `cgadyn info panda | head`: stop quietly, like other tools
         _silence_stdout()
         return 141
@@ -79,6 +81,17 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _error(exc, 2)
     except Exception as exc:  # a bug of ours: still one line, and a way to see more
         return _error(exc, 3, f"internal error ({type(exc).__name__}), please report: ")
+
+
+def _compiled_total() -> None:
+    """After a command that compiled (a first run), the total on stderr (``_progress``)."""
+    progress = sys.modules.get("cgadyn._progress")
+    if progress is None or not progress.ENABLED:
+        return
+    count, seconds = progress.compiled()
+    if count:
+        print(f"cgadyn: compiled {count} functions in {seconds:.0f} s on this first run; "
+              f"later runs load them from numba's cache", file=sys.stderr)
 
 
 def _error(exc: Exception, status: int, prefix: str = "") -> int:

@@ -85,19 +85,19 @@ def _global_samples(message: str, offset: int) -> str:
     return message
 
 
-def _run_block(name, model, gravity, f_ext, option, *blocks, block_info=None):
+def _run_block(name, model, gravity, f_ext, options, *blocks, block_info=None):
     """One chunk: one compiled batch call; several outputs stacked on axis 1. An error
     names the sample by its index in the whole dask array, not in the chunk."""
     from .algorithms.calls import run
 
     try:
-        out = run(name, model, blocks, gravity, f_ext, option)
+        out = run(name, model, blocks, gravity, f_ext, options)
     except ValueError as exc:
         raise ValueError(_global_samples(str(exc), _first_row(block_info))) from None
     return np.stack(out, axis=1) if isinstance(out, tuple) else out
 
 
-def run(name: str, model, arrays: tuple, gravity, f_ext, option: int = 0):
+def run(name: str, model, arrays: tuple, gravity, f_ext, options: tuple[int, ...] = ()):
     """Algorithm ``name`` (``table.py``) on dask arrays of states: a dask array, or a
     tuple of them, chunked along B like the inputs; ``f_ext`` one (n, 6) for all."""
     import dask.array as da
@@ -111,12 +111,12 @@ def run(name: str, model, arrays: tuple, gravity, f_ext, option: int = 0):
     x = _aligned(arrays, tuple(sizes[s] for _, s in alg.inputs))
     shapes = [tuple(sizes.get(d, d) for d in dims) for dims in alg.outputs]
     if len(shapes) == 1:
-        return da.map_blocks(_run_block, name, model, gravity, f_ext, option, *x,
+        return da.map_blocks(_run_block, name, model, gravity, f_ext, options, *x,
                              dtype=float, chunks=(x[0].chunks[0], *shapes[0]),
                              drop_axis=1, new_axis=list(range(1, 1 + len(shapes[0]))))
     if len(set(shapes)) != 1:  # not the case of any algorithm the dask path serves
         raise ValueError(f"{name} has outputs of different shapes; no dask path for it")
-    stacked = da.map_blocks(_run_block, name, model, gravity, f_ext, option, *x,
+    stacked = da.map_blocks(_run_block, name, model, gravity, f_ext, options, *x,
                             dtype=float, chunks=(x[0].chunks[0], len(shapes), *shapes[0]),
                             drop_axis=1, new_axis=list(range(1, 2 + len(shapes[0]))))
     return tuple(stacked[:, i] for i in range(len(shapes)))

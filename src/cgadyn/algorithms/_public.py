@@ -23,15 +23,27 @@ def fast_first(name: str) -> Callable:
     """``call(model, x0, x1=None, x2=None, gravity=DEFAULT_GRAVITY, f_ext=None)`` for the
     algorithm ``name`` of ``table.py``, whose inputs ``x`` come in table order: the fast
     path's result when it gives one (default gravity, no ``f_ext``, one canonical sample
-    and status 0), else that of ``calls.run``, which converts, batches and explains."""
-    slot, count, ndarray = SLOTS[name], len(BY_NAME[name].inputs), np.ndarray
-
-    def call(model, x0, x1=None, x2=None, gravity=DEFAULT_GRAVITY, f_ext=None):
-        if gravity is DEFAULT_GRAVITY and f_ext is None:
-            out = fast(slot, model.packed, x0, x1, x2, None, 0)
-            if out.__class__ is ndarray or out.__class__ is tuple:
-                return out
-        return run(name, model, (x0, x1, x2)[:count], gravity, f_ext)
+    and status 0), else that of ``calls.run``, which converts, batches and explains. The
+    fast call has the algorithm's arity (``cgadyn._native`` refuses any other), so the
+    closure is picked by the number of inputs and whether it takes wrenches."""
+    alg = BY_NAME[name]
+    slot, ndarray = SLOTS[name], np.ndarray
+    if len(alg.inputs) == 3 and alg.forces:
+        def call(model, x0, x1=None, x2=None, gravity=DEFAULT_GRAVITY, f_ext=None):
+            if gravity is DEFAULT_GRAVITY and f_ext is None:
+                out = fast(slot, model.packed, x0, x1, x2, None)
+                if out.__class__ is ndarray or out.__class__ is tuple:
+                    return out
+            return run(name, model, (x0, x1, x2), gravity, f_ext)
+    elif len(alg.inputs) == 1 and not alg.forces and not alg.options:
+        def call(model, x0, x1=None, x2=None, gravity=DEFAULT_GRAVITY, f_ext=None):
+            if gravity is DEFAULT_GRAVITY and f_ext is None:
+                out = fast(slot, model.packed, x0)
+                if out.__class__ is ndarray or out.__class__ is tuple:
+                    return out
+            return run(name, model, (x0,), gravity, f_ext)
+    else:
+        raise ValueError(f"no fast-first call for {name!r}: its arity has no closure here")
 
     call.__qualname__ = call.__name__ = f"{name}_fast_first"
     return call

@@ -75,7 +75,7 @@ from .status import OK, SINGULAR, fault
 
 
 @core
-def aba_core(m, q, v, tau, f, qdd, option, work):
+def aba_core(m, q, v, tau, f, qdd, work):
     """One sample of Algorithm 3 into ``qdd`` (nv); ``f`` the external wrenches (n, 6), or
     (0, 6) for none; ``work`` ``workspace_size`` floats. Returns a status."""
     status = check_configuration(m, q)

@@ -136,7 +136,7 @@ def accelerate(m, k_, qdd, Aq):
 
 
 @core
-def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, option, work):
+def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, work):
     """``dq = ∂q̈/∂q``, ``dv = ∂q̈/∂v``, ``dtau = ∂q̈/∂τ = M⁻¹`` (nv, nv) of one sample.
 
     q̈ without ABA: the forward pass of the rnea derivatives at q̈ = 0 gives M and the bias

@@ -34,7 +34,7 @@ from .status import OK, at_sample
 
 
 @core
-def aba_derivatives_group(m, q, v, tau, f, o0, o1, o2, start, stop, option, work):
+def aba_derivatives_group(m, q, v, tau, f, o0, o1, o2, start, stop, work):
     """``aba_derivatives`` of the samples ``start .. stop`` of a batch, the forward pass
     and M⁻¹ ``W`` samples at a time; a status (at the sample of the first fault)."""
     samples, lanes, Ql, Vl, Al, Fl, inverse = _workspace(ws.data_pointer(work), m)
@@ -60,13 +60,13 @@ def aba_derivatives_group(m, q, v, tau, f, o0, o1, o2, start, stop, option, work
                 continue
             fb = f[b + l] if f.shape[0] > 0 else none  # again alone, for the exact fault
             s = aba_derivatives_core(m, q[b + l], v[b + l], tau[b + l], fb, o0[b + l],
-                                     o1[b + l], o2[b + l], option, samples[l])
+                                     o1[b + l], o2[b + l], samples[l])
             if s != OK:
                 return at_sample(s, b + l)
         b += W
     for i in range(b, stop):
         fb = f[i] if f.shape[0] > 0 else none
-        s = aba_derivatives_core(m, q[i], v[i], tau[i], fb, o0[i], o1[i], o2[i], option,
+        s = aba_derivatives_core(m, q[i], v[i], tau[i], fb, o0[i], o1[i], o2[i],
                                  samples[0])
         if s != OK:
             return at_sample(s, i)

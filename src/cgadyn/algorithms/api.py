@@ -16,7 +16,7 @@ from ..cga.conventions import twist_from_motion
 from . import _inputs
 from ._public import fast_first
 from .calls import run
-from .jacobian import FRAMES, LOCAL, LOCAL_WORLD_ALIGNED, WORLD
+from .jacobian import LOCAL, LOCAL_WORLD_ALIGNED, WORLD
 
 G = _inputs.DEFAULT_GRAVITY
 _rnea, _aba, _crba = fast_first("rnea"), fast_first("aba"), fast_first("crba")
@@ -79,8 +79,7 @@ def jacobian(model, q, link: str | int, frame: str = "world", layout: str = "pin
         raise ValueError(f"frame must be one of {sorted(_FRAMES)}, got {frame!r}")
     if layout not in ("pinocchio", "twist"):
         raise ValueError(f"layout must be 'pinocchio' or 'twist', got {layout!r}")
-    option = FRAMES * _inputs.link_index(model, link) + _FRAMES[frame]
-    J = run("jacobian", model, (q,), option=option)
+    J = run("jacobian", model, (q,), options=(_inputs.link_index(model, link), _FRAMES[frame]))
     return twist_from_motion(np.swapaxes(J, -1, -2)) if layout == "twist" else J
 
 

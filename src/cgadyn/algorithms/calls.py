@@ -1,6 +1,6 @@
 """The path of a call from a public function to compiled code, and back.
 
-Each algorithm of ``table.py`` has three compiled entries (``_entries.py``). A public
+Each algorithm of ``table.py`` has three compiled entries (``entries/<name>.py``). A public
 function first offers its arguments to ``cgadyn._native.call`` (``fast``): arrays that are
 already one C-contiguous float64 sample of the right length go straight to the algorithm's
 C entry point, which allocates nothing but the result. Anything else, and any fault, takes
@@ -21,6 +21,7 @@ layer, which calls ``run`` again on numpy chunks.
 
 from __future__ import annotations
 
+import importlib
 import math
 import os
 import threading
@@ -32,12 +33,15 @@ import numpy as np
 from .. import _arrays
 from .._threads import PARALLEL_LOCK
 from ..multibody.packed import DEFAULT_GRAVITY
-from . import _blocks, _entries, _inputs
+from . import _blocks, _inputs
 from .errors import explain
 from .table import ALGORITHMS, SIZES
 
 NATIVE_ENABLED = os.environ.get("CGADYN_NATIVE", "1") != "0" and not numba.config.DISABLE_JIT
 """``CGADYN_NATIVE=0`` runs one-sample calls through numba's dispatcher instead."""
+
+NATIVE_ABI = 2
+"""The calling convention of ``cgadyn._native`` this module speaks (``ABI`` in _native.c)."""
 
 try:
     from .. import _native
@@ -46,6 +50,9 @@ except ImportError as exc:  # not built: see setup.py
     NATIVE_STATUS = f"missing ({exc})"
 else:
     NATIVE_STATUS = "loaded"
+    if getattr(_native, "ABI", 1) != NATIVE_ABI:  # built from older sources
+        _native = None
+        NATIVE_STATUS = "missing (built from older sources of cgadyn: it must be rebuilt)"
 if not NATIVE_ENABLED:
     _native = None
     NATIVE_STATUS = ("disabled (NUMBA_DISABLE_JIT=1)" if numba.config.DISABLE_JIT
@@ -79,18 +86,21 @@ class Entry:
     def __init__(self, slot: int, algorithm):
         self.slot, self.algorithm = slot, algorithm
         name = algorithm.name
-        self.single = getattr(_entries, f"{name}_single")
-        self.native = getattr(_entries, f"{name}_native")
-        self.batch = getattr(_entries, f"{name}_batch")
+        module = importlib.import_module(f".entries.{name}", __package__)
+        self.single = getattr(module, f"{name}_single")
+        self.native = getattr(module, f"{name}_native")
+        self.batch = getattr(module, f"{name}_batch")
         self.registered = False
 
     def register(self) -> None:
         """Compile (or load) the C entry point and hand it to ``cgadyn._native``."""
         with _REGISTER:
             if not self.registered:
+                alg = self.algorithm
                 _native.register(self.slot, self.native.address,
-                                 [_code(size) for _, size in self.algorithm.inputs],
-                                 [[_code(d) for d in dims] for dims in self.algorithm.outputs])
+                                 [_code(size) for _, size in alg.inputs],
+                                 [[_code(d) for d in dims] for dims in alg.outputs],
+                                 alg.forces, len(alg.options))
                 self.registered = True
 
     def outputs(self, model, batch: tuple[int, ...]) -> list[np.ndarray]:
@@ -113,29 +123,31 @@ class Entry:
         return [raw[skip + o:skip + o + c].reshape(shape)
                 for o, c, shape in zip(starts[:-1], counts, shapes, strict=True)]
 
-    def one(self, model, packed, x: tuple, f, option: int):
+    def one(self, model, packed, x: tuple, f, options: tuple[int, ...]):
         """One sample: ``(status, outputs)``."""
+        forces = (f,) if self.algorithm.forces else ()
         if _native is not None:
             if not self.registered:
                 self.register()
-            args = (x + (None, None))[:3]
-            r = _native.call(self.slot, packed, *args, f, option)
+            r = _native.call(self.slot, packed, *x, *forces, *options)
             if isinstance(r, int):
                 return r, None
             if r is not None:
                 return 0, r if isinstance(r, tuple) else (r,)
         out = self.outputs(model, ())
-        forces = (f if f is not None else np.empty((0, 6)),) if self.algorithm.forces else ()
-        return int(self.single(packed, *x, *forces, *out, option)), tuple(out)
+        if self.algorithm.forces and f is None:
+            forces = (np.empty((0, 6)),)
+        return int(self.single(packed, *x, *forces, *out, *options)), tuple(out)
 
-    def many(self, model, packed, x: tuple, f, option: int):
+    def many(self, model, packed, x: tuple, f, options: tuple[int, ...]):
         """A (B, ...) batch in one parallel call: ``(status, outputs)``."""
         out = self.outputs(model, x[0].shape[:1])
         forces = ()
         if self.algorithm.forces:
             forces = (f if f is not None else np.empty((0, model.njoints, 6)),)
         with PARALLEL_LOCK:
-            status = self.batch(packed, *x, *forces, *out, option, numba.get_num_threads())
+            status = self.batch(packed, *x, *forces, *out, *options,
+                                numba.get_num_threads())
         return int(status), tuple(out)
 
 
@@ -148,17 +160,20 @@ def _no_fast_path(*args):
 
 
 fast = _native.call if _native is not None else _no_fast_path
-"""``fast(slot, packed, x0, x1, x2, f, option)``: the result of a canonical one-sample call,
+"""``fast(slot, packed, x..., [f,] option...)`` (``f`` where the algorithm takes wrenches,
+one int per option of its record): the result of a canonical one-sample call,
 else (an odd input, a fault, an entry not yet registered) something that is not an
 ndarray or tuple; the caller then calls ``run``."""
 
 
-def run(name: str, model, arrays: tuple, gravity=DEFAULT_GRAVITY, f_ext=None, option: int = 0):
-    """The checked path of algorithm ``name`` on ``arrays`` (its inputs, in table order):
-    its output, or a tuple of its outputs, for one sample or a batch."""
+def run(name: str, model, arrays: tuple, gravity=DEFAULT_GRAVITY, f_ext=None,
+        options: tuple[int, ...] = ()):
+    """The checked path of algorithm ``name`` on ``arrays`` (its inputs, in table order) and
+    ``options`` (its integer arguments, in table order): its output, or a tuple of its
+    outputs, for one sample or a batch."""
     server = _arrays.server(arrays)
     if server is not None:  # another library's arrays, served above
-        return server.run(name, model, arrays, gravity, f_ext, option)
+        return server.run(name, model, arrays, gravity, f_ext, options)
     entry = ENTRIES[name]
     alg = entry.algorithm
     x = _inputs.states(model, arrays, alg.inputs)
@@ -169,12 +184,12 @@ def run(name: str, model, arrays: tuple, gravity=DEFAULT_GRAVITY, f_ext=None, op
         out = tuple(entry.outputs(model, batch))
     elif batch == (1,):  # a one-sample batch: the one-sample entry, without threads
         status, out = entry.one(model, packed, tuple(a[0] for a in x),
-                                None if f is None else f[0], option)
+                                None if f is None else f[0], options)
         out = None if out is None else tuple(o[None] for o in out)
     elif batch:
-        status, out = entry.many(model, packed, x, f, option)
+        status, out = entry.many(model, packed, x, f, options)
     else:
-        status, out = entry.one(model, packed, x, f, option)
+        status, out = entry.one(model, packed, x, f, options)
     if batch != (0,) and status != 0:
         names = dict(zip((n for n, _ in alg.inputs), x, strict=True))
         if f_ext is not None:

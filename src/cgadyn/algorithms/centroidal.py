@@ -45,7 +45,7 @@ from .status import OK
 
 
 @core
-def com_core(m, q, v, a, out, option, work):
+def com_core(m, q, v, a, out, work):
     """``out = (c, ċ, c̈)`` (3, 3), world frame: the centre of mass, its velocity and its
     (classical) acceleration."""
     status = check_configuration(m, q)
@@ -99,7 +99,7 @@ def com_core(m, q, v, a, out, option, work):
 
 
 @core
-def centroidal_core(m, q, Ag, com, option, work):
+def centroidal_core(m, q, Ag, com, work):
     """The centroidal momentum matrix ``Ag`` (6, nv), rows linear then angular momentum
     about the centre of mass, world axes; and the centre of mass ``com`` (3)."""
     status = check_configuration(m, q)

@@ -34,7 +34,7 @@ from .status import OK
 
 
 @core
-def crba_core(m, q, H, option, work):
+def crba_core(m, q, H, work):
     """One sample into ``H`` (nv, nv); ``work`` ``workspace_size`` floats. Returns a
     status."""
     status = check_configuration(m, q)

@@ -21,7 +21,7 @@ from .status import OK
 
 
 @core
-def energy_core(m, q, v, out, option, work):
+def energy_core(m, q, v, out, work):
     """``out = (T, U)`` of one sample."""
     status = check_configuration(m, q)
     if status != OK:

@@ -19,17 +19,15 @@ from .kinematics import link_motor, world_motors
 from .status import OK
 
 WORLD, LOCAL, LOCAL_WORLD_ALIGNED = 0, 1, 2
-FRAMES = 4
-"""``option = FRAMES * link + frame``."""
 
 
 @core
-def jacobian_core(m, q, J, option, work):
-    """The (6, nv) Jacobian of link ``option // FRAMES`` in frame ``option % FRAMES``."""
+def jacobian_core(m, q, J, link, frame, work):
+    """The (6, nv) Jacobian of link ``link`` (an index of the model's links) in ``frame``
+    (``WORLD``, ``LOCAL`` or ``LOCAL_WORLD_ALIGNED``)."""
     status = check_configuration(m, q)
     if status != OK:
         return status
-    link, frame = option // FRAMES, option % FRAMES
     Mw, L, F, M, tmp8, tw, tw2, c, s = _workspace(ws.data_pointer(work), m)
     world_motors(m, q, c, s, tmp8, M, Mw)
     link_motor(m, Mw, link, L)  # M^w_L

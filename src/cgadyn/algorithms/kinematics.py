@@ -84,7 +84,7 @@ def link_motor(m, Mw, i, out):
 
 
 @core
-def motors_core(m, q, joints, links, option, work):
+def motors_core(m, q, joints, links, work):
     """World motors of the joint frames (n, 8) and of the link frames (nl, 8)."""
     status = check_configuration(m, q)
     if status != OK:
@@ -97,7 +97,7 @@ def motors_core(m, q, joints, links, option, work):
 
 
 @core
-def placements_core(m, q, T, option, work):
+def placements_core(m, q, T, work):
     """World 4x4 matrices of the link frames (nl, 4, 4)."""
     status = check_configuration(m, q)
     if status != OK:

@@ -15,7 +15,7 @@ from .status import OK
 
 
 @core
-def integrate_core(m, q, v, out, option, work):
+def integrate_core(m, q, v, out, work):
     """``out = q ⊕ v`` (nq)."""
     status = check_configuration(m, q)
     if status != OK:
@@ -27,7 +27,7 @@ def integrate_core(m, q, v, out, option, work):
 
 
 @core
-def difference_core(m, q0, q1, out, option, work):
+def difference_core(m, q0, q1, out, work):
     """``out = q1 ⊖ q0`` (nv): the velocity that takes q0 to q1 in unit time."""
     status = check_configuration(m, q0)
     if status == OK:

@@ -211,7 +211,7 @@ def mirror_upper(X):
 
 
 @core
-def minverse_core(m, q, Minv, option, work):
+def minverse_core(m, q, Minv, work):
     """``Minv = M(q)⁻¹`` (nv, nv), full and symmetric."""
     status = check_configuration(m, q)
     if status != OK:

@@ -56,7 +56,7 @@ from .status import OK, at_sample
 
 
 @core
-def minverse_group(m, q, Minv, start, stop, option, work):
+def minverse_group(m, q, Minv, start, stop, work):
     """``Minv[b] = M(q[b])⁻¹`` for the samples ``start .. stop`` of a batch; a status (at
     the sample of the first fault)."""
     size = scalar_size(m.n, m.nq, m.nv, m.nl)
@@ -67,12 +67,12 @@ def minverse_group(m, q, Minv, start, stop, option, work):
     while lanes and b + W <= stop:
         if not _group(m, q, Minv, b, streamed, k_):
             for l in range(W):  # again one at a time, for the exact fault
-                s = minverse_core(m, q[b + l], Minv[b + l], option, work)
+                s = minverse_core(m, q[b + l], Minv[b + l], work)
                 if s != OK:
                     return at_sample(s, b + l)
         b += W
     for i in range(b, stop):
-        s = minverse_core(m, q[i], Minv[i], option, work)
+        s = minverse_core(m, q[i], Minv[i], work)
         if s != OK:
             return at_sample(s, i)
     fence()

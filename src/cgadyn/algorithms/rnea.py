@@ -43,7 +43,7 @@ from .status import OK
 
 
 @core
-def rnea_core(m, q, v, a, f, tau, option, work):
+def rnea_core(m, q, v, a, f, tau, work):
     """One sample of Algorithm 2 into ``tau`` (nv); ``f`` the external wrenches (n, 6), or
     (0, 6) for none; ``work`` ``workspace_size`` floats. Returns a status."""
     status = check_configuration(m, q)

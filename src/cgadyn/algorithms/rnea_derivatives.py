@@ -225,7 +225,7 @@ def entries(m, k_, dq, dv, da):
 
 
 @core
-def rnea_derivatives_core(m, q, v, a, f, dq, dv, da, option, work):
+def rnea_derivatives_core(m, q, v, a, f, dq, dv, da, work):
     """``dq = ∂τ/∂q``, ``dv = ∂τ/∂v`` and ``da = ∂τ/∂a = M`` (nv, nv) of one sample; ``f``
     the external wrenches (n, 6), or (0, 6) for none."""
     status = check_configuration(m, q)

@@ -43,7 +43,7 @@ from .status import OK, at_sample
 
 
 @core
-def rnea_derivatives_group(m, q, v, a, f, o0, o1, o2, start, stop, option, work):
+def rnea_derivatives_group(m, q, v, a, f, o0, o1, o2, start, stop, work):
     """``rnea_derivatives`` of the samples ``start .. stop`` of a batch, ``W`` at a time; a
     status (at the sample of the first fault)."""
     samples, lanes, Ql, Vl, Al, Fl, r0, r1, r2 = _workspace(ws.data_pointer(work), m)
@@ -56,14 +56,14 @@ def rnea_derivatives_group(m, q, v, a, f, o0, o1, o2, start, stop, option, work)
             for l in range(W):  # again one at a time, for the exact fault
                 fb = f[b + l] if f.shape[0] > 0 else none
                 s = rnea_derivatives_core(m, q[b + l], v[b + l], a[b + l], fb, o0[b + l],
-                                          o1[b + l], o2[b + l], option, samples[0])
+                                          o1[b + l], o2[b + l], samples[0])
                 if s != OK:
                     return at_sample(s, b + l)
         b += W
     for i in range(b, stop):
         fb = f[i] if f.shape[0] > 0 else none
         t0, t1, t2 = (r0, r1, r2) if streamed else (o0[i], o1[i], o2[i])
-        s = rnea_derivatives_core(m, q[i], v[i], a[i], fb, t0, t1, t2, option, samples[0])
+        s = rnea_derivatives_core(m, q[i], v[i], a[i], fb, t0, t1, t2, samples[0])
         if s != OK:
             return at_sample(s, i)
         if streamed:

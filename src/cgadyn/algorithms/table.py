@@ -2,10 +2,10 @@
 
 The records are plain data (this module imports nothing of cgadyn), read twice:
 
-- ``tools/generate_entries.py`` writes ``_entries.py`` from them: for each algorithm its
-  one-sample entry, its C-callable form for ``cgadyn._native`` and its parallel batch
-  entry, all calling the algorithm's core ``<module>.<name>_core(m, inputs..., f, outputs...,
-  option, work) -> status``;
+- ``tools/generate_entries.py`` writes ``entries/<name>.py`` from them: for each algorithm
+  its one-sample entry, its C-callable form for ``cgadyn._native`` and its parallel batch
+  entry, all calling the algorithm's core ``<module>.<name>_core(m, inputs..., [f,]
+  outputs..., options..., work) -> status``;
 - ``cgadyn.algorithms.calls`` calls those entries: checks and converts the inputs, allocates
   the outputs, registers the C-callable forms with ``cgadyn._native`` and turns a status into
   the message of a ``ValueError``.
@@ -29,10 +29,10 @@ class Algorithm:
     ``inputs``: the name and size of each sample array (``("q", "nq")``, ``("v", "nv")``);
     ``forces``: whether it takes external wrenches ``f_ext`` (one per joint);
     ``outputs``: the shape of each result array of one sample;
-    ``option``: what the integer option carries, if anything;
+    ``options``: the names of its integer arguments (a link index, a frame), if any;
     ``nonfinite``: what a non-finite result from finite inputs means;
     ``group``: the module of a ``<name>_group(m, inputs..., [f,] outputs..., start, stop,
-    option, work) -> status`` that a batch calls on each chunk of samples instead of the core on
+    work) -> status`` that a batch calls on each chunk of samples instead of the core on
     each sample (it computes several samples at once), with its own ``workspace_size``.
     """
 
@@ -41,7 +41,7 @@ class Algorithm:
     inputs: tuple[tuple[str, str], ...]
     outputs: tuple[tuple[int | str, ...], ...]
     forces: bool = False
-    option: str = ""
+    options: tuple[str, ...] = ()
     nonfinite: str = "an overflow"
     group: str = ""
 
@@ -67,7 +67,7 @@ ALGORITHMS = (
               group="minverse_lanes"),
     Algorithm("motors", "kinematics", (Q,), (("n", 8), ("nl", 8))),
     Algorithm("placements", "kinematics", (Q,), (("nl", 4, 4),)),
-    Algorithm("jacobian", "jacobian", (Q,), ((6, "nv"),), option="4 link + frame"),
+    Algorithm("jacobian", "jacobian", (Q,), ((6, "nv"),), options=("link", "frame")),
     Algorithm("energy", "energy", (Q, V), ((2,),)),
     Algorithm("com", "centroidal", (Q, V, A), ((3, 3),),
               nonfinite="a model without mass, or an overflow"),

@@ -92,12 +92,12 @@ def _closed_loop(m, q, v, u, f, ctrl, qdd, sc, work):
     """``closed_loop_acceleration``, its ``qdd`` undefined where it fails."""
     flags, coords, q_ref, v_ref = ctrl
     if flags == 0:  # no feedback: τ = τ_ol
-        return aba_core(m, q, v, u, f, qdd, 0, work)
+        return aba_core(m, q, v, u, f, qdd, work)
     tau, g, dq, zero, none, tmp = sc[2], sc[3], sc[4], sc[5], sc[6], sc[7]
     for k in range(m.nv):
         tau[k] = u[k]
     if flags & GRAVITY:
-        status = rnea_core(m, q, zero, zero, none, g, 0, work)  # g(q) = RNEA(q, 0, 0)
+        status = rnea_core(m, q, zero, zero, none, g, work)  # g(q) = RNEA(q, 0, 0)
         if status != OK:
             return status
         for k in range(m.nv):
@@ -107,7 +107,7 @@ def _closed_loop(m, q, v, u, f, ctrl, qdd, sc, work):
             joint_difference(m, j, q, q_ref, tmp, dq)  # q_ref ⊖ q
         for k in range(m.nv):  # K_p, K_d zero where not actuated
             tau[k] += coords[KP, k] * dq[k] + coords[KD, k] * (v_ref[k] - v[k])
-    return aba_core(m, q, v, tau, f, qdd, 0, work)
+    return aba_core(m, q, v, tau, f, qdd, work)
 
 
 @inline
@@ -338,4 +338,4 @@ def energies(packed, Q, V, last, E, threads):
         for r in range(starts[c], stops[c]):
             b, i = r // rows, r % rows
             if i <= last[b]:
-                energy_core(mc, Q[b, i], V[b, i], E[b, i], 0, work)  # a fault leaves NaN
+                energy_core(mc, Q[b, i], V[b, i], E[b, i], work)  # a fault leaves NaN

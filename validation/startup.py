@@ -1,0 +1,175 @@
+"""How long a first run takes: cold and warm first calls, an edit's recompilation, a cold
+``cgadyn validate``, each in a fresh cache directory, for this checkout and optionally for
+another git revision measured in the same run (old and new alternating).
+
+For each source tree (this checkout; ``--baseline REV``, checked out and built in a
+temporary directory), in fresh ``NUMBA_CACHE_DIR`` and ``CGADYN_CACHE_DIR`` directories:
+
+- ``cold aba`` / ``cold rnea``: a new process's first ``cgadyn.aba`` (then ``rnea``) on the
+  panda, with nothing cached; ``warm aba``: the same in a second process;
+- ``rnea after editing aba.py``: a comment appended to ``algorithms/aba.py`` of a copy of
+  the package, then a new process's first ``rnea`` (numba's cache keeps what the edit does
+  not reach, so this loads from the cache);
+- ``cold validate`` (with ``--validate``): ``cgadyn validate`` on the default robot, with the
+  time until its first line on stderr.
+
+Writes ``validation/results/startup.{md,json}``.
+
+    python validation/startup.py [--baseline REV] [--validate] [--repeats N]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "validation" / "results"
+
+FIRST_CALLS = """
+import sys, time
+import numpy as np
+t = time.perf_counter()
+import cgadyn
+m = cgadyn.load("panda")
+q = np.full(m.nq, 0.3)
+times = {"import and load": time.perf_counter() - t}
+for name in sys.argv[1:]:
+    t = time.perf_counter()
+    getattr(cgadyn, name)(m, q, q, q)
+    times[name] = time.perf_counter() - t
+print(times)
+"""
+
+
+def source_tree(rev: str | None, tmp: Path) -> Path:
+    """The ``src`` directory of this checkout, or of ``rev`` checked out and built in ``tmp``
+    (the C extension built in place)."""
+    if rev is None:
+        return ROOT / "src"
+    tree = tmp / f"rev-{rev}"
+    archive = subprocess.run(["git", "-C", str(ROOT), "archive", rev], check=True,
+                             capture_output=True).stdout
+    tree.mkdir()
+    subprocess.run(["tar", "-x", "-C", str(tree)], input=archive, check=True)
+    subprocess.run([sys.executable, "setup.py", "-q", "build_ext", "--inplace"], cwd=tree,
+                   check=True, capture_output=True)
+    return tree / "src"
+
+
+def copy_package(src: Path, tmp: Path, name: str) -> Path:
+    """A copy of the ``src`` tree (without caches), so that edits leave the original alone."""
+    dst = tmp / name
+    shutil.copytree(src, dst, ignore=shutil.ignore_patterns("__pycache__", "*.nbi", "*.nbc"))
+    return dst
+
+
+def env(src: Path, cache: Path) -> dict[str, str]:
+    return {**os.environ, "PYTHONPATH": str(src), "NUMBA_CACHE_DIR": str(cache),
+            "CGADYN_CACHE_DIR": str(cache / "models"), "PYTHONDONTWRITEBYTECODE": "1"}
+
+
+def first_calls(src: Path, cache: Path, *names: str) -> dict[str, float]:
+    run = subprocess.run([sys.executable, "-c", FIRST_CALLS, *names], env=env(src, cache),
+                         capture_output=True, text=True, check=True, cwd=cache)
+    return eval(run.stdout.strip().splitlines()[-1])
+
+
+def validate(src: Path, cache: Path) -> dict[str, float]:
+    """A cold ``cgadyn validate``: its total time and the time to its first stderr line."""
+    start = time.perf_counter()
+    proc = subprocess.Popen([sys.executable, "-m", "cgadyn.cli", "validate", "--json"],
+                            env=env(src, cache), cwd=cache, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, text=True)
+    first = None
+    for _ in proc.stderr:
+        first = first if first is not None else time.perf_counter() - start
+    proc.wait()
+    total = time.perf_counter() - start
+    return {"cold validate": total,
+            "first stderr line": first if first is not None else float("nan"),
+            "validate status": proc.returncode}
+
+
+def measure(src: Path, tmp: Path, tag: str, with_validate: bool) -> dict[str, float]:
+    caches = tmp / f"cache-{tag}-{time.monotonic_ns()}"
+    cold, edit = caches / "cold", caches / "edit"
+    for d in (cold, edit):
+        d.mkdir(parents=True)
+    row = {}
+    c = first_calls(src, cold, "aba", "rnea")
+    row |= {"cold import and load": c["import and load"], "cold aba": c["aba"],
+            "cold rnea (after aba)": c["rnea"]}
+    row["warm aba"] = first_calls(src, cold, "aba")["aba"]
+    copy = copy_package(src, caches, "edited")
+    row["cold rnea (alone)"] = first_calls(copy, edit, "rnea")["rnea"]
+    aba = copy / "cgadyn" / "algorithms" / "aba.py"
+    aba.write_text(aba.read_text() + "\n# an edit\n")
+    row["rnea after editing aba.py"] = first_calls(copy, edit, "rnea")["rnea"]
+    if with_validate:
+        v = caches / "validate"
+        v.mkdir()
+        row |= validate(src, v)
+    shutil.rmtree(caches, ignore_errors=True)
+    return row
+
+
+def table(results: dict[str, list[dict]]) -> list[str]:
+    keys = list(next(iter(results.values()))[0])
+    tags = list(results)
+    lines = ["| s | " + " | ".join(tags) + " |", "|---|" + "---:|" * len(tags)]
+    for k in keys:
+        cells = []
+        for tag in tags:
+            vals = sorted(r[k] for r in results[tag])
+            cells.append(f"{vals[len(vals) // 2]:.1f}")
+        lines.append(f"| {k} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--baseline", help="a git revision to measure in the same run")
+    parser.add_argument("--validate", action="store_true", help="also a cold cgadyn validate")
+    parser.add_argument("--repeats", type=int, default=1)
+    args = parser.parse_args()
+    head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
+                          capture_output=True, text=True).stdout.strip()
+    with tempfile.TemporaryDirectory(prefix="cgadyn-startup-") as t:
+        tmp = Path(t)
+        trees = {f"this checkout ({head})": source_tree(None, tmp)}
+        if args.baseline:
+            trees[f"baseline ({args.baseline})"] = source_tree(args.baseline, tmp)
+        results: dict[str, list[dict]] = {tag: [] for tag in trees}
+        for r in range(args.repeats):
+            for i, (tag, src) in enumerate(trees.items()):
+                row = measure(src, tmp, f"{r}-{i}", args.validate)
+                print(tag, json.dumps(row), flush=True)
+                results[tag].append(row)
+    machine = f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores"
+    when = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+    lines = ["# First runs: cold and warm", "",
+             f"Generated by `python validation/startup.py"
+             f"{' --baseline ' + args.baseline if args.baseline else ''}"
+             f"{' --validate' if args.validate else ''} --repeats {args.repeats}` on {when}, "
+             f"{machine} (medians of {args.repeats}; other jobs may have been running). "
+             "Seconds; each column in its own fresh cache directories.", "", *table(results),
+             ""]
+    OUT.mkdir(exist_ok=True)
+    (OUT / "startup.md").write_text("\n".join(lines))
+    (OUT / "startup.json").write_text(json.dumps({"machine": machine, "date": when,
+                                                  "results": results}, indent=1) + "\n")
+    print("\n".join(lines))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
