@@ -13,6 +13,7 @@ All arrays are read-only; build a model with :func:`build_model` (from raw data)
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -394,8 +395,8 @@ class Model:
         return range(int(self.idx_v[j]), int(self.idx_v[j + 1]))
 
     def __repr__(self) -> str:
-        kinds = {k: self.joint_kinds.count(k) for k in JOINT_KINDS if k in self.joint_kinds}
-        kinds_s = ", ".join(f"{v} {k}" for k, v in kinds.items())
+        counts = Counter(self.joint_kinds)
+        kinds_s = ", ".join(f"{counts[k]} {k}" for k in JOINT_KINDS if counts[k])
         base = "free-flyer base" if self.floating_base else "fixed base"
         return (f"Model({self.name!r}, nq={self.nq}, nv={self.nv}, {base}, "
                 f"{self.njoints} joints ({kinds_s}), links={self.nlinks}, "
