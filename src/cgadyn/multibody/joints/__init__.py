@@ -23,6 +23,9 @@ type                    nq_j  nv_j  M_J(q_j) and S_j
 """
 
 from .dispatch import (
+    ADDITIVE,
+    QUATERNION_AT,
+    QUATERNION_TOLERANCE,
     free_root,
     is_additive,
     joint_difference,
@@ -40,13 +43,10 @@ from .record import JointType
 from .revolute import REVOLUTE, REVOLUTE_UNBOUNDED
 from .table import (
     ACTUATED,
-    ADDITIVE,
     JOINT_KINDS,
     KIND_TYPE,
     NQ,
     NV,
-    QUATERNION_AT,
-    QUATERNION_TOLERANCE,
     SPEEDS,
     TYPE_NAMES,
     TYPES,

@@ -35,7 +35,16 @@ from .free_flyer import (
 )
 from .prismatic import PRISMATIC, prismatic_motor
 from .revolute import REVOLUTE_UNBOUNDED, revolute_motor
-from .table import ADDITIVE, NV, QUATERNION_AT, QUATERNION_TOLERANCE
+from .table import NV, TYPES
+
+ADDITIVE = tuple(r.additive for r in TYPES)
+"""Whether ``q ⊕ v = q + v`` coordinate by coordinate, by type (the records' column, a
+constant in compiled code)."""
+QUATERNION_AT = tuple(r.quaternion for r in TYPES)
+"""The offset of a unit quaternion in a joint's configuration, -1 for none, by type."""
+QUATERNION_TOLERANCE = 1e-3
+"""A quaternion whose norm differs from 1 by more than this is refused; a smaller difference
+is normalised away (as after many steps of integration)."""
 
 
 @inline

@@ -1,10 +1,10 @@
 """Every joint type's record by its code, and the questions about a model's joints that
 the other layers ask (``record.JointType``).
 
-``TYPES[t]`` is the record of type code t. The tuples ``NQ``, ``NV``, ``ADDITIVE`` and
-``QUATERNION_AT`` are the columns compiled code indexes by a joint's type (numba folds a
-global tuple into a constant); the functions walk a :class:`~cgadyn.multibody.Model`'s
-joints and ask each one's record.
+``TYPES[t]`` is the record of type code t; ``NQ``, ``NV``, ... its columns. The functions
+walk a :class:`~cgadyn.multibody.Model`'s joints and ask each one's record. (The columns
+that compiled code reads are in ``dispatch``, a file of compiled code, so that numba's cache
+follows them.)
 """
 
 from __future__ import annotations
@@ -28,20 +28,11 @@ ACTUATED = tuple(r.actuated for r in TYPES)
 """Whether a joint of this type has an actuator of its own, by type."""
 SPEEDS = tuple(r.speeds for r in TYPES)
 """What each velocity coordinate of a joint is, by type (``record.JointType.speeds``)."""
-ADDITIVE = tuple(r.additive for r in TYPES)
-"""Whether ``q ⊕ v = q + v`` coordinate by coordinate, by type."""
-QUATERNION_AT = tuple(r.quaternion for r in TYPES)
-"""The offset of a unit quaternion in a joint's configuration, -1 for none, by type."""
 KIND_TYPE = {r.kind: r.code for r in TYPES}
 """The joint kinds a model records (URDF's names, and ``free_flyer``) and their types."""
 JOINT_KINDS = tuple(KIND_TYPE)
 PINOCCHIO = {name: r for r in TYPES for name in r.pinocchio}
 """Pinocchio's ``JointModel`` short names and the record each converts to."""
-
-QUATERNION_TOLERANCE = 1e-3
-"""A quaternion whose norm differs from 1 by more than this is refused; a smaller difference
-is normalised away (as after many steps of integration)."""
-
 
 def of_kind(kind: str) -> JointType:
     """The record of a joint kind (``joint_kinds``), or a ``ValueError`` naming the kinds."""
@@ -60,7 +51,7 @@ def joints_of(model) -> list[tuple[int, JointType, slice, slice]]:
 def flat(joint_types) -> bool:
     """Whether every joint is additive: the whole configuration a vector of coordinates,
     ``q ⊕ v = q + v`` (the packed model's ``flat``, compiled code's shortcut)."""
-    return all(ADDITIVE[int(t)] for t in joint_types)
+    return all(TYPES[int(t)].additive for t in joint_types)
 
 
 def coordinate_names(model, velocity: bool = False) -> list[str]:
