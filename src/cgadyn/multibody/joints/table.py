@@ -142,9 +142,9 @@ def _convert(model, x: np.ndarray, sizes, convert, what: str, size: str) -> np.n
     ``what`` and ``size`` name the layout and its size in the error for a wrong one."""
     parts, i = [], 0
     for _, joint, _, _ in joints_of(model):
-        size = sizes(joint)
-        parts.append(convert(joint, x[..., i:i + size]))
-        i += size
+        length = sizes(joint)
+        parts.append(convert(joint, x[..., i:i + length]))
+        i += length
     if i != x.shape[-1]:
         raise ValueError(f"a {what} of {model.name!r} has {i} entries ({size}), got "
                          f"{x.shape[-1]}")
