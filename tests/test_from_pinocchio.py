@@ -13,6 +13,7 @@ pin = pytest.importorskip("pinocchio")
 
 import cgadyn  # noqa: E402
 from cgadyn.multibody import mjcf, registry  # noqa: E402
+from cgadyn.multibody.joints.table import to_mujoco  # noqa: E402
 from cgadyn.oracle import cgadyn_configuration, models, pin_configuration, symmetric  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -227,7 +228,7 @@ def test_mjcf_model_agrees_with_mujoco(tmp_path, free):
     M = np.zeros((mm.nv, mm.nv))
     for _ in range(3):
         q, v = cgadyn.random_configuration(model, rng), rng.standard_normal(model.nv)
-        md.qpos[:] = np.concatenate([q[:3], q[6:7], q[3:6], q[7:]]) if free else q
+        md.qpos[:] = to_mujoco(model, q)  # w first (multibody.joints)
         mujoco.mj_forward(mm, md)
         mujoco.mj_fullM(mm, md, M)
         T = np.eye(model.nv)

@@ -16,6 +16,7 @@ import pytest
 pin = pytest.importorskip("pinocchio")
 
 import cgadyn  # noqa: E402
+from cgadyn.multibody.joints.table import to_mujoco  # noqa: E402
 from cgadyn.oracle import models, symmetric  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -100,7 +101,7 @@ def test_floating_base_added_to_a_jointless_body_agrees_with_mujoco(tmp_path):
     rng = np.random.default_rng(11)
     for _ in range(3):
         q = cgadyn.random_configuration(model, rng)
-        md.qpos[:] = np.concatenate([q[:3], q[6:7], q[3:6], q[7:]])
+        md.qpos[:] = to_mujoco(model, q)  # w first (multibody.joints)
         mujoco.mj_forward(mm, md)
         mujoco.mj_fullM(mm, md, M)
         T = np.eye(model.nv)

@@ -86,4 +86,4 @@ def test_the_key_covers_the_package_sources():
     finally:
         cache.fingerprint = real
     sources = {p.name for p in _sources.PACKAGE.rglob("*.py")}
-    assert {"_generated.py", "rnea.py", "joints.py", "urdf.py"} <= sources
+    assert {"_generated.py", "rnea.py", "dispatch.py", "urdf.py"} <= sources

@@ -4,7 +4,7 @@ cache directories.
 numba keys a cached function on its own file only; an edit to a kernel it inlines from
 another file leaves the cached function as it was. ``cgadyn._jit`` heals this at import. The
 scenario: a copy of the package computes under one ``NUMBA_CACHE_DIR``, then under another;
-an inlined kernel (the joint scalars, in ``multibody/joints.py``, not the file of the
+an inlined kernel (the joint scalars, in ``multibody/joints/dispatch.py``, not the file of the
 algorithm) is edited; each directory, used again, must give the edited code's numbers.
 """
 
@@ -55,7 +55,7 @@ def test_an_edited_kernel_heals_every_cache_directory(tmp_path: Path):
     first, second = tmp_path / "numba_a", tmp_path / "numba_b"
     assert np.allclose(_run(tmp_path, first), before, rtol=0, atol=1e-12)
     assert np.allclose(_run(tmp_path, second), before, rtol=0, atol=1e-12)
-    joints = copy / "multibody" / "joints.py"
+    joints = copy / "multibody" / "joints" / "dispatch.py"
     text = joints.read_text()
     assert text.count(EDIT[0]) == 1
     joints.write_text(text.replace(*EDIT))

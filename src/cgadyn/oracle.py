@@ -57,34 +57,21 @@ def models(robot, floating_base=None, check_inertia: bool = True):
 
 
 def pin_configuration(model, q: np.ndarray) -> np.ndarray:
-    """cgadyn's configuration(s) (..., nq) in Pinocchio's layout: a continuous joint's angle
-    becomes (cos, sin); every other coordinate passes through."""
-    q = np.asarray(q, dtype=float)
-    parts = []
-    for j, kind in enumerate(model.joint_kinds):
-        block = q[..., model.idx_q[j]:model.idx_q[j + 1]]
-        parts += [np.cos(block), np.sin(block)] if kind == "continuous" else [block]
-    return np.concatenate(parts, axis=-1) if parts else q
+    """cgadyn's configuration(s) (..., nq) in Pinocchio's layout, joint by joint
+    (``multibody.joints``: a continuous joint's angle becomes (cos, sin); every other
+    coordinate passes through)."""
+    from .multibody.joints import table
+
+    return table.to_pinocchio(model, q)
 
 
 def cgadyn_configuration(model, qp: np.ndarray) -> np.ndarray:
     """Pinocchio's configuration(s) (..., pinocchio nq) in cgadyn's layout, the inverse of
     ``pin_configuration``: a continuous joint's (cos, sin) becomes the angle
     ``atan2(sin, cos)``; every other coordinate passes through."""
-    qp = np.asarray(qp, dtype=float)
-    parts, i = [], 0
-    for j, kind in enumerate(model.joint_kinds):
-        if kind == "continuous":
-            parts.append(np.arctan2(qp[..., i + 1:i + 2], qp[..., i:i + 1]))
-            i += 2
-        else:
-            size = int(model.idx_q[j + 1] - model.idx_q[j])
-            parts.append(qp[..., i:i + size])
-            i += size
-    if i != qp.shape[-1]:
-        raise ValueError(f"a Pinocchio configuration of {model.name!r} has {i} entries "
-                         f"(Pinocchio's nq), got {qp.shape[-1]}")
-    return np.concatenate(parts, axis=-1) if parts else qp
+    from .multibody.joints import table
+
+    return table.from_pinocchio(model, qp)
 
 
 def forces(f_ext: np.ndarray):

@@ -13,6 +13,7 @@ import numbers
 import numpy as np
 
 from ..cga.conventions import wrench_from_force
+from ..multibody.joints.table import layout
 from ..multibody.packed import DEFAULT_GRAVITY, with_gravity
 
 _NUMERIC = "biuf"
@@ -21,10 +22,10 @@ _NUMERIC = "biuf"
 
 def state(model, x, name: str, size: int) -> np.ndarray:
     """``x`` as a contiguous writable float64 array of shape (size,) or (B, size)."""
-    layout = ("q: " if name == "q" else f"{name}: ") + _layout(model, name)
+    order = ("q: " if name == "q" else f"{name}: ") + layout(model, name != "q")
     if x is None:
         raise ValueError(f"{name} is None; expected an array of shape ({size},) or "
-                         f"(B, {size}) for {model.name!r} ({layout})")
+                         f"(B, {size}) for {model.name!r} ({order})")
     try:
         a = np.asarray(x)
     except (TypeError, ValueError) as exc:
@@ -39,22 +40,9 @@ def state(model, x, name: str, size: int) -> np.ndarray:
                              f"dtype {a.dtype}") from None
     if a.ndim not in (1, 2) or a.shape[-1] != size:
         raise ValueError(f"{name} must have shape ({size},) or (B, {size}) for "
-                         f"{model.name!r}, got {a.shape}; {layout}")
+                         f"{model.name!r}, got {a.shape}; {order}")
     a = np.ascontiguousarray(a, dtype=np.float64)
     return a if a.flags.writeable else a.copy()  # one compiled signature: writable arrays
-
-
-def _layout(model, name: str) -> str:
-    """The order of a state's entries: the joints, and a free flyer's coordinates."""
-    parts = []
-    for j, joint in enumerate(model.joint_names):
-        if model.joint_kinds[j] != "free_flyer":
-            parts.append(joint)
-        elif name == "q":
-            parts.append(f"{joint} (x, y, z, qx, qy, qz, qw)")
-        else:
-            parts.append(f"{joint} (vx, vy, vz, wx, wy, wz)")
-    return "joint order " + ", ".join(parts)
 
 
 def states(model, arrays: tuple, inputs: tuple) -> tuple[np.ndarray, ...]:

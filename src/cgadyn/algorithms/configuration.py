@@ -3,14 +3,15 @@
 A configuration ``q`` has ``model.nq`` entries and a velocity ``v`` ``model.nv``: they differ
 on a free flyer, whose configuration is a position and a unit quaternion (a motor) and whose
 velocity is a body twist. ``integrate`` and ``difference`` are the exponential and logarithm
-maps joint by joint (``multibody.joints``); each takes one sample or a batch.
+maps joint by joint (``multibody.joints``); each takes one sample or a batch. What each joint
+type adds (its neutral and random configurations, its quaternion) comes from its record.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..multibody.joints import FREE_FLYER
+from ..multibody.joints import table
 from . import _inputs
 from .calls import run
 
@@ -42,44 +43,20 @@ def interpolate(model, q0, q1, t) -> np.ndarray:
 
 
 def neutral(model) -> np.ndarray:
-    """The neutral configuration (Pinocchio's ``neutral``): every joint at 0, every free
-    flyer at the origin with the identity rotation ``(0, 0, 0, 0, 0, 0, 1)``."""
-    q = np.zeros(model.nq)
-    for i in _free_flyers(model):
-        q[i + 6] = 1.0
-    return q
+    """The neutral configuration (Pinocchio's ``neutral``): every joint's own
+    (``multibody.joints``: one-dof joints at 0, a free flyer at the origin with the
+    identity rotation ``(0, 0, 0, 0, 0, 0, 1)``)."""
+    return table.neutral(model)
 
 
 def random_configuration(model, rng=None, box: float = 1.0) -> np.ndarray:
     """A random configuration: one-dof joints uniform within their limits (unbounded ones in
     [-π, π]), free flyers at a uniform position in the box ``[-box, box]³`` with a uniformly
     random rotation. ``rng``: a ``numpy.random.Generator``, a seed or None."""
-    rng = np.random.default_rng(rng)
-    lower = np.where(np.isfinite(model.lower), model.lower, -np.pi)
-    upper = np.where(np.isfinite(model.upper), model.upper, np.pi)
-    q = rng.uniform(lower, upper)
-    for i in _free_flyers(model):
-        q[i:i + 3] = rng.uniform(-box, box, 3)
-        quat = rng.normal(size=4)
-        q[i + 3:i + 7] = quat / np.linalg.norm(quat)  # uniform on the unit sphere S³
-    return q
+    return table.random_configuration(model, np.random.default_rng(rng), box)
 
 
 def normalize(model, q) -> np.ndarray:
-    """``q`` with every free flyer's quaternion scaled to unit length (a zero one is an
-    error); (nq,) or (B, nq)."""
-    q = _inputs.state(model, q, "q", model.nq).copy()
-    for i in _free_flyers(model):
-        quat = q[..., i + 3:i + 7]
-        norm = np.linalg.norm(quat, axis=-1, keepdims=True)
-        if not np.all(norm > 0.0) or not np.all(np.isfinite(norm)):
-            raise ValueError(f"q[..., {i + 3}:{i + 7}] (a free flyer's quaternion) is zero or "
-                             f"not finite: it has no direction to normalise")
-        q[..., i + 3:i + 7] = quat / norm
-    return q
-
-
-def _free_flyers(model) -> list[int]:
-    """The first index in q of every free flyer."""
-    return [int(model.idx_q[j]) for j in range(model.njoints)
-            if model.joint_types[j] == FREE_FLYER]
+    """``q`` with every unit quaternion (a free flyer's) scaled to unit length (a zero one
+    is an error); (nq,) or (B, nq)."""
+    return table.normalize(model, _inputs.state(model, q, "q", model.nq).copy())

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..multibody.joints import QUATERNION_TOLERANCE, TYPES, table
 from . import status as S
 
 TINY_MASS = 1e-300
@@ -50,30 +51,23 @@ def _nonfinite_input(model, arrays: dict) -> ValueError:
 
 
 def _coordinate(model, name: str, k: int) -> str:
-    """Which joint (and which of a free flyer's coordinates) entry k of a state is."""
-    configuration = name.startswith("q")
-    offsets = model.idx_q if configuration else model.idx_v
-    j = int(np.searchsorted(offsets, k, side="right") - 1)
-    joint = model.joint_names[j]
-    if model.joint_kinds[j] != "free_flyer":
-        return f"joint {joint!r}"
-    names = ("x", "y", "z", "qx", "qy", "qz", "qw") if configuration else (
-        "vx", "vy", "vz", "wx", "wy", "wz")
-    return f"joint {joint!r}, coordinate {names[k - offsets[j]]}"
+    """Which joint (and which of its coordinates) entry k of a state is."""
+    return table.describe(model, not name.startswith("q"), k)
 
 
 def _quaternion(model, arrays: dict, joint: int, sample) -> ValueError:
     """The first configuration among ``arrays`` whose quaternion of ``joint`` is off."""
-    from ..multibody.joints import QUATERNION_TOLERANCE
-
-    i = int(model.idx_q[joint]) + 3
+    record = TYPES[int(model.joint_types[joint])]
+    o = record.quaternion
+    i = int(model.idx_q[joint]) + o
     for name, q in arrays.items():
         x = q[sample] if sample is not None else q
         norm = float(np.linalg.norm(x[i:i + 4])) if name.startswith("q") else 1.0
         if not abs(norm - 1.0) <= QUATERNION_TOLERANCE:
             break
     where = f"{name}[{sample}, {i}:{i + 4}]" if sample is not None else f"{name}[{i}:{i + 4}]"
-    return ValueError(f"{where}, the quaternion (qx, qy, qz, qw) of free-flyer joint "
+    return ValueError(f"{where}, the quaternion ({', '.join(record.q_names[o:o + 4])}) of "
+                      f"{record.label} joint "
                       f"{model.joint_names[joint]!r}, has norm {norm:.6g}; expected a unit "
                       f"quaternion (cgadyn.normalize(model, q) normalises q)")
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 from .._jit import core, inline
 from ..kernels import motor_mul
 from ..kernels.rigid import motor_matrix
-from ..multibody.joints import FREE_FLYER, joint_motors, joint_scalars
+from ..multibody.joints import free_root, joint_motors, joint_scalars
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from .status import OK
@@ -22,16 +22,6 @@ def world_motors(m, q, c, s, tmp8, M, Mw):
     """``Mw[j] = M^w_j`` (n, 8) for every joint frame, ``M[j] = M_j`` (n, 8) on the way;
     ``c, s`` (nq) and ``tmp8`` (8) scratch."""
     frame_motors(m, q, c, s, tmp8, M, Mw, False)
-
-
-@inline
-def free_root(parent, joint_type):
-    """True for a free flyer at the root of its tree (a joint of this parent and type):
-    ``frame_motors`` with ``free_roots_at_rest`` puts its tree in the root body's own frame
-    (M5, D14). It takes numbers, not the model: inlined with the model as its argument and
-    called per joint, the test handed the model's views over at every joint, which slowed
-    the recursions that call it."""
-    return parent < 0 and joint_type == FREE_FLYER
 
 
 @inline

@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from cgadyn.multibody.cache import cached
+from cgadyn.multibody.joints import table
 from cgadyn.multibody.model import Model
 from cgadyn.multibody.urdf import ROOT_JOINT, _read_source
 
@@ -333,7 +334,8 @@ def _add_sites(pm, sites: list, where: str) -> None:
 
 
 def _has_free_root(pm) -> bool:
-    return pm.njoints > 1 and pm.joints[1].shortname() == "JointModelFreeFlyer"
+    record = table.PINOCCHIO.get(pm.joints[1].shortname()) if pm.njoints > 1 else None
+    return record is not None and record.floating
 
 
 _CPP_LOCATION = re.compile(r"From file:.*?message:\s*", re.DOTALL)

@@ -13,25 +13,16 @@ All arrays are read-only; build a model with :func:`build_model` (from raw data)
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
 
-from .joints import (
-    ACTUATED,
-    FREE_FLYER,
-    KIND_TYPE,
-    NQ,
-    NV,
-    PRISMATIC,
-    SPEEDS,
-    TYPE_NAMES,
-    unit_axes,
-)
+from .joints import ACTUATED, JOINT_KINDS, KIND_TYPE, NQ, NV, SPEEDS, TYPE_NAMES, TYPES
+from .joints.dispatch import unit_axes
+from .joints.table import coordinate_names, of_kind
 from .packed import pack
-
-JOINT_KINDS = tuple(KIND_TYPE)
 
 _ARRAY_FIELDS = (
     "joint_types",
@@ -64,8 +55,9 @@ class Model:
     ``joint_names``); joint j's coordinates are ``q[idx_q[j]:idx_q[j+1]]`` and
     ``v[idx_v[j]:idx_v[j+1]]``. A one-dof joint takes one coordinate (a continuous joint
     one angle, not Pinocchio's cos and sin); a free-flyer root (``root_joint``) takes
-    Pinocchio's ``[x, y, z, qx, qy, qz, qw]`` in q and the body twist ``[v, ω]`` in v.
-    Without a free flyer the root link is fixed to the world and ``nq == nv == n``.
+    Pinocchio's ``[x, y, z, qx, qy, qz, qw]`` in q and the body twist ``[v, ω]`` in v
+    (``multibody.joints``: every joint type's sizes and layout). Without a floating root
+    the root link is fixed to the world.
 
     Mimic joints are treated as independent joints, as Pinocchio does by default; the
     ``mimic`` attribute records the URDF ``<mimic>`` data (leader joint name, multiplier,
@@ -78,10 +70,10 @@ class Model:
     joint_names : tuple[str, ...]
         Joints, in Pinocchio's order (``pin_model.names[1:]``).
     joint_kinds : tuple[str, ...]
-        ``'revolute'``, ``'continuous'``, ``'prismatic'`` or ``'free_flyer'`` per joint.
+        The kind of each joint (``multibody.joints.JOINT_KINDS``: URDF's type names, and
+        ``'free_flyer'``).
     joint_types : int64 (n,)
-        ``REVOLUTE``, ``REVOLUTE_UNBOUNDED`` (continuous), ``PRISMATIC`` or ``FREE_FLYER``
-        (``cgadyn.multibody.joints``).
+        The type code of each joint (``multibody.joints.TYPES``: its record).
     parents : int64 (n,)
         Parent joint index, ``-1`` for the world; ``parents[j] < j``.
     placements : float64 (n, 8)
@@ -192,7 +184,7 @@ class Model:
                 raise ValueError(f"Model.{field} has {len(getattr(self, field))} entries, "
                                  f"expected {n}")
         for kind, t in zip(self.joint_kinds, self.joint_types, strict=True):
-            if KIND_TYPE.get(kind) != t:
+            if kind not in KIND_TYPE or of_kind(kind).code != t:
                 raise ValueError(f"joint kind {kind!r} does not match joint type {t}; "
                                  f"expected one of {JOINT_KINDS}")
         open_path = []  # the joints on the path from the root to the last one seen
@@ -233,14 +225,15 @@ class Model:
 
     def _check_axes(self):
         """Joint axes pass through the joint frame's origin (URDF's convention): a revolute
-        axis is a line with no moment part, a prismatic one a direction. The recursions
-        rely on it (``kernels.motors.joint_frame_motor``)."""
-        prismatic = self.joint_types == PRISMATIC
-        stray = np.where(prismatic[:, None], self.axes[:, :3], self.axes[:, 3:])
-        stray[self.joint_types == FREE_FLYER] = 0.0
+        axis is a line with no moment part, a prismatic one a direction (the record's
+        ``axis``). The recursions rely on it (``kernels.motors.joint_frame_motor``)."""
+        axis = [TYPES[int(t)].axis for t in self.joint_types]
+        direction = np.array([a == "prismatic" for a in axis], dtype=bool)
+        stray = np.where(direction[:, None], self.axes[:, :3], self.axes[:, 3:])
+        stray[[a is None for a in axis]] = 0.0
         for j in np.flatnonzero(np.any(stray != 0.0, axis=1)):
-            kind, used, unused = (("prismatic", "3:", ":3") if prismatic[j] else
-                                  ("revolute", ":3", "3:"))
+            kind, used, unused = ((axis[j], "3:", ":3") if direction[j] else
+                                  (axis[j], ":3", "3:"))
             raise ValueError(
                 f"Model.axes[{j}] (joint {self.joint_names[j]!r}, {kind}) = "
                 f"{self.axes[j].tolist()}: expected an axis through the joint frame's origin, "
@@ -306,15 +299,9 @@ class Model:
     def motion_subspace(self) -> np.ndarray:
         """float64 (nv, 6): the twist of each velocity coordinate in its joint's frame, the
         columns of the joints' motion subspaces ``S_j`` (``multibody.joints``)."""
-        from ..cga.conventions import twist_from_motion
-
         S = np.zeros((self.nv, 6))
         for j, t in enumerate(self.joint_types):
-            k = self.idx_v[j]
-            if t == FREE_FLYER:
-                S[k:k + 6] = twist_from_motion(np.eye(6))  # [v, ω] of the body
-            else:
-                S[k] = self.axes[j]
+            S[self.idx_v[j]:self.idx_v[j + 1]] = TYPES[int(t)].subspace(self.axes[j])
         S.flags.writeable = False
         return S
 
@@ -327,19 +314,19 @@ class Model:
 
     @property
     def nq(self) -> int:
-        """Size of the configuration vector q (one angle per one-dof joint, 7 for a free
-        flyer)."""
+        """Size of the configuration vector q (Σ nq_j, ``multibody.joints``)."""
         return int(self.idx_q[-1])
 
     @property
     def nv(self) -> int:
-        """Size of the velocity vector v (one per one-dof joint, 6 for a free flyer)."""
+        """Size of the velocity vector v (Σ nv_j, ``multibody.joints``)."""
         return int(self.idx_v[-1])
 
     @property
     def floating_base(self) -> bool:
-        """True when the root joint is a free flyer (``root_joint``)."""
-        return bool(self.njoints) and int(self.joint_types[0]) == FREE_FLYER
+        """True when the root joint floats (moves its body by any rigid motion: a free
+        flyer, ``root_joint``; the record's ``floating``)."""
+        return bool(self.njoints) and TYPES[int(self.joint_types[0])].floating
 
     @property
     def actuated(self) -> np.ndarray:
@@ -351,6 +338,11 @@ class Model:
         """What each velocity coordinate is (``joints.SPEEDS``): ``"angular"``,
         ``"linear"`` (a slide) or ``"free"`` (a free body's linear velocity)."""
         return tuple(kind for t in self.joint_types for kind in SPEEDS[int(t)])
+
+    def coordinate_names(self, velocity: bool = False) -> list[str]:
+        """One label per configuration (or velocity) coordinate: the joint's name, or
+        ``joint.coordinate`` for a joint of several (``multibody.joints``)."""
+        return coordinate_names(self, velocity)
 
     def _per_coordinate(self, table) -> np.ndarray:
         """A per-type table of ``joints`` spread over the velocity coordinates."""
@@ -403,8 +395,8 @@ class Model:
         return range(int(self.idx_v[j]), int(self.idx_v[j + 1]))
 
     def __repr__(self) -> str:
-        kinds = {k: self.joint_kinds.count(k) for k in JOINT_KINDS if k in self.joint_kinds}
-        kinds_s = ", ".join(f"{v} {k}" for k, v in kinds.items())
+        counts = Counter(self.joint_kinds)
+        kinds_s = ", ".join(f"{counts[k]} {k}" for k in JOINT_KINDS if counts[k])
         base = "free-flyer base" if self.floating_base else "fixed base"
         return (f"Model({self.name!r}, nq={self.nq}, nv={self.nv}, {base}, "
                 f"{self.njoints} joints ({kinds_s}), links={self.nlinks}, "
@@ -486,15 +478,13 @@ def build_model(
     joint_names = tuple(str(s) for s in joint_names)
     joint_kinds = tuple(str(s) for s in joint_kinds)
     n = len(joint_names)
-    for kind in joint_kinds:
-        if kind not in KIND_TYPE:
-            raise ValueError(f"unknown joint kind {kind!r}, expected one of {JOINT_KINDS}")
-    joint_types = np.array([KIND_TYPE[k] for k in joint_kinds], dtype=np.int64)
-    free = joint_types == FREE_FLYER
+    records = [of_kind(kind) for kind in joint_kinds]
+    joint_types = np.array([r.code for r in records], dtype=np.int64)
+    free = np.array([r.axis is None for r in records], dtype=bool).reshape(n)
     nq, nv = int(sum(NQ[t] for t in joint_types)), int(sum(NV[t] for t in joint_types))
     placement_matrices = np.asarray(placement_matrices, dtype=float).reshape(n, 4, 4)
     axis_vectors = np.asarray(axis_vectors, dtype=float).reshape(n, 3).copy()
-    axis_vectors[free] = 0.0  # a free flyer has no axis: its subspace is every twist
+    axis_vectors[free] = 0.0  # a joint without an axis (a free flyer: every twist)
     norms = np.linalg.norm(axis_vectors, axis=1)
     for j in np.flatnonzero(~free):
         if not norms[j] > 1e-12 or not np.isfinite(norms[j]):
@@ -508,13 +498,9 @@ def build_model(
     idx_q = _offsets(joint_types, NQ)
     lower = np.full(nq, -np.inf) if lower is None else _limits(lower, nq, "lower")
     upper = np.full(nq, np.inf) if upper is None else _limits(upper, nq, "upper")
-    for j, kind in enumerate(joint_kinds):
-        i = idx_q[j]
-        if kind == "continuous":
-            lower[i], upper[i] = -np.inf, np.inf
-        elif kind == "free_flyer":
-            lower[i + 3:i + 7] = np.maximum(lower[i + 3:i + 7], -1.0)  # a unit quaternion
-            upper[i + 3:i + 7] = np.minimum(upper[i + 3:i + 7], 1.0)
+    for j, record in enumerate(records):  # what each joint type keeps of the limits given
+        s = slice(idx_q[j], idx_q[j + 1])
+        lower[s], upper[s] = record.limits(lower[s], upper[s])
     velocity_limit = (np.full(nv, np.inf) if velocity_limit is None
                       else _limits(velocity_limit, nv, "velocity_limit"))
     effort_limit = (np.full(nv, np.inf) if effort_limit is None
@@ -529,9 +515,8 @@ def build_model(
     link_placement_matrices = np.asarray(link_placement_matrices, dtype=float).reshape(nl, 4, 4)
 
     placements = np.array([motor_from_matrix(T) for T in placement_matrices]).reshape(n, 8)
-    axes = np.array([np.zeros(6) if t == FREE_FLYER else
-                     twist_from_axis("prismatic" if t == PRISMATIC else "revolute", a)
-                     for t, a in zip(joint_types, axis_vectors, strict=True)]).reshape(n, 6)
+    axes = np.array([np.zeros(6) if r.axis is None else twist_from_axis(r.axis, a)
+                     for r, a in zip(records, axis_vectors, strict=True)]).reshape(n, 6)
     inertias = np.array([inertia_from_parameters(m, c, i, check_inertia)
                          for m, c, i in zip(body_mass, body_com, body_rot, strict=True)]
                          ).reshape(n, 6, 6)

@@ -9,7 +9,7 @@ wide)::
 
     ints:   n, nq, nv, nl, length | parents (n) | types (n) | iq (n + 1) | iv (n + 1)
             | dof_parent (nv) | dof_joint (nv) | subtree_end (n) | link_joint (nl)
-            | unit_axis (nv)
+            | unit_axis (nv) | flat
     floats: placements (n, 8) | S (nv, 6) | inertias (n, 6, 6) | base acceleration (6)
             | link_placements (nl, 8)
 
@@ -21,8 +21,9 @@ coordinates, the first hanging from the parent joint's last), -1 at the root, an
 ``dof_joint`` the joint of each coordinate, ``subtree_end`` one past the last coordinate of
 each joint's subtree (contiguous: joints are in depth-first order), ``unit_axis`` the
 index i of a one-dof joint's coordinate whose ``S`` is ``±e_i``, else -1
-(``multibody.joints.unit_axes``); ``S`` the motion subspace of every velocity coordinate
-(``multibody.joints``).
+(``multibody.joints.unit_axes``), ``flat`` 1 when every joint is additive
+(``q ⊕ v = q + v``, ``multibody.joints.table.flat``), else 0; ``S`` the motion subspace of
+every velocity coordinate (``multibody.joints``).
 The base acceleration is ``V̇_0 = -g`` as a twist (gravity as a fictitious acceleration of
 the world, as Pinocchio keeps ``model.gravity``); ``with_gravity`` makes a copy for
 another gravity.
@@ -37,6 +38,7 @@ import numpy as np
 from .._jit import inline
 from .._views import as_int64, carve, data_pointer
 from ..cga.conventions import twist_from_motion
+from .joints.table import flat
 
 DEFAULT_GRAVITY = (0.0, 0.0, -9.81)
 HEADER = 5
@@ -44,14 +46,14 @@ HEADER = 5
 
 ModelView = namedtuple("ModelView", [
     "n", "nq", "nv", "nl", "parents", "types", "iq", "iv", "dof_parent", "dof_joint",
-    "subtree_end", "link_joint", "unit_axis",
+    "subtree_end", "link_joint", "unit_axis", "flat",
     "placements", "S", "inertias", "gravity", "link_placements"])
 """The model as compiled code reads it: sizes and views into the packed buffer.
 ``gravity`` is the base acceleration ``V̇_0 = -g`` (a twist)."""
 
 
 def _ints(n: int, nv: int, nl: int) -> int:
-    return HEADER + 3 * n + 2 * (n + 1) + 3 * nv + nl
+    return HEADER + 3 * n + 2 * (n + 1) + 3 * nv + nl + 1
 
 
 def base_acceleration(gravity) -> np.ndarray:
@@ -69,7 +71,8 @@ def pack(model, gravity=DEFAULT_GRAVITY) -> np.ndarray:
     ints = np.concatenate([[n, model.nq, model.nv, nl, length], model.parents,
                            model.joint_types, model.idx_q, model.idx_v, model.dof_parent,
                            model.dof_joint, model.subtree_end,
-                           model.link_joint, model.unit_axes]).astype(np.int64)
+                           model.link_joint, model.unit_axes,
+                           [int(flat(model.joint_types))]]).astype(np.int64)
     out = np.concatenate([ints.view(np.float64)] + [np.ravel(a) for a in floats])
     assert out.shape == (length,)
     return out
@@ -100,10 +103,12 @@ def unpack(packed):
     subtree_end, o = carve(as_int64(at), o, (n,))
     link_joint, o = carve(as_int64(at), o, (nl,))
     unit_axis, o = carve(as_int64(at), o, (nv,))
+    flags, o = carve(as_int64(at), o, (1,))
     placements, o = carve(at, o, (n, 8))
     S, o = carve(at, o, (nv, 6))
     inertias, o = carve(at, o, (n, 6, 6))
     gravity, o = carve(at, o, (6,))
     link_placements, o = carve(at, o, (nl, 8))
     return ModelView(n, nq, nv, nl, parents, types, iq, iv, dof_parent, dof_joint, subtree_end,
-                     link_joint, unit_axis, placements, S, inertias, gravity, link_placements)
+                     link_joint, unit_axis, flags[0] != 0, placements, S, inertias, gravity,
+                     link_placements)

@@ -25,29 +25,23 @@ from __future__ import annotations
 
 import numpy as np
 
+from cgadyn.multibody.joints import TYPES, of_kind
+from cgadyn.multibody.joints.table import PINOCCHIO
 from cgadyn.multibody.model import Model, build_model
 from cgadyn.multibody.packed import DEFAULT_GRAVITY
 
-SUPPORTED = {
-    **{f"JointModelR{a}": "revolute" for a in "XYZ"},
-    "JointModelRevoluteUnaligned": "revolute",
-    **{f"JointModelRUB{a}": "continuous" for a in "XYZ"},
-    "JointModelRevoluteUnboundedUnaligned": "continuous",
-    **{f"JointModelP{a}": "prismatic" for a in "XYZ"},
-    "JointModelPrismaticUnaligned": "prismatic",
-    "JointModelFreeFlyer": "free_flyer",
-}
-"""Pinocchio's joint types that cgadyn models, and the joint kind each becomes."""
+SUPPORTED = {name: record.kind for name, record in PINOCCHIO.items()}
+"""Pinocchio's joint types that cgadyn models, and the joint kind each becomes (each joint
+type's record, ``multibody.joints``, names its Pinocchio types)."""
 
-_SUPPORTED_TEXT = ("revolute (JointModelRX/RY/RZ, RevoluteUnaligned), unbounded revolute "
-                   "(JointModelRUBX/RUBY/RUBZ, RevoluteUnboundedUnaligned), prismatic "
-                   "(JointModelPX/PY/PZ, PrismaticUnaligned) and a free flyer "
-                   "(JointModelFreeFlyer) as the root joint")
+_SUPPORTED_TEXT = ", ".join(
+    f"{r.label} ({', '.join(r.pinocchio)}){' as the root joint' if r.floating else ''}"
+    for r in TYPES)
 
 _HUGE = 1e300  # Pinocchio's "no limit" is ±DBL_MAX
 
 
-def _axis(joint, kind: str, q0: np.ndarray) -> np.ndarray:
+def _axis(joint, axis: str, q0: np.ndarray) -> np.ndarray:
     """The unit axis of a one-dof joint in its joint frame: the angular (revolute) or linear
     (prismatic) part of its motion subspace ``S``, as Pinocchio computes it (the Python
     bindings do not expose every joint's axis, ``RevoluteUnboundedUnaligned``'s among
@@ -55,7 +49,7 @@ def _axis(joint, kind: str, q0: np.ndarray) -> np.ndarray:
     data = joint.createData()
     joint.calc(data, q0)
     S = np.asarray(data.S, dtype=float).reshape(6)  # [linear, angular]
-    return S[:3].copy() if kind == "prismatic" else S[3:].copy()
+    return S[:3].copy() if axis == "prismatic" else S[3:].copy()
 
 
 _UNIT = 1e-12
@@ -95,10 +89,10 @@ def _kinds(pm) -> list[str]:
         if kind is None:
             raise ValueError(f"joint {pm.names[i]!r} is a {shortname}, which cgadyn does not "
                              f"support; supported joints: {_SUPPORTED_TEXT}")
-        if kind == "free_flyer" and (i != 1 or pm.parents[i] != 0):
-            raise ValueError(f"joint {pm.names[i]!r} is a JointModelFreeFlyer that is not the "
-                             f"root joint; cgadyn supports a free flyer only as the first "
-                             f"joint, child of the universe")
+        if of_kind(kind).floating and (i != 1 or pm.parents[i] != 0):
+            raise ValueError(f"joint {pm.names[i]!r} is a {shortname} that is not the "
+                             f"root joint; cgadyn supports a {of_kind(kind).label} joint only "
+                             f"as the first joint, child of the universe")
         kinds.append(kind)
     return kinds
 
@@ -151,7 +145,7 @@ def _links(pm):
     names = [f.name for f in bodies]
     joint = [int(f.parentJoint) - 1 for f in bodies]
     placements = np.array([f.placement.homogeneous for f in bodies]).reshape(-1, 4, 4)
-    root_joint = 0 if pm.njoints > 1 and pm.joints[1].shortname() == "JointModelFreeFlyer" \
+    root_joint = 0 if pm.njoints > 1 and PINOCCHIO[pm.joints[1].shortname()].floating \
         else -1
     root = next((f.name for f, j in zip(bodies, joint, strict=True) if j == root_joint),
                 "universe")
@@ -195,16 +189,16 @@ def from_pinocchio(pin_model, name: str | None = None, check_inertia: bool = Tru
     body_com = np.zeros((n, 3))
     body_rot = np.zeros((n, 3, 3))
     for j, kind in enumerate(kinds):
-        joint, i = pm.joints[j + 1], pm.idx_qs[j + 1]
-        if kind == "continuous":  # (cos, sin) in Pinocchio, one angle in cgadyn
-            q_lower.append(-np.inf)
-            q_upper.append(np.inf)
+        joint, i, record = pm.joints[j + 1], pm.idx_qs[j + 1], of_kind(kind)
+        if record.pinocchio_nq != record.nq:  # (cos, sin) in Pinocchio, one angle in cgadyn
+            q_lower += [-np.inf] * record.nq
+            q_upper += [np.inf] * record.nq
         else:
             q_lower += lower[i:i + joint.nq].tolist()
             q_upper += upper[i:i + joint.nq].tolist()
-        if kind != "free_flyer":
-            axes[j] = _checked_axis(pm.names[j + 1], joint.shortname(), kind,
-                                    _axis(joint, kind, q0))
+        if record.axis is not None:
+            axes[j] = _checked_axis(pm.names[j + 1], joint.shortname(), record.axis,
+                                    _axis(joint, record.axis, q0))
         inertia = pm.inertias[j + 1]
         body_mass[j], body_com[j], body_rot[j] = inertia.mass, inertia.lever, inertia.inertia
         _check_finite(pm.names[j + 1], body_mass[j], body_com[j], body_rot[j])
@@ -251,8 +245,9 @@ def _scaled_prismatic_axes(model: Model, axes: np.ndarray) -> Model:
 
     from cgadyn.cga.conventions import twist_from_motion
 
-    prismatic = np.flatnonzero((np.asarray(model.joint_kinds) == "prismatic")
-                               & (np.abs(np.linalg.norm(axes, axis=1) - 1.0) > _UNIT))
+    direction = np.array([of_kind(k).axis == "prismatic" for k in model.joint_kinds],
+                         dtype=bool).reshape(-1)
+    prismatic = np.flatnonzero(direction & (np.abs(np.linalg.norm(axes, axis=1) - 1.0) > _UNIT))
     if prismatic.size == 0:
         return model
     twists, vectors = np.array(model.axes), np.array(model.axis_vectors)

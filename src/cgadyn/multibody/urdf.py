@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from cgadyn.multibody.cache import cached
+from cgadyn.multibody.joints import FREE_FLYER, TYPES
 from cgadyn.multibody.model import Model, build_model, merge_inertias
 
 SUPPORTED_JOINTS = ("revolute", "continuous", "prismatic", "fixed")
@@ -257,16 +258,18 @@ def _build(xml: bytes, path: str | None, name: str | None, floating_base: bool,
 
     n = len(joints)
     joint_names = [ROOT_JOINT if jt is None else jt.name for jt in joints]
-    kinds = ["free_flyer" if jt is None else jt.type for jt in joints]
+    base = TYPES[FREE_FLYER]  # what a floating base is
+    kinds = [base.kind if jt is None else jt.type for jt in joints]
     axis_vectors = np.zeros((n, 3))
     lower, upper, velocity, effort = [], [], [], []  # per coordinate of q, q, v, v
     mimic = []
     for j, jt in enumerate(joints):
         if jt is None:  # free flyer: a box of translations, a unit quaternion
-            lower += [-np.inf] * 3 + [-1.0] * 4
-            upper += [np.inf] * 3 + [1.0] * 4
-            velocity += [np.inf] * 6
-            effort += [np.inf] * 6
+            lo, hi = base.limits(np.full(base.nq, -np.inf), np.full(base.nq, np.inf))
+            lower += lo.tolist()
+            upper += hi.tolist()
+            velocity += [np.inf] * base.nv
+            effort += [np.inf] * base.nv
             mimic.append(None)
             continue
         axis = np.array([1.0, 0.0, 0.0]) if jt.axis is None else np.asarray(jt.axis, float)

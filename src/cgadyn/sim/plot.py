@@ -13,19 +13,9 @@ __all__ = ["plot_trajectory", "trajectory_figure"]
 
 
 def _coordinate_labels(model, velocity: bool = False) -> list[str]:
-    """One label per configuration (or velocity) coordinate: the joint's name, indexed for
-    a joint of several coordinates (a free flyer's x, y, z, qx, ... or vx, vy, ...)."""
-    idx = model.idx_v if velocity else model.idx_q
-    labels = []
-    for j, name in enumerate(model.joint_names):
-        n = int(idx[j + 1] - idx[j])
-        if model.joint_kinds[j] == "free_flyer":
-            parts = ("vx", "vy", "vz", "wx", "wy", "wz") if velocity else (
-                "x", "y", "z", "qx", "qy", "qz", "qw")
-            labels += [f"{name}.{p}" for p in parts[:n]]
-        else:
-            labels += [name] if n == 1 else [f"{name}[{k}]" for k in range(n)]
-    return labels
+    """One label per configuration (or velocity) coordinate: the joint's name, with the
+    coordinate's for a joint of several (a free flyer's x, y, z, qx, ... or vx, vy, ...)."""
+    return model.coordinate_names(velocity)
 
 
 def _styles(count: int) -> list[dict]:

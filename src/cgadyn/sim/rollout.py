@@ -61,7 +61,7 @@ from ..algorithms.energy import workspace_size as energy_workspace
 from ..algorithms.rnea import rnea_core
 from ..algorithms.rnea import workspace_size as rnea_workspace
 from ..algorithms.status import DIVERGED, NONFINITE_RESULT, OK, fault
-from ..multibody.joints import has_free_flyer, joint_difference, joint_integrate
+from ..multibody.joints import joint_difference, joint_integrate
 from ..multibody.packed import unpack
 
 RK4, SEMI_IMPLICIT_EULER, EULER = 0, 1, 2
@@ -113,7 +113,7 @@ def _closed_loop(m, q, v, u, f, ctrl, qdd, sc, work):
 @inline
 def _advance(m, q, v, h, tmp, dq, out):
     """``out = q ⊕ h v`` (``dq`` receives ``h v``)."""
-    if not has_free_flyer(m):  # one-dof joints only: a sum, coordinate-wise
+    if m.flat:  # every joint additive: a sum, coordinate-wise
         for k in range(m.nv):
             dq[k] = h * v[k]
             out[k] = q[k] + dq[k]

@@ -5,8 +5,8 @@ the tangent space). Each iteration solves the damped normal equations
 
     (Jᵀ J + λ 1) δ = -Jᵀ r                                   (Levenberg 1944, Marquardt 1963)
 
-by Cholesky, moves ``q ← clamp(q ⊕ δ)`` (``joints.joint_integrate``, then every one-dof
-coordinate clamped into its limits) and keeps the step when it lowers the cost: then
+by Cholesky, moves ``q ← clamp(q ⊕ δ)`` (``joints.joint_integrate``, then every coordinate
+of an additive joint clamped into its limits) and keeps the step when it lowers the cost: then
 ``λ ← min(λ / 3, |r|²)``, else ``λ ← 10 λ`` and the step is tried again from the same q.
 The cap ``|r|²`` is Yamashita and Fukushima's damping (2001), under which Levenberg-Marquardt
 converges quadratically near a zero residual: the last steps are nearly Gauss-Newton ones,
@@ -16,7 +16,8 @@ stalls: its cost, still above ``STALL_FLOOR``, is more than ``STALL_RATIO`` of w
 ``STALL_WINDOW`` accepted steps before (a local minimum or a limit: a stalled run rarely
 recovers, and the iterations it would spend there go to a restart instead); it then
 restarts from a random configuration within the limits (a
-deterministic generator seeded per target; free flyers keep their start), at most
+deterministic generator seeded per target; joints that are not additive, a free flyer,
+keep their start), at most
 ``restarts`` times. The best configuration over all runs is returned.
 
 ``options = [max_iter, tol, restarts, seed, λ0]``; ``info = [converged, |r|, iterations,
@@ -38,7 +39,7 @@ from numba import prange
 from .._jit import core, inline, parallel, serial
 from .._views import carve, data_pointer
 from ..algorithms._workspace import chunks
-from ..multibody.joints import FREE_FLYER, joint_integrate
+from ..multibody.joints import is_additive, joint_integrate
 from ..multibody.packed import unpack
 from ._stack import stack_dim, stack_rows, stack_workspace, stack_workspace_size
 
@@ -79,11 +80,11 @@ def _uniform(state):
 
 @inline
 def _clamp(m, lower, upper, q):
-    """Every one-dof coordinate of q into its limits."""
+    """Every coordinate of an additive joint into its limits."""
     for j in range(m.n):
-        if m.types[j] != FREE_FLYER:
-            i = m.iq[j]
-            q[i] = min(max(q[i], lower[i]), upper[i])
+        if is_additive(m.types[j]):
+            for i in range(m.iq[j], m.iq[j + 1]):
+                q[i] = min(max(q[i], lower[i]), upper[i])
 
 
 @inline
@@ -169,12 +170,13 @@ def _step(m, q, lower, upper, J, r, lam, A, g, d, free):
                 return False
         held = False
         for j in range(m.n):
-            if m.types[j] != FREE_FLYER:
-                i, k = m.iq[j], m.iv[j]
-                if free[k] > 0.0 and ((q[i] <= lower[i] and d[k] < 0.0)
-                                      or (q[i] >= upper[i] and d[k] > 0.0)):
-                    free[k] = 0.0
-                    held = True
+            if is_additive(m.types[j]):  # q[i] moves by d[k]
+                for c in range(m.iv[j + 1] - m.iv[j]):
+                    i, k = m.iq[j] + c, m.iv[j] + c
+                    if free[k] > 0.0 and ((q[i] <= lower[i] and d[k] < 0.0)
+                                          or (q[i] >= upper[i] and d[k] > 0.0)):
+                        free[k] = 0.0
+                        held = True
         if not held:
             break
     return True
@@ -213,12 +215,12 @@ def solve_core(m, q0, lower, upper, tasks, options, sample, q, res, info, work):
             qc[i] = q0[i]
         if attempt > 0:
             for j in range(m.n):
-                if m.types[j] != FREE_FLYER:
-                    i = m.iq[j]
-                    lo = lower[i] if math.isfinite(lower[i]) else -math.pi
-                    hi = upper[i] if math.isfinite(upper[i]) else math.pi
-                    state, u = _uniform(state)
-                    qc[i] = lo + u * (hi - lo)
+                if is_additive(m.types[j]):
+                    for i in range(m.iq[j], m.iq[j + 1]):
+                        lo = lower[i] if math.isfinite(lower[i]) else -math.pi
+                        hi = upper[i] if math.isfinite(upper[i]) else math.pi
+                        state, u = _uniform(state)
+                        qc[i] = lo + u * (hi - lo)
         _clamp(m, lower, upper, qc)
         stack_rows(m, qc, tasks, r, J, sw)
         f = _cost(r)

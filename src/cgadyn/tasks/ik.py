@@ -64,17 +64,11 @@ with 3 targets unsolved against 2."""
 
 
 def middle_configuration(model) -> np.ndarray:
-    """The middle of every joint's range (0 for unbounded joints; free flyers at identity)."""
-    from ..algorithms.configuration import neutral
+    """The middle of every joint's range (0 for unbounded joints; joints that are not
+    additive, free flyers, neutral: ``multibody.joints.table.middle``)."""
+    from ..multibody.joints.table import middle
 
-    q = neutral(model)
-    ok = np.isfinite(model.lower) & np.isfinite(model.upper)
-    for j in range(model.njoints):
-        if model.joint_kinds[j] != "free_flyer":
-            i = model.idx_q[j]
-            if ok[i]:
-                q[i] = 0.5 * (model.lower[i] + model.upper[i])
-    return q
+    return middle(model)
 
 
 def _options(max_iter, tol, restarts, seed, damping) -> np.ndarray:

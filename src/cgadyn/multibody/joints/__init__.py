@@ -1,0 +1,62 @@
+"""Every joint type in one place: its motor, its motion subspace, its configuration space.
+
+As in Featherstone's ``jcalc``, adding a joint type means adding a case here, and nowhere
+else but its tests and the converters (``docs/joints.md``). A joint type is
+
+- a file of its own (``revolute``, ``prismatic``, ``free_flyer``): its code, its compiled
+  joint motor ``M_J(q)`` and manifold maps ⊕/⊖, and its record (``record.JointType``:
+  sizes, motion subspace, limits, neutral and random configurations, quaternion, actuation,
+  speeds, Pinocchio's and MuJoCo's layouts);
+- a case in each compiled function of ``dispatch`` that branches on the type code;
+- an entry in ``table.TYPES``, which the other layers ask.
+
+======================  ====  ====  ====================================================
+type                    nq_j  nv_j  M_J(q_j) and S_j
+======================  ====  ====  ====================================================
+``REVOLUTE``            1     1     ``exp(q B / 2) = cos(q/2) + sin(q/2) B``: B a unit line
+``REVOLUTE_UNBOUNDED``  1     1     the same, for an angle without limits
+``PRISMATIC``           1     1     ``exp(q B / 2) = 1 + (q/2) B``: B a unit direction
+``FREE_FLYER``          7     6     the motor ``T(p) R(x, y, z, w)`` of
+                                    ``q_j = (p1, p2, p3, x, y, z, w)``; ``S_j`` the six
+                                    unit twists, so ``S_j v_j`` is the body twist ``(v, ω)``
+======================  ====  ====  ====================================================
+"""
+
+from .dispatch import (
+    ADDITIVE,
+    QUATERNION_AT,
+    QUATERNION_TOLERANCE,
+    free_root,
+    is_additive,
+    joint_difference,
+    joint_integrate,
+    joint_motors,
+    joint_power,
+    joint_scalars,
+    joint_twist,
+    quaternion_error,
+    unit_axes,
+)
+from .free_flyer import FREE_FLYER
+from .prismatic import PRISMATIC
+from .record import JointType
+from .revolute import REVOLUTE, REVOLUTE_UNBOUNDED
+from .table import (
+    ACTUATED,
+    JOINT_KINDS,
+    KIND_TYPE,
+    NQ,
+    NV,
+    SPEEDS,
+    TYPE_NAMES,
+    TYPES,
+    of_kind,
+)
+
+__all__ = [
+    "ACTUATED", "ADDITIVE", "FREE_FLYER", "JOINT_KINDS", "KIND_TYPE", "NQ", "NV", "PRISMATIC",
+    "QUATERNION_AT", "QUATERNION_TOLERANCE", "REVOLUTE", "REVOLUTE_UNBOUNDED", "SPEEDS",
+    "TYPES", "TYPE_NAMES", "JointType", "free_root", "is_additive", "joint_difference",
+    "joint_integrate", "joint_motors", "joint_power", "joint_scalars", "joint_twist", "of_kind",
+    "quaternion_error", "unit_axes",
+]

@@ -1,0 +1,187 @@
+"""The compiled joint functions: a branch on each joint's type code, per joint.
+
+As in Featherstone's ``jcalc``, every function that depends on a joint's type switches on
+it here and calls the type's own code (``revolute``, ``prismatic``, ``free_flyer``); the
+algorithms call these and nothing else about joints. A joint j moves its body relative to
+the body of its parent λ(j) by the motor (eqs. 5-6)
+
+    M_j = X_j M_J(q_j)
+
+with ``X_j`` its constant placement and ``M_J`` the joint motor of its configuration
+``q_j``; its velocity ``v_j`` moves the body with the twist ``S_j v_j``, the columns of
+``S_j`` being the joint's motion subspace, constant twists in the joint frame.
+
+The functions read a model unpacked by ``cgadyn.multibody.packed.unpack``: per joint
+``types``, ``iq``/``iv`` (the first index of the joint in q and in v, with a final entry
+nq/nv, so that joint j's coordinates are ``q[iq[j]:iq[j+1]]``), ``placements`` and ``S``,
+the motion subspace of every velocity coordinate as a twist, one row each; ``flat`` says
+that every joint is additive (``table.flat``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..._jit import inline
+from ...kernels import dot, motor_mul
+from ...kernels.halfangle import LIBM_BEYOND, half_angle_sincos
+from .free_flyer import (
+    FREE_FLYER,
+    free_flyer_difference,
+    free_flyer_integrate,
+    free_flyer_motor,
+)
+from .prismatic import PRISMATIC, prismatic_motor
+from .revolute import REVOLUTE_UNBOUNDED, revolute_motor
+from .table import NV, TYPES
+
+ADDITIVE = tuple(r.additive for r in TYPES)
+"""Whether ``q ⊕ v = q + v`` coordinate by coordinate, by type (the records' column, a
+constant in compiled code)."""
+QUATERNION_AT = tuple(r.quaternion for r in TYPES)
+"""The offset of a unit quaternion in a joint's configuration, -1 for none, by type."""
+QUATERNION_TOLERANCE = 1e-3
+"""A quaternion whose norm differs from 1 by more than this is refused; a smaller difference
+is normalised away (as after many steps of integration)."""
+
+
+@inline
+def joint_scalars(q, c, s):
+    """``c[k], s[k] = cos(q_k / 2), sin(q_k / 2)`` for every coordinate of q: the scalars of
+    the revolute joint motors ``exp(q_j B_j / 2) = c_j + s_j B_j`` (eq. 6), in one
+    branch-free loop that LLVM vectorises (other coordinates' values go unused). ``q``
+    finite."""
+    any_far = False
+    for k in range(q.shape[0]):
+        x = q[k]
+        far = abs(x) > 2.0 * LIBM_BEYOND  # half angles beyond: redone below with libm
+        any_far |= far
+        c[k], s[k] = half_angle_sincos(0.0 if far else x)
+    if any_far:
+        for k in range(q.shape[0]):
+            if abs(q[k]) > 2.0 * LIBM_BEYOND:
+                c[k] = math.cos(0.5 * q[k])
+                s[k] = math.sin(0.5 * q[k])
+
+
+@inline
+def joint_motors(m, q, c, s, tmp, out):
+    """``out[j] = M_j = X_j M_J(q_j)`` for every joint: the pose of body j in the frame of its
+    parent (eqs. 5-6); ``c, s`` from ``joint_scalars``, ``tmp`` 8 floats.
+
+    Joint axes pass through the joint frame's origin (URDF's convention, checked by
+    ``Model``), so a revolute joint's motor is a rotor and a prismatic joint's a
+    translator, and the product with ``X_j`` is the cheaper one each allows. Free flyers
+    take a second loop: as a third branch of the first, their code more than doubles its
+    time.
+    """
+    for j in range(m.n):
+        t = m.types[j]
+        k = m.iv[j]
+        i = m.iq[j]
+        if t <= REVOLUTE_UNBOUNDED:
+            revolute_motor(m.placements[j], m.S, k, c[i], s[i], tmp, out[j])
+        elif t == PRISMATIC:
+            prismatic_motor(m.placements[j], m.S, k, q[i], tmp, out[j])
+    for j in range(m.n):
+        if m.types[j] == FREE_FLYER:
+            free_flyer_motor(q, m.iq[j], tmp)
+            motor_mul(m.placements[j], tmp, out[j])
+
+
+@inline
+def joint_twist(m, j, x, out):
+    """``out = S_j x_j``: the twist of the joint's velocity (``x = v``) or the acceleration
+    it contributes (``x = a``), in the joint frame."""
+    k0 = m.iv[j]
+    for i in range(6):
+        out[i] = x[k0] * m.S[k0, i]
+    for k in range(k0 + 1, m.iv[j + 1]):
+        for i in range(6):
+            out[i] += x[k] * m.S[k, i]
+
+
+@inline
+def joint_power(m, j, w, tau):
+    """``τ_j = -S_jᵀ · W``: the generalised force of a wrench W on the joint's velocity
+    coordinates, by the power pairing (eq. 9)."""
+    for k in range(m.iv[j], m.iv[j + 1]):
+        tau[k] = -dot(m.S[k], w)
+
+
+@inline
+def joint_integrate(m, j, q, v, tmp, out):
+    """``out_j = q_j ⊕ v_j``, moving joint j's configuration along its velocity for unit
+    time: ``q + v`` for a one-dof joint; ``M exp(V / 2)`` for a free flyer (eq. 6), the
+    body twist V applied in the body's frame (Pinocchio's ``integrate``). ``tmp``: (3, 8)."""
+    i = m.iq[j]
+    if m.types[j] == FREE_FLYER:
+        joint_twist(m, j, v, tmp[2])  # V = S v, the body twist
+        free_flyer_integrate(q, i, tmp, out)
+    else:
+        out[i] = q[i] + v[m.iv[j]]
+
+
+@inline
+def joint_difference(m, j, q0, q1, tmp, out):
+    """``out_j = q1_j ⊖ q0_j``, the velocity that moves q0 to q1 in unit time (the inverse of
+    ``joint_integrate``): ``q1 - q0``, wrapped to (-π, π] for an unbounded revolute joint;
+    for a free flyer the logarithm of ``~M0 M1`` (``free_flyer_difference``). ``tmp``:
+    (3, 8)."""
+    i, k, t = m.iq[j], m.iv[j], m.types[j]
+    if t == FREE_FLYER:
+        free_flyer_difference(q0, q1, i, k, tmp, out)
+    else:
+        d = q1[i] - q0[i]
+        out[k] = math.atan2(math.sin(d), math.cos(d)) if t == REVOLUTE_UNBOUNDED else d
+
+
+@inline
+def is_additive(t):
+    """Whether a joint of type t has ``q ⊕ v = q + v``, coordinate by coordinate (its
+    coordinates may be clamped into box limits, drawn uniformly within them)."""
+    return ADDITIVE[t]
+
+
+@inline
+def free_root(parent, joint_type):
+    """True for a floating joint (one that moves its body by any rigid motion) at the root
+    of its tree: ``frame_motors`` with ``free_roots_at_rest`` puts its tree in the root
+    body's own frame (M5, D14). It takes numbers, not the model: inlined with the model as
+    its argument and called per joint, this test made ``minverse`` 1.5 times slower on the
+    panda."""
+    return parent < 0 and joint_type == FREE_FLYER
+
+
+@inline
+def quaternion_error(m, q):
+    """The first joint whose unit quaternion (``table.QUATERNION_AT``) has a norm not within
+    ``QUATERNION_TOLERANCE`` of 1, or -1."""
+    if m.flat:
+        return -1
+    for j in range(m.types.shape[0]):
+        o = QUATERNION_AT[m.types[j]]
+        if o >= 0:
+            i = m.iq[j] + o
+            norm = math.sqrt(q[i] ** 2 + q[i + 1] ** 2 + q[i + 2] ** 2 + q[i + 3] ** 2)
+            if not abs(norm - 1.0) <= QUATERNION_TOLERANCE:
+                return j
+    return -1
+
+
+def unit_axes(S: np.ndarray, joint_types: np.ndarray) -> np.ndarray:
+    """int64 (nv,): for each velocity coordinate of a one-dof joint whose motion subspace
+    column ``S[k]`` is ``±e_i`` (one coefficient ±1, the others 0: an axis along a
+    coordinate axis of its frame, as URDFs mostly write them), ``i``; -1 for any other
+    (and for the coordinates of a joint of several). Products with such a column read one
+    coefficient, exactly; the packed model stores these so that compiled code need not
+    look for them on every call."""
+    one_dof = np.repeat([NV[t] == 1 for t in joint_types], [NV[t] for t in joint_types])
+    out = np.full(len(S), -1, dtype=np.int64)
+    for k, column in enumerate(np.asarray(S, dtype=np.float64)):
+        nonzero = np.flatnonzero(column)
+        if one_dof[k] and len(nonzero) == 1 and abs(column[nonzero[0]]) == 1.0:
+            out[k] = nonzero[0]
+    return out

@@ -1,0 +1,144 @@
+"""The free flyer: a body moved by any rigid motion (a floating base).
+
+``q_j = (p1, p2, p3, x, y, z, w)``: the translation in the parent frame and a unit
+quaternion, as Pinocchio's ``JointModelFreeFlyer``; ``M_J(q) = T(p) R(x, y, z, w)``. Its
+motion subspace is the six unit twists, so ``v_j`` is the body twist ``[v, ω]`` in the
+body's own frame. The configuration is a manifold, not a vector space:
+``q ⊕ v = M exp(V / 2)`` (eq. 6, V = S v the body twist, applied in the body's frame) and
+``q1 ⊖ q0 = log(~M0 M1)``. MuJoCo's free joint holds ``[x, y, z, qw, qx, qy, qz]`` and its
+linear velocity in the parent (world) frame: ``qvel = (R v, ω)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..._jit import inline
+from ...cga.conventions import twist_from_motion
+from ...kernels import (
+    motor_log,
+    motor_mul,
+    motor_reverse,
+    motor_translation,
+    translator_rotor,
+    twist_exp,
+)
+from ...kernels.lane_arrays import sqrt
+from ...kernels.layout import physical, quaternion, rotor
+from .record import JointType
+
+FREE_FLYER = 3
+
+
+@inline
+def free_flyer_motor(q, i, out):
+    """The motor ``T(p) R(x, y, z, w)`` of a free flyer's configuration
+    ``q[i:i+7] = (p1, p2, p3, x, y, z, w)``, the quaternion normalised."""
+    x, y, z, w = q[i + 3], q[i + 4], q[i + 5], q[i + 6]
+    r = 1.0 / sqrt(x * x + y * y + z * z + w * w)  # of a number, or of each lane
+    r0, r1, r2, r3 = rotor((w * r, x * r, y * r, z * r))
+    translator_rotor(q[i], q[i + 1], q[i + 2], r0, r1, r2, r3, out)
+
+
+@inline
+def free_flyer_configuration(M, out, i):
+    """``out[i:i+7] = (p, x, y, z, w)`` of a motor, the quaternion normalised: the inverse
+    of ``free_flyer_motor``."""
+    w, x, y, z = quaternion(M)
+    r = 1.0 / sqrt(x * x + y * y + z * z + w * w)  # of a number, or of each lane
+    out[i], out[i + 1], out[i + 2] = motor_translation(M)
+    out[i + 3], out[i + 4], out[i + 5], out[i + 6] = x * r, y * r, z * r, w * r
+
+
+@inline
+def free_flyer_integrate(q, i, tmp, out):
+    """``out[i:i+7] = q ⊕ v = M exp(V / 2)``, the body twist ``V = S v`` given in
+    ``tmp[2]`` (``tmp``: (3, 8)); the quaternion's sign kept on q's side."""
+    twist_exp(tmp[2], tmp[1])  # exp(V / 2)
+    free_flyer_motor(q, i, tmp[0])  # M
+    motor_mul(tmp[0], tmp[1], tmp[2])  # M exp(V / 2)
+    free_flyer_configuration(tmp[2], out, i)
+    dot = 0.0
+    for c in range(3, 7):
+        dot += out[i + c] * q[i + c]
+    if dot < 0.0:
+        for c in range(3, 7):
+            out[i + c] = -out[i + c]
+
+
+@inline
+def free_flyer_difference(q0, q1, i, k, tmp, out):
+    """``out[k:k+6] = q1 ⊖ q0``: the body twist ``V = log(~M0 M1)`` with
+    ``exp(V / 2) = ~M0 M1``, the motor taken with a non-negative scalar part so that the
+    rotation is at most π (Pinocchio's ``log6``), as ``[v, ω]``. ``tmp``: (3, 8)."""
+    free_flyer_motor(q0, i, tmp[0])
+    free_flyer_motor(q1, i, tmp[1])
+    motor_reverse(tmp[0], tmp[2])
+    motor_mul(tmp[2], tmp[1], tmp[0])  # ~M0 M1
+    if tmp[0, 0] < 0.0:  # -M is the same motion: the rotation angle in [0, π]
+        for c in range(8):
+            tmp[0, c] = -tmp[0, c]
+    motor_log(tmp[0], tmp[1])  # the twist V, exp(V / 2) = ~M0 M1
+    w1, w2, w3, v1, v2, v3 = physical(tmp[1])
+    out[k], out[k + 1], out[k + 2], out[k + 3], out[k + 4], out[k + 5] = v1, v2, v3, w1, w2, w3
+
+
+def _every_twist(B: np.ndarray) -> np.ndarray:
+    return twist_from_motion(np.eye(6))  # [v, ω] of the body
+
+
+def _unit_quaternion(lower: np.ndarray, upper: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    lower, upper = lower.copy(), upper.copy()
+    lower[3:7] = np.maximum(lower[3:7], -1.0)
+    upper[3:7] = np.minimum(upper[3:7], 1.0)
+    return lower, upper
+
+
+def _random(rng: np.random.Generator, q: np.ndarray, box: float) -> None:
+    """A uniform position in ``[-box, box]³``, a uniformly random rotation."""
+    q[0:3] = rng.uniform(-box, box, 3)
+    quat = rng.normal(size=4)
+    q[3:7] = quat / np.linalg.norm(quat)  # uniform on the unit sphere S³
+
+
+def _rotation(q: np.ndarray) -> np.ndarray:
+    """(..., 3, 3) the rotation matrix of the unit quaternion ``q[..., 3:7] = (x, y, z, w)``."""
+    x, y, z, w = (q[..., c] for c in range(3, 7))
+    return np.stack([
+        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
+        np.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
+        np.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1),
+    ], -2)
+
+
+def _to_mujoco(q: np.ndarray) -> np.ndarray:
+    return np.concatenate([q[..., :3], q[..., 6:7], q[..., 3:6]], axis=-1)
+
+
+def _from_mujoco(qpos: np.ndarray) -> np.ndarray:
+    return np.concatenate([qpos[..., :3], qpos[..., 4:7], qpos[..., 3:4]], axis=-1)
+
+
+def _mujoco_velocity(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    linear = np.einsum("...ab,...b->...a", _rotation(q), v[..., :3])
+    return np.concatenate([linear, v[..., 3:]], axis=-1)
+
+
+def _from_mujoco_velocity(q: np.ndarray, qvel: np.ndarray) -> np.ndarray:
+    linear = np.einsum("...ba,...b->...a", _rotation(q), qvel[..., :3])
+    return np.concatenate([linear, qvel[..., 3:]], axis=-1)
+
+
+TYPES = (
+    JointType(code=FREE_FLYER, name="free_flyer", kind="free_flyer", label="free-flyer",
+              nq=7, nv=6, q_names=("x", "y", "z", "qx", "qy", "qz", "qw"),
+              v_names=("vx", "vy", "vz", "wx", "wy", "wz"),
+              speeds=("free",) * 3 + ("angular",) * 3, actuated=False, floating=True,
+              additive=False, quaternion=3, neutral=(0.0,) * 6 + (1.0,),
+              subspace=_every_twist, limits=_unit_quaternion, random=_random,
+              pinocchio=("JointModelFreeFlyer",), mujoco="free", to_mujoco=_to_mujoco,
+              from_mujoco=_from_mujoco, mujoco_velocity=_mujoco_velocity,
+              from_mujoco_velocity=_from_mujoco_velocity),
+)
+"""The free flyer's record (``record.JointType``): no actuator (nothing pushes on a
+floating base but contact and other external forces)."""
