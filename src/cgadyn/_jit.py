@@ -3,8 +3,9 @@
 Every compiled function of the package is declared with one of these decorators, named by
 its role:
 
-- ``inline``: a small kernel (a motor product, a sandwich) that numba inlines into every
-  compiled caller (``inline="always"``: no call per kernel, and values stay in registers);
+- ``inline``: a small kernel (a motor product, a sandwich) inlined into every compiled
+  caller, so that a recursion is one function without calls: by numba, or (asked for with
+  ``CGADYN_INLINE=llvm``) compiled once and inlined by LLVM (``_inlining``);
 - ``core``: the body of an algorithm, one sample; the only liberty taken with IEEE
   arithmetic is fusing a multiply and an add into one FMA instruction (``contract``);
 - ``serial``: any other compiled function;
@@ -34,6 +35,7 @@ it compiles (``_progress``).
 from __future__ import annotations
 
 import json
+import os
 import threading
 import warnings
 from collections.abc import Callable
@@ -42,7 +44,7 @@ from pathlib import Path
 import numba
 from numba.extending import intrinsic
 
-from . import _progress
+from . import _inlining, _progress
 from ._sources import closure_fingerprints, compiled_sources
 
 __all__ = ["caching", "core", "inline", "intrinsic", "native", "parallel", "serial"]
@@ -143,9 +145,21 @@ def _compile(decorator: Callable, fn: Callable, **options):
     return decorator(**options)(fn)
 
 
+INLINE_BY = "llvm" if os.environ.get("CGADYN_INLINE") == "llvm" and _inlining.available() \
+    else "numba"
+"""How kernels are inlined: ``"numba"`` (numba's ``inline="always"``: the default) or, with
+``CGADYN_INLINE=llvm``, ``"llvm"`` (compiled once and inlined by LLVM, ``_inlining``: a first
+compilation several times shorter, the same results to rounding, but some calls slower than
+the 5 % the project allows; ``validation/results/startup.md``)."""
+
+
 def inline(fn: Callable):
-    """A kernel inlined into its compiled callers."""
-    return _compile(numba.njit, fn, nogil=True, inline="always", error_model="numpy")
+    """A kernel inlined into its compiled callers, its multiply-adds fused as in a ``core``
+    (it runs inside the cores)."""
+    if INLINE_BY == "numba":
+        return _compile(numba.njit, fn, nogil=True, inline="always", error_model="numpy")
+    _inlining.always_inline(fn)
+    return _compile(numba.njit, fn, nogil=True, fastmath={"contract"}, error_model="numpy")
 
 
 def core(fn: Callable):

@@ -8,8 +8,8 @@ Layouts (coefficients in the null basis, e0·e∞ = -1):
     wrench (6,): e23, e13, e12, e01, e02, e03
     inertia (6, 6): inertia[k, j] = coefficient of element I^(e_k) on wrench blade j.
 Each kernel writes into ``out`` (which may alias an input) and allocates nothing, so it can
-be called from other compiled code, where numba inlines it (``inline="always"``: the
-recursive algorithms run about 30 % faster than with calls).
+be called from other compiled code, where it is inlined (``_jit.inline``): a recursion
+is then one function without calls.
 """
 
 from .._jit import inline
