@@ -54,11 +54,16 @@ def always_inline(fn: Callable) -> None:
 
 def _module_for_linking(self):
     module = _LINKING(self)
-    for function in module.functions:
-        if not function.is_declaration and function.name.startswith(tuple(_PREFIXES)):
-            function.add_function_attribute("alwaysinline")
+    if not getattr(self, "_cgadyn_inlining", False):  # once per library: numba keeps it
+        for function in module.functions:
+            if not function.is_declaration and function.name.startswith(tuple(_PREFIXES)):
+                function.add_function_attribute("alwaysinline")
+        self._cgadyn_inlining = True
     return module
 
 
-if available():
-    _LIBRARY._get_module_for_linking = _module_for_linking
+def install() -> None:
+    """Have numba's code libraries mark the kernels (``always_inline``) when linking them;
+    only where ``_jit`` inlines by LLVM, so that numba's own linking is otherwise untouched."""
+    if available() and _LIBRARY._get_module_for_linking is not _module_for_linking:
+        _LIBRARY._get_module_for_linking = _module_for_linking

@@ -151,6 +151,8 @@ INLINE_BY = "llvm" if os.environ.get("CGADYN_INLINE") == "llvm" and _inlining.av
 ``CGADYN_INLINE=llvm``, ``"llvm"`` (compiled once and inlined by LLVM, ``_inlining``: a first
 compilation several times shorter, the same results to rounding, but some calls slower than
 the 5 % the project allows; ``validation/results/startup.md``)."""
+if INLINE_BY == "llvm":
+    _inlining.install()
 
 
 def inline(fn: Callable):

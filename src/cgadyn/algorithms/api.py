@@ -4,7 +4,7 @@ Every function takes the model first. ``q`` has ``model.nq`` entries and ``v, a,
 ``model.nv``, ordered like ``model.joint_names`` (Pinocchio's order; a free-flyer root
 first); gravity is a world-frame 3-vector. A batch runs as one compiled call in parallel
 over its samples and returns the same leading shape. The path of a call is described in
-``calls.py``: ``rnea``, ``aba`` and ``crba`` try the fast path first (``_public``), the
+``calls.py``: ``rnea``, ``aba`` and ``crba`` try the fast path first, the
 others call ``calls.run``.
 """
 
@@ -14,12 +14,12 @@ import numpy as np
 
 from ..cga.conventions import twist_from_motion
 from . import _inputs
-from ._public import fast_first
-from .calls import run
+from .calls import SLOTS, fast, run
 from .jacobian import LOCAL, LOCAL_WORLD_ALIGNED, WORLD
 
 G = _inputs.DEFAULT_GRAVITY
-_rnea, _aba, _crba = fast_first("rnea"), fast_first("aba"), fast_first("crba")
+_RNEA, _ABA, _CRBA = SLOTS["rnea"], SLOTS["aba"], SLOTS["crba"]
+_ndarray = np.ndarray  # a module global: one lookup less per call
 
 
 def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
@@ -28,17 +28,28 @@ def rnea(model, q, v, a, gravity=G, f_ext=None) -> np.ndarray:
     ``f_ext``: optional external force per joint, Pinocchio's ``[f, τ]`` in the joint frame,
     shape (n, 6) (``n = model.njoints``) or (B, n, 6).
     """
-    return _rnea(model, q, v, a, gravity, f_ext)
+    if gravity is G and f_ext is None:
+        tau = fast(_RNEA, model.packed, q, v, a, None)
+        if tau.__class__ is _ndarray:
+            return tau
+    return run("rnea", model, (q, v, a), gravity, f_ext)
 
 
 def aba(model, q, v, tau, gravity=G, f_ext=None) -> np.ndarray:
     """Joint accelerations ``q̈`` of forward dynamics (Algorithms 1 and 3)."""
-    return _aba(model, q, v, tau, gravity, f_ext)
+    if gravity is G and f_ext is None:
+        qdd = fast(_ABA, model.packed, q, v, tau, None)
+        if qdd.__class__ is _ndarray:
+            return qdd
+    return run("aba", model, (q, v, tau), gravity, f_ext)
 
 
 def crba(model, q) -> np.ndarray:
     """Joint-space mass matrix ``M(q)``, full and symmetric, (nv, nv) or (B, nv, nv)."""
-    return _crba(model, q)
+    H = fast(_CRBA, model.packed, q)
+    if H.__class__ is _ndarray:
+        return H
+    return run("crba", model, (q,))
 
 
 def gravity_torques(model, q, gravity=G) -> np.ndarray:

@@ -13,11 +13,10 @@ from __future__ import annotations
 import numpy as np
 
 from . import _inputs
-from ._public import fast_first
+from .calls import SLOTS, fast, run
 
 G = _inputs.DEFAULT_GRAVITY
-_rnea_d, _aba_d = fast_first("rnea_derivatives"), fast_first("aba_derivatives")
-_minverse = fast_first("minverse")
+_RNEA_D, _ABA_D, _MINV = SLOTS["rnea_derivatives"], SLOTS["aba_derivatives"], SLOTS["minverse"]
 
 
 def rnea_derivatives(model, q, v, a, gravity=G, f_ext=None):
@@ -25,16 +24,27 @@ def rnea_derivatives(model, q, v, a, gravity=G, f_ext=None):
 
     ``f_ext``: external forces per joint as for ``rnea``.
     """
-    return _rnea_d(model, q, v, a, gravity, f_ext)
+    if gravity is G and f_ext is None:
+        out = fast(_RNEA_D, model.packed, q, v, a, None)
+        if out.__class__ is tuple:
+            return out
+    return run("rnea_derivatives", model, (q, v, a), gravity, f_ext)
 
 
 def aba_derivatives(model, q, v, tau, gravity=G, f_ext=None):
     """``(∂q̈/∂q, ∂q̈/∂v, ∂q̈/∂τ)`` of forward dynamics at (q, v, τ), the last being
     ``M(q)⁻¹``; ``∂q̈/∂q = -M⁻¹ ∂τ/∂q`` at ``q̈ = aba(q, v, τ)``."""
-    return _aba_d(model, q, v, tau, gravity, f_ext)
+    if gravity is G and f_ext is None:
+        out = fast(_ABA_D, model.packed, q, v, tau, None)
+        if out.__class__ is tuple:
+            return out
+    return run("aba_derivatives", model, (q, v, tau), gravity, f_ext)
 
 
 def minverse(model, q) -> np.ndarray:
     """``M(q)⁻¹``, full and symmetric, from the articulated-body recursion in O(n nv),
     without forming M (``docs/derivatives.md``, M1-M5)."""
-    return _minverse(model, q)
+    out = fast(_MINV, model.packed, q)
+    if out.__class__ is np.ndarray:
+        return out
+    return run("minverse", model, (q,))
