@@ -42,6 +42,10 @@ _ARRAY_FIELDS = (
     "placement_matrices",
     "axis_vectors",
     "link_placement_matrices",
+    "armature",
+    "damping",
+    "stiffness",
+    "spring_reference",
 )
 
 
@@ -111,6 +115,21 @@ class Model:
         ``link_placements`` as homogeneous 4x4 matrices.
     mimic : tuple
         ``None`` or ``(leader_joint_name, multiplier, offset)`` per joint (information only).
+    armature : float64 (nv,)
+        Rotor inertia per velocity coordinate, added to the mass matrix's diagonal
+        (Pinocchio's ``model.armature``, MuJoCo's ``dof_armature``): every algorithm of
+        the dynamics includes it.
+    damping : float64 (nv,)
+        Viscous damping per velocity coordinate (MuJoCo's ``dof_damping``, URDF's
+        ``<dynamics damping>``, Pinocchio's ``model.damping``): the passive torque
+        ``-damping * v`` (``cgadyn.passive_torques``), not part of rnea or aba.
+    stiffness : float64 (nv,)
+        Joint spring stiffness per velocity coordinate (MuJoCo's ``jnt_stiffness``),
+        nonzero only on additive joints: the passive torque
+        ``-stiffness * (q - spring_reference)``.
+    spring_reference : float64 (nq,)
+        The configuration at which the springs are relaxed (MuJoCo's ``qpos_spring``, in
+        cgadyn's layout); defaults to the neutral configuration.
     """
 
     name: str
@@ -136,8 +155,21 @@ class Model:
     axis_vectors: np.ndarray
     link_placement_matrices: np.ndarray
     mimic: tuple
+    armature: np.ndarray | None = None
+    damping: np.ndarray | None = None
+    stiffness: np.ndarray | None = None
+    spring_reference: np.ndarray | None = None
 
     def __post_init__(self):
+        nv = sum(NV[int(t)] for t in np.asarray(self.joint_types).reshape(-1))
+        for field in ("armature", "damping", "stiffness"):  # none given: none
+            if getattr(self, field) is None:
+                object.__setattr__(self, field, np.zeros(nv))
+        if self.spring_reference is None:
+            from .joints.table import neutral_of_types
+
+            object.__setattr__(self, "spring_reference",
+                               neutral_of_types(np.asarray(self.joint_types).reshape(-1)))
         for field in _ARRAY_FIELDS:
             arr = getattr(self, field)
             dtype = np.int64 if field in ("joint_types", "parents", "link_joint") else np.float64
@@ -174,6 +206,10 @@ class Model:
             "placement_matrices": (n, 4, 4),
             "axis_vectors": (n, 3),
             "link_placement_matrices": (nl, 4, 4),
+            "armature": (nv,),
+            "damping": (nv,),
+            "stiffness": (nv,),
+            "spring_reference": (nq,),
         }
         for field, shape in shapes.items():
             got = getattr(self, field).shape
@@ -201,6 +237,7 @@ class Model:
             open_path.append(j)
         self._check_axes()
         self._check_inertias()
+        self._check_passive()
         if np.any((self.link_joint < -1) | (self.link_joint >= n)):
             raise ValueError("link_joint entries must lie in [-1, n)")
         if len(set(self.joint_names)) != n:
@@ -222,6 +259,28 @@ class Model:
                     f"rigid body's inertia: expected, in Pinocchio's order [v, ω], the "
                     f"symmetric [[m 1, -m [c]x], [m [c]x, I]], got "
                     f"{np.round(P, 6).tolist()}")
+
+    def _check_passive(self):
+        """Armature, damping and stiffness are finite and non-negative (a negative armature
+        or damping would feed energy in); a spring only on a joint whose coordinates add
+        (``q ⊕ v = q + v``), where ``-k (q - q_ref)`` is MuJoCo's spring; the spring
+        reference finite."""
+        for field in ("armature", "damping", "stiffness"):
+            values = getattr(self, field)
+            bad = np.flatnonzero(~(np.isfinite(values) & (values >= 0.0)))
+            if bad.size:
+                k = int(bad[0])
+                raise ValueError(f"Model.{field}[{k}] (joint "
+                                 f"{self.joint_names[self.dof_joint[k]]!r}) is {values[k]}; "
+                                 f"expected a finite number >= 0")
+        if not np.all(np.isfinite(self.spring_reference)):
+            raise ValueError("Model.spring_reference has entries that are not finite; "
+                             "expected a configuration")
+        for j, t in enumerate(self.joint_types):
+            if not TYPES[int(t)].additive and np.any(self.stiffness[self.joint_dofs(j)]):
+                raise ValueError(f"joint {self.joint_names[j]!r} ({TYPES[int(t)].label}) "
+                                 f"has a nonzero stiffness; cgadyn models joint springs only "
+                                 f"on joints whose coordinates add (revolute, prismatic)")
 
     def _check_axes(self):
         """Joint axes pass through the joint frame's origin (URDF's convention): a revolute
@@ -461,6 +520,10 @@ def build_model(
     root_link="world",
     mimic=None,
     check_inertia=True,
+    armature=None,
+    damping=None,
+    stiffness=None,
+    spring_reference=None,
 ) -> Model:
     """Build a :class:`Model` from raw physical data; computes the CGA fields.
 
@@ -468,6 +531,8 @@ def build_model(
     frame; ``axis_vectors (n,3)`` the joint axes in the joint frames (normalised here,
     a zero axis raises ``ValueError``); ``body_*`` the merged bodies in the joint frames.
     Links default to one per joint (named after the joint) plus the root link.
+    ``armature``, ``damping``, ``stiffness`` (nv,) and ``spring_reference`` (nq,) default
+    to zero and the neutral configuration (``Model``).
     """
     from cgadyn.cga.conventions import (
         inertia_from_parameters,
@@ -547,4 +612,9 @@ def build_model(
         axis_vectors=axis_vectors,
         link_placement_matrices=link_placement_matrices,
         mimic=tuple(mimic) if mimic is not None else (None,) * n,
+        armature=None if armature is None else _limits(armature, nv, "armature"),
+        damping=None if damping is None else _limits(damping, nv, "damping"),
+        stiffness=None if stiffness is None else _limits(stiffness, nv, "stiffness"),
+        spring_reference=(None if spring_reference is None
+                          else _limits(spring_reference, nq, "spring_reference")),
     )

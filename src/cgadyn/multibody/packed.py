@@ -11,7 +11,7 @@ wide)::
             | dof_parent (nv) | dof_joint (nv) | subtree_end (n) | link_joint (nl)
             | unit_axis (nv) | flat
     floats: placements (n, 8) | S (nv, 6) | inertias (n, 6, 6) | base acceleration (6)
-            | link_placements (nl, 8)
+            | link_placements (nl, 8) | armature (nv)
 
 ``n`` joints, ``nq``/``nv`` the sizes of q and v, ``nl`` link frames, ``length`` the
 buffer's length; ``iq``/``iv`` the first index of each joint in q and v (the last entries
@@ -23,7 +23,8 @@ each joint's subtree (contiguous: joints are in depth-first order), ``unit_axis`
 index i of a one-dof joint's coordinate whose ``S`` is ``±e_i``, else -1
 (``multibody.joints.unit_axes``), ``flat`` 1 when every joint is additive
 (``q ⊕ v = q + v``, ``multibody.joints.table.flat``), else 0; ``S`` the motion subspace of
-every velocity coordinate (``multibody.joints``).
+every velocity coordinate (``multibody.joints``); ``armature`` the rotor inertia of each
+velocity coordinate (``Model.armature``), which the cores add to the mass matrix's diagonal.
 The base acceleration is ``V̇_0 = -g`` as a twist (gravity as a fictitious acceleration of
 the world, as Pinocchio keeps ``model.gravity``); ``with_gravity`` makes a copy for
 another gravity.
@@ -47,7 +48,7 @@ HEADER = 5
 ModelView = namedtuple("ModelView", [
     "n", "nq", "nv", "nl", "parents", "types", "iq", "iv", "dof_parent", "dof_joint",
     "subtree_end", "link_joint", "unit_axis", "flat",
-    "placements", "S", "inertias", "gravity", "link_placements"])
+    "placements", "S", "inertias", "gravity", "link_placements", "armature"])
 """The model as compiled code reads it: sizes and views into the packed buffer.
 ``gravity`` is the base acceleration ``V̇_0 = -g`` (a twist)."""
 
@@ -66,7 +67,7 @@ def pack(model, gravity=DEFAULT_GRAVITY) -> np.ndarray:
     """One new writable float64 buffer of the model (compiled code never writes to it)."""
     n, nl = model.njoints, model.nlinks
     floats = [model.placements, model.motion_subspace, model.inertias,
-              base_acceleration(gravity), model.link_placements]
+              base_acceleration(gravity), model.link_placements, model.armature]
     length = _ints(n, model.nv, nl) + sum(a.size for a in floats)
     ints = np.concatenate([[n, model.nq, model.nv, nl, length], model.parents,
                            model.joint_types, model.idx_q, model.idx_v, model.dof_parent,
@@ -109,6 +110,7 @@ def unpack(packed):
     inertias, o = carve(at, o, (n, 6, 6))
     gravity, o = carve(at, o, (6,))
     link_placements, o = carve(at, o, (nl, 8))
+    armature, o = carve(at, o, (nv,))
     return ModelView(n, nq, nv, nl, parents, types, iq, iv, dof_parent, dof_joint, subtree_end,
                      link_joint, unit_axis, flags[0] != 0, placements, S, inertias, gravity,
-                     link_placements)
+                     link_placements, armature)

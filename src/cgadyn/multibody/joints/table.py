@@ -93,10 +93,25 @@ def quaternions(model) -> list[tuple[int, int]]:
 
 def neutral(model) -> np.ndarray:
     """The neutral configuration: every joint's ``neutral``."""
-    q = np.zeros(model.nq)
-    for _, joint, s, _ in joints_of(model):
-        q[s] = joint.neutral
-    return q
+    return neutral_of_types(model.joint_types)
+
+
+def neutral_of_types(joint_types) -> np.ndarray:
+    """The neutral configuration of joints of these types, in order."""
+    return np.concatenate([np.asarray(TYPES[int(t)].neutral, dtype=float)
+                           for t in joint_types] or [np.zeros(0)])
+
+
+def spring_deflection(model, q) -> np.ndarray:
+    """``q - spring_reference`` per velocity coordinate (..., nv) for the joints whose
+    coordinates add, zero on the others (which carry no spring: ``Model._check_passive``);
+    MuJoCo's ``qpos - qpos_spring`` of hinges and slides."""
+    q = np.asarray(q, dtype=float)
+    out = np.zeros(q.shape[:-1] + (model.nv,))
+    for _, joint, s, t in joints_of(model):
+        if joint.additive:
+            out[..., t] = q[..., s] - model.spring_reference[s]
+    return out
 
 
 def random_configuration(model, rng: np.random.Generator, box: float) -> np.ndarray:

@@ -1,0 +1,284 @@
+"""Convert a compiled MuJoCo model (``mujoco.MjModel``) into a cgadyn :class:`Model`.
+
+MuJoCo's own compiler is the reference for MJCF: it applies default classes, computes
+inertias from geoms (``inertiafromgeom``), expands ``<include>``, converts angles, and
+places every body. ``from_mujoco`` reads what it compiled, whole:
+
+- **Joints**, with MuJoCo's names and order (so that q is MuJoCo's qpos and v its qvel,
+  except for a free joint's layout, below): ``hinge`` becomes a revolute joint (an
+  unbounded one when the joint is not limited), ``slide`` a prismatic joint, ``free`` the
+  free flyer (the first joint, of a top-level body). A ``ball`` joint is refused by name
+  until cgadyn has a spherical joint.
+- **Bodies.** Body b's frame at rest is its parent's composed with ``body_pos`` and
+  ``body_quat`` (w, x, y, z). MuJoCo moves it by its joints in order, each about or along
+  its axis ``jnt_axis`` through the point ``jnt_pos`` of the body frame as the previous
+  joints left it, by ``qpos - qpos0`` (``qpos0`` is the joint's ``ref``): a hinge turns the
+  body frame about the anchor, a slide translates it (``mj_kinematics``). cgadyn's joint
+  frame k is the body frame translated to ``jnt_pos_k``; ``ref`` is folded into the joint's
+  placement (``X M_J(q - ref) = (X M_J(-ref)) M_J(q)``). A body with several joints
+  (Gymnasium's humanoid abdomen and hips) becomes a chain of joints whose intermediate
+  bodies are massless; the body itself hangs from the last joint, at ``-jnt_pos``.
+  A body without joints is welded to the body above it: its inertia merged there, its
+  frame a link of that joint (bodies welded to the world carry no dynamics).
+- **Inertias** as MuJoCo computed them: ``body_mass``, and ``body_inertia``, the diagonal
+  in the frame ``body_iquat`` at ``body_ipos`` of the body frame.
+- **Links**: the world (``world``) and every body, named as in MuJoCo (an unnamed body
+  ``body<id>``), placed in the frame of the joint that moves it; so
+  ``link_placements(model, q)`` are MuJoCo's ``xpos``/``xquat`` (``xmat``).
+- **Passive dynamics**: ``dof_armature`` (``Model.armature``), ``dof_damping``
+  (``Model.damping``), ``jnt_stiffness`` and ``qpos_spring`` (``Model.stiffness``,
+  ``Model.spring_reference``).
+
+States: ``from_mujoco_state(model, qpos, qvel)`` and ``to_mujoco_state(model, q, v)``;
+the joint records (``multibody.joints``) hold each type's layouts: a free joint's qpos is
+``[x, y, z, qw, qx, qy, qz]`` (cgadyn's and Pinocchio's ``[x, y, z, qx, qy, qz, qw]``) and
+its qvel's linear part is the body origin's velocity in the world frame, where cgadyn's
+base twist is in the body frame (``qvel = (R v, ω)``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+
+import numpy as np
+
+from cgadyn.multibody.joints import table
+from cgadyn.multibody.model import Model, build_model, merge_inertias
+from cgadyn.multibody.packed import DEFAULT_GRAVITY
+
+WORLD = "world"
+"""The name of MuJoCo's world body, the root link of a converted model."""
+
+_KINDS = {"free": "free_flyer", "slide": "prismatic"}
+"""MuJoCo's joint types and cgadyn's joint kinds (a hinge: ``_hinge_kind``)."""
+
+_MJ_TYPES = ("free", "ball", "slide", "hinge")
+"""``mjtJoint`` by value: mjJNT_FREE, mjJNT_BALL, mjJNT_SLIDE, mjJNT_HINGE."""
+
+
+def _rotation(quat) -> np.ndarray:
+    """The rotation matrix of MuJoCo's quaternion ``(w, x, y, z)``, normalised."""
+    w, x, y, z = np.asarray(quat, dtype=float) / np.linalg.norm(quat)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+
+
+def _pose(pos=(0.0, 0.0, 0.0), rot=None) -> np.ndarray:
+    T = np.eye(4)
+    T[:3, 3] = pos
+    if rot is not None:
+        T[:3, :3] = rot
+    return T
+
+
+def _axis_angle(axis, angle: float) -> np.ndarray:
+    """Rotation by ``angle`` about the unit ``axis`` (Rodrigues)."""
+    x, y, z = axis
+    K = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+    return np.eye(3) + np.sin(angle) * K + (1.0 - np.cos(angle)) * (K @ K)
+
+
+def _name(mj, kind, i: int, fallback: str) -> str:
+    import mujoco
+
+    return mujoco.mj_id2name(mj, kind, i) or fallback
+
+
+def _hinge_kind(mj, j: int) -> str:
+    return "revolute" if mj.jnt_limited[j] else "continuous"
+
+
+def _check_model(mj, where: str) -> None:
+    """Refuse what a cgadyn model cannot hold, by name: a ball joint, a free joint that is
+    not the first joint of a top-level body or that is offset in its body. A gravity other
+    than cgadyn's default is only warned of: the model does not hold gravity, calls take
+    ``gravity=``."""
+    for j in range(mj.njnt):
+        kind = _MJ_TYPES[int(mj.jnt_type[j])]
+        name = _name(mj, _obj("JOINT"), j, f"joint {j}")
+        body = int(mj.jnt_bodyid[j])
+        if kind == "ball":
+            raise ValueError(f"{where}: joint {name!r} is a ball joint, which cgadyn does not "
+                             f"support yet (its spherical joint is still to come); supported "
+                             f"MuJoCo joints: hinge, slide, and free as the first joint")
+        if kind == "free" and (j != 0 or mj.body_parentid[body] != 0):
+            raise ValueError(f"{where}: joint {name!r} is a free joint that is not the "
+                             f"first joint of the model (or not in a top-level body); cgadyn "
+                             f"supports one floating base, the first joint, so models with "
+                             f"several free bodies are not supported yet")
+        if kind == "free" and np.any(mj.jnt_pos[j] != 0.0):
+            raise ValueError(f"{where}: free joint {name!r} has pos "
+                             f"{mj.jnt_pos[j].tolist()}; expected the body's origin (0 0 0)")
+    gravity = np.asarray(mj.opt.gravity, dtype=float)
+    if not np.allclose(gravity, DEFAULT_GRAVITY, rtol=0.0, atol=1e-12):
+        warnings.warn(f"{where}: the MuJoCo model's gravity is {gravity.tolist()}; a cgadyn "
+                      f"model uses {list(DEFAULT_GRAVITY)} unless a call passes gravity= "
+                      f"(pass gravity={gravity.tolist()} to use MuJoCo's)", stacklevel=3)
+
+
+def _obj(name: str):
+    import mujoco
+
+    return getattr(mujoco.mjtObj, f"mjOBJ_{name}")
+
+
+def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -> Model:
+    """The cgadyn :class:`Model` of a compiled MuJoCo model (``mujoco.MjModel``), as the
+    module's docstring describes. ``name`` defaults to the model's (``<mujoco model>``).
+
+    Raises ``ValueError`` naming a ball joint, a free joint that is not the first joint
+    of a top-level body, or (with ``check_inertia``) a body whose inertia is not physical;
+    warns of a gravity other than cgadyn's default (calls take ``gravity=``).
+    """
+    try:
+        import mujoco
+    except ImportError:  # pragma: no cover - mujoco is optional
+        raise ImportError("from_mujoco needs MuJoCo: pip install mujoco") from None
+    if not isinstance(mj_model, mujoco.MjModel):
+        raise ValueError(f"from_mujoco expects a mujoco.MjModel, got "
+                         f"{type(mj_model).__name__}")
+    mj = mj_model
+    model_name = name if name is not None else (
+        bytes(mj.names).split(b"\0", 1)[0].decode() or "mujoco")  # the first name: the model's
+    _check_model(mj, repr(model_name))
+
+    joints = dict(names=[], kinds=[], parents=[], placements=[], axes=[], lower=[], upper=[],
+                  armature=[], damping=[], stiffness=[], spring=[])
+    pieces: list[list] = []  # per cgadyn joint: [(mass, com, rotational inertia)] in its frame
+    attach = {0: (-1, np.eye(4))}  # body -> (cgadyn joint moving it, its pose in that frame)
+    link_names, link_joint, link_poses = [WORLD], [-1], [np.eye(4)]
+    used = set()
+
+    def add_joint(jname, kind, parent, placement, axis, lower, upper, mj_joint):
+        joints["names"].append(jname)
+        joints["kinds"].append(kind)
+        joints["parents"].append(parent)
+        joints["placements"].append(placement)
+        joints["axes"].append(axis)
+        joints["lower"] += lower
+        joints["upper"] += upper
+        dofs = range(mj.jnt_dofadr[mj_joint], mj.jnt_dofadr[mj_joint] +
+                     table.of_kind(kind).nv)
+        joints["armature"] += [float(mj.dof_armature[d]) for d in dofs]
+        joints["damping"] += [float(mj.dof_damping[d]) for d in dofs]
+        joints["stiffness"] += [float(mj.jnt_stiffness[mj_joint])] * len(dofs)
+        pieces.append([])
+        return len(joints["names"]) - 1
+
+    for b in range(1, mj.nbody):
+        parent_joint, parent_pose = attach[int(mj.body_parentid[b])]
+        rest = parent_pose @ _pose(mj.body_pos[b], _rotation(mj.body_quat[b]))
+        body_name = _name(mj, _obj("BODY"), b, f"body{b}")
+        first = int(mj.body_jntadr[b])
+        count = int(mj.body_jntnum[b])
+        frame, previous = rest, None  # the body frame at rest, in parent_joint's frame
+        for j in range(first, first + count):
+            mj_type = _MJ_TYPES[int(mj.jnt_type[j])]
+            jname = _name(mj, _obj("JOINT"), j, f"{body_name}_joint{j - first}")
+            if jname in used:
+                raise ValueError(f"{model_name!r}: two joints are named {jname!r}")
+            used.add(jname)
+            if mj_type == "free":  # the body's pose in the world is q: placement identity
+                parent_joint = add_joint(jname, _KINDS["free"], -1, np.eye(4), np.zeros(3),
+                                         [-np.inf] * 7, [np.inf] * 7, j)
+                frame, previous = np.eye(4), np.zeros(3)
+                continue
+            kind = _hinge_kind(mj, j) if mj_type == "hinge" else _KINDS[mj_type]
+            axis = np.asarray(mj.jnt_axis[j], dtype=float)
+            pos = np.asarray(mj.jnt_pos[j], dtype=float)
+            ref = float(mj.qpos0[mj.jnt_qposadr[j]])
+            folded = (_pose(rot=_axis_angle(axis, -ref)) if mj_type == "hinge"
+                      else _pose(-ref * axis))  # X M_J(q - ref) = (X M_J(-ref)) M_J(q)
+            offset = frame @ _pose(pos) if previous is None else _pose(pos - previous)
+            limited = bool(mj.jnt_limited[j])
+            lower, upper = ([float(mj.jnt_range[j, 0])], [float(mj.jnt_range[j, 1])]) \
+                if limited else ([-np.inf], [np.inf])
+            parent_joint = add_joint(jname, kind, parent_joint, offset @ folded, axis,
+                                     lower, upper, j)
+            previous = pos
+        if count:
+            frame = _pose(-previous)  # the body frame in its last joint's frame
+        attach[b] = (parent_joint, frame)
+        link_names.append(body_name)
+        link_joint.append(parent_joint)
+        link_poses.append(frame)
+        if parent_joint >= 0:
+            inertial = frame @ _pose(mj.body_ipos[b], _rotation(mj.body_iquat[b]))
+            rot = inertial[:3, :3]
+            pieces[parent_joint].append((float(mj.body_mass[b]), inertial[:3, 3].copy(),
+                                         rot @ np.diag(mj.body_inertia[b]) @ rot.T))
+
+    n = len(joints["names"])
+    mass, com, rotational = np.zeros(n), np.zeros((n, 3)), np.zeros((n, 3, 3))
+    for j, body in enumerate(pieces):
+        if body:
+            mass[j], com[j], rotational[j] = merge_inertias(*map(np.array, zip(*body,
+                                                                                strict=True)))
+    try:
+        model = build_model(
+            name=model_name, joint_names=joints["names"], joint_kinds=joints["kinds"],
+            parents=joints["parents"],
+            placement_matrices=np.array(joints["placements"]).reshape(n, 4, 4),
+            axis_vectors=np.array(joints["axes"]).reshape(n, 3),
+            body_mass=mass, body_com=com, body_rotational_inertia=rotational,
+            lower=joints["lower"], upper=joints["upper"], link_names=link_names,
+            link_joint=link_joint, link_placement_matrices=np.array(link_poses),
+            root_link=WORLD, check_inertia=check_inertia, armature=joints["armature"],
+            damping=joints["damping"], stiffness=joints["stiffness"])
+        return dataclasses.replace(model, spring_reference=table.from_mujoco(
+            model, mj.qpos_spring))
+    except ValueError as exc:
+        raise ValueError(f"MuJoCo model {model_name!r}: {exc}") from None
+
+
+def load_mujoco(source, name: str | None = None, check_inertia: bool = True) -> Model:
+    """The model of an MJCF file path or MJCF text, compiled by MuJoCo
+    (``mujoco.MjModel.from_xml_path`` / ``from_xml_string``) and converted by
+    ``from_mujoco``. A ``ValueError`` carries MuJoCo's own message when it cannot compile
+    the file."""
+    import os
+    from pathlib import Path
+
+    import mujoco
+
+    try:
+        if isinstance(source, os.PathLike) or (isinstance(source, str) and "<" not in source):
+            path = Path(source)
+            if not path.is_file():
+                raise FileNotFoundError(f"MJCF file not found: {str(path)!r}")
+            mj = mujoco.MjModel.from_xml_path(str(path))
+        else:
+            text = source.decode() if isinstance(source, bytes) else source
+            mj = mujoco.MjModel.from_xml_string(text)
+    except ValueError as exc:
+        raise ValueError(f"MuJoCo could not compile the MJCF: {exc}") from None
+    return from_mujoco(mj, name=name, check_inertia=check_inertia)
+
+
+def mujoco_model(source):
+    """The compiled ``mujoco.MjModel`` of an MJCF path or text (the oracle's side)."""
+    import os
+    from pathlib import Path
+
+    import mujoco
+
+    if isinstance(source, os.PathLike) or (isinstance(source, str) and "<" not in source):
+        return mujoco.MjModel.from_xml_path(str(Path(source)))
+    return mujoco.MjModel.from_xml_string(source.decode() if isinstance(source, bytes)
+                                         else source)
+
+
+def from_mujoco_state(model: Model, qpos, qvel) -> tuple[np.ndarray, np.ndarray]:
+    """MuJoCo's ``(qpos, qvel)`` ((..., nq), (..., nv)) as cgadyn's ``(q, v)``: each joint's
+    record converts its block (a free joint's quaternion reordered to x, y, z, w and its
+    linear velocity rotated into the body frame, ``v = Rᵀ qvel``)."""
+    q = table.from_mujoco(model, qpos)
+    return q, table.from_mujoco_velocity(model, q, qvel)
+
+
+def to_mujoco_state(model: Model, q, v) -> tuple[np.ndarray, np.ndarray]:
+    """cgadyn's ``(q, v)`` as MuJoCo's ``(qpos, qvel)``, the inverse of
+    ``from_mujoco_state``."""
+    return table.to_mujoco(model, q), table.mujoco_velocity(model, q, v)
