@@ -121,6 +121,7 @@ def aba_core(m, q, v, tau, f, qdd, work):
                 inertia_apply(Ih[j], S[k], U[k])  # U_j = Î_j[S_j]
                 u[k] = tau[k] + dot(S[k], Wh[j])  # τ̂_j = τ_j + S_jᵀ · Ŵ_j
             d = -dot(S[k0], U[k0])
+        d += m.armature[k0]  # D_j = -S_jᵀ · U_j + the rotor's inertia
         if k1 - k0 == 1:  # one dof: Ω_j = D_j⁻¹ = (-B_j · W_Bj)⁻¹
             omega = 1.0 / d
             if not (d > 0.0 and math.isfinite(omega)):
@@ -132,6 +133,7 @@ def aba_core(m, q, v, tau, f, qdd, work):
             for a in range(k0, k1):
                 for b in range(k0, k1):
                     D[a - k0, b - k0] = -dot(S[a], U[b])  # D_j = -S_jᵀ · U_j
+                D[a - k0, a - k0] += m.armature[a]  # + the rotors' inertia
             if not spd_inverse(D, k1 - k0, Dinv):
                 return fault(SINGULAR, j)
             for a in range(k0, k1):

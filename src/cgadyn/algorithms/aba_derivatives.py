@@ -86,6 +86,7 @@ def mass_and_bias(m, k_, Ic, Fc, H, b):
         while i >= 0:  # k and the coordinates supporting it
             H[k, i] = -dot(Sw[i], w)  # M[k, i] = ⟨S_i, I^c[S_k]⟩ (D10)
             i = m.dof_parent[i]
+        H[k, k] += m.armature[k]  # the rotor's inertia on the diagonal
         p = m.parents[j]
         if k == m.iv[j] and p >= 0:  # joint j done: its composite into the parent's
             for i in range(10):

@@ -58,6 +58,7 @@ def crba_core(m, q, H, work):
         while i >= 0:  # k itself, then every coordinate supporting it
             H[i, k] = H[k, i] = -dot(Sw[i], F)  # power of F along the axis S^w_i
             i = m.dof_parent[i]
+        H[k, k] += m.armature[k]  # the rotor's inertia on the diagonal
         p = parents[j]
         if k == iv[j] and p >= 0:  # joint j done
             for l in range(10):

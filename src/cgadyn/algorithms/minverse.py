@@ -77,14 +77,15 @@ def minverse_pass(m, q, Minv, k_):
     for j in range(m.n - 1, -1, -1):
         k0, k1, end = m.iv[j], m.iv[j + 1], m.subtree_end[j]
         if free_root(m.parents[j], m.types[j]):
-            if not _free_root_backward(Ih[j], Sw, U, D, Dinv, F[j], Minv, k0, end, pk, e):
+            if not _free_root_backward(Ih[j], Sw, U, D, Dinv, F[j], Minv, k0, end, pk, e,
+                                       m.armature):
                 return fault(SINGULAR, j)
             continue
         for k in range(k0, k1):
             inertia_apply(Ih[j], Sw[k], U[k])  # U_j = Î_j[S_j] (M1)
         omega = 0.0
         if k1 - k0 == 1:
-            d = -dot(Sw[k0], U[k0])  # D_j = ⟨S_j, U_j⟩
+            d = -dot(Sw[k0], U[k0]) + m.armature[k0]  # D_j = ⟨S_j, U_j⟩ + rotor inertia
             omega = 1.0 / d
             if not (d > 0.0 and math.isfinite(omega)):
                 return fault(SINGULAR, j)
@@ -93,6 +94,7 @@ def minverse_pass(m, q, Minv, k_):
             for a in range(k0, k1):
                 for b in range(k0, k1):
                     D[a - k0, b - k0] = -dot(Sw[a], U[b])
+                D[a - k0, a - k0] += m.armature[a]  # + the rotors' inertia
             if not spd_inverse(D, k1 - k0, Dinv):
                 return fault(SINGULAR, j)
         for a in range(k0, k1):
@@ -171,7 +173,7 @@ def minverse_pass(m, q, Minv, k_):
 
 
 @inline
-def _free_root_backward(Ih, Sw, U, D, Dinv, F, Minv, k0, end, pk, e):
+def _free_root_backward(Ih, Sw, U, D, Dinv, F, Minv, k0, end, pk, e, armature):
     """(M1, M2) for a free-flyer root in its own frame (M5): its coordinates ``k0 .. k0 + 6``
     have the unit twists S_k, so ``⟨S_a, F[c]⟩`` is one coefficient of F[c] times the
     pairing of S_a with that blade (``pk`` (2, 6) holds both, ``e`` (6) is scratch); there
@@ -181,6 +183,7 @@ def _free_root_backward(Ih, Sw, U, D, Dinv, F, Minv, k0, end, pk, e):
     for a in range(6):
         for b in range(6):
             D[a, b] = -dot(Sw[k0 + a], U[k0 + b])  # D_j = ⟨S_j, U_j⟩
+        D[a, a] += armature[k0 + a]  # + the rotors' inertia
     if not spd_inverse(D, 6, Dinv):
         return False
     for a in range(6):

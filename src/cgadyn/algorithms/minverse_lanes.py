@@ -197,9 +197,9 @@ def _lanes_pass(m, Sw, Sl, Il, Ul, Gl, Al, Ml, Dl, Pl, Tl, pk):
         k0, parent = m.iv[j], m.parents[j]
         if free_root(parent, m.types[j]):
             _root_units(Sw, k0, pk)
-            ok = _root_inertia(Il, Ml, Dl, Pl, pk, j, k0, nv)
+            ok = _root_inertia(Il, Ml, Dl, Pl, pk, j, k0, nv, m.armature)
         else:
-            ok = _one_inertia(Sl, Il, Ul, Gl, Ml, j, parent, k0, nv)
+            ok = _one_inertia(Sl, Il, Ul, Gl, Ml, j, parent, k0, nv, m.armature[k0])
         if not ok:
             return False
     for col in range(nv):  # M2 reads D_j⁻¹ from the diagonal, which M3 then changes
@@ -219,7 +219,7 @@ def _root_units(Sw, k0, pk):
 
 
 @core
-def _root_inertia(Il, Ml, Dl, Pl, pk, j, k0, nv):
+def _root_inertia(Il, Ml, Dl, Pl, pk, j, k0, nv, armature):
     """(M1, M2) for a free-flyer root in its own frame (M5): with S_a = s_a e_{i_a},
     ``D_j[a, b] = s_a s_b Î_j[i_a, i_b]``, and M⁻¹[j, j] = D_j⁻¹ (in ``Pl`` too); U_j and
     G_j are not needed, for there is no parent to pass anything to."""
@@ -227,6 +227,8 @@ def _root_inertia(Il, Ml, Dl, Pl, pk, j, k0, nv):
         o = (j * 6 + int(pk[a])) * 6
         for b in range(6):
             x = mul(splat(pk[6 + a] * pk[6 + b]), load(Il, (o + int(pk[b])) * W))
+            if a == b:
+                x = add(x, splat(armature[k0 + a]))  # + the rotors' inertia
             store(Dl, (a * 6 + b) * W, x)
     if not _spd_inverse(Dl, 6, Pl):
         return False
@@ -237,12 +239,12 @@ def _root_inertia(Il, Ml, Dl, Pl, pk, j, k0, nv):
 
 
 @core
-def _one_inertia(Sl, Il, Ul, Gl, Ml, j, parent, k, nv):
+def _one_inertia(Sl, Il, Ul, Gl, Ml, j, parent, k, nv, armature):
     """(M1, M2) for a joint of one coordinate ``k``: U_j, D_j (a number in every lane),
     M⁻¹[j, j] = D_j⁻¹, G_j = D_j⁻¹ U_j and the parent's articulated inertia."""
     for i in range(6):  # U_j = Î_j[S_j] (M1)
         store(Ul, (k * 6 + i) * W, _dot6(Il, (j * 6 + i) * 6 * W, Sl, k * 6 * W))
-    d = _dot6(Sl, k * 6 * W, Ul, k * 6 * W)  # D_j = ⟨S_j, U_j⟩
+    d = add(_dot6(Sl, k * 6 * W, Ul, k * 6 * W), splat(armature))  # D_j = ⟨S_j, U_j⟩ + rotor
     for l in range(W):
         x = lane(d, l)
         if not (x > 0.0 and math.isfinite(1.0 / x)):

@@ -80,6 +80,8 @@ def rnea_core(m, q, v, a, f, tau, work):
                 W[j, k] -= f[j, k]
     for j in range(n - 1, -1, -1):
         joint_power(m, j, W[j], tau)  # τ_j = -S_jᵀ · W_j
+        for k in range(m.iv[j], m.iv[j + 1]):
+            tau[k] += m.armature[k] * a[k]  # the rotors' inertia, M's diagonal
         p = m.parents[j]
         if p >= 0:
             adjoint_apply(Ad[j], W[j], tmp)  # W_λ += M_j W_j ~M_j

@@ -222,6 +222,9 @@ def entries(m, k_, dq, dv, da):
             if mass:
                 for k in range(k0, end):
                     da[l, k] = da[k, l] = _pair(S, P, k)  # (D10)
+    if mass:
+        for k in range(nv):
+            da[k, k] += m.armature[k]  # the rotors' inertia on M's diagonal
 
 
 @core

@@ -111,11 +111,24 @@ def _check_model(mj, where: str) -> None:
         if kind == "free" and np.any(mj.jnt_pos[j] != 0.0):
             raise ValueError(f"{where}: free joint {name!r} has pos "
                              f"{mj.jnt_pos[j].tolist()}; expected the body's origin (0 0 0)")
-    gravity = np.asarray(mj.opt.gravity, dtype=float)
+    gravity = _gravity(mj)
     if not np.allclose(gravity, DEFAULT_GRAVITY, rtol=0.0, atol=1e-12):
         warnings.warn(f"{where}: the MuJoCo model's gravity is {gravity.tolist()}; a cgadyn "
                       f"model uses {list(DEFAULT_GRAVITY)} unless a call passes gravity= "
                       f"(pass gravity={gravity.tolist()} to use MuJoCo's)", stacklevel=3)
+
+
+def _disabled(mj, flag: str) -> bool:
+    """Whether ``<flag>`` disables ``flag`` (``mjtDisableBit``) in the compiled model."""
+    import mujoco
+
+    return bool(mj.opt.disableflags & int(getattr(mujoco.mjtDisableBit, f"mjDSBL_{flag}")))
+
+
+def _gravity(mj) -> np.ndarray:
+    """The gravity MuJoCo applies: ``opt.gravity``, or zero where ``<flag gravity=
+    "disable"/>`` turns it off."""
+    return np.zeros(3) if _disabled(mj, "GRAVITY") else np.asarray(mj.opt.gravity, dtype=float)
 
 
 def _obj(name: str):
@@ -150,6 +163,7 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
     attach = {0: (-1, np.eye(4))}  # body -> (cgadyn joint moving it, its pose in that frame)
     link_names, link_joint, link_poses = [WORLD], [-1], [np.eye(4)]
     used = set()
+    no_damper, no_spring = _disabled(mj, "DAMPER"), _disabled(mj, "SPRING")  # <flag>s
 
     def add_joint(jname, kind, parent, placement, axis, lower, upper, mj_joint):
         joints["names"].append(jname)
@@ -162,8 +176,9 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
         dofs = range(mj.jnt_dofadr[mj_joint], mj.jnt_dofadr[mj_joint] +
                      table.of_kind(kind).nv)
         joints["armature"] += [float(mj.dof_armature[d]) for d in dofs]
-        joints["damping"] += [float(mj.dof_damping[d]) for d in dofs]
-        joints["stiffness"] += [float(mj.jnt_stiffness[mj_joint])] * len(dofs)
+        joints["damping"] += [0.0 if no_damper else float(mj.dof_damping[d]) for d in dofs]
+        joints["stiffness"] += [0.0 if no_spring else float(mj.jnt_stiffness[mj_joint])] * \
+            len(dofs)
         pieces.append([])
         return len(joints["names"]) - 1
 

@@ -99,12 +99,6 @@ def _kinds(pm) -> list[str]:
 
 def _check_dynamics(pm) -> None:
     """Refuse what Pinocchio's dynamics would include and cgadyn's model cannot hold."""
-    armature = np.asarray(pm.armature, dtype=float)
-    if np.any(armature != 0.0):
-        k = int(np.flatnonzero(armature)[0])
-        raise ValueError(f"the Pinocchio model has a nonzero armature ({armature[k]} at "
-                         f"velocity index {k}), which cgadyn's model does not hold; expected "
-                         f"model.armature all zero")
     gravity = np.asarray(pm.gravity.linear, dtype=float)
     if not np.allclose(gravity, DEFAULT_GRAVITY, rtol=0.0, atol=1e-12) or np.any(
             np.asarray(pm.gravity.angular) != 0.0):
@@ -164,9 +158,13 @@ def from_pinocchio(pin_model, name: str | None = None, check_inertia: bool = Tru
     placements); a model without any gets one link per joint, named after it, and the
     root link ``universe``. ``name`` defaults to ``pin_model.name``.
 
+    The rotor inertias ``armature`` and the viscous ``damping`` (nv each) are Pinocchio's
+    (``Model.armature``, ``Model.damping``).
+
     Raises ``ValueError`` naming a joint that cgadyn does not support (its name, its
     Pinocchio type and what is supported), a free flyer that is not the root joint, joints
-    not in depth-first order, a nonzero armature, a gravity other than cgadyn's default,
+    not in depth-first order, a negative armature or damping, a gravity other than
+    cgadyn's default,
     and (with ``check_inertia``) a body whose inertia is not physically valid.
     """
     try:
@@ -227,6 +225,8 @@ def from_pinocchio(pin_model, name: str | None = None, check_inertia: bool = Tru
             velocity_limit=velocity,
             effort_limit=effort,
             check_inertia=check_inertia,
+            armature=np.asarray(pm.armature, dtype=float),
+            damping=np.asarray(pm.damping, dtype=float),
             **link_args,
         )
     except ValueError as exc:

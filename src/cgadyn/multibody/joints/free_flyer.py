@@ -129,6 +129,19 @@ def _from_mujoco_velocity(q: np.ndarray, qvel: np.ndarray) -> np.ndarray:
     return np.concatenate([linear, qvel[..., 3:]], axis=-1)
 
 
+def _mujoco_acceleration(q: np.ndarray, v: np.ndarray, a: np.ndarray) -> np.ndarray:
+    """qacc of ``qvel = (R v, ω)``: ``d/dt (R v) = R (v̇ + ω × v)``, the angular part as is."""
+    linear = a[..., :3] + np.cross(v[..., 3:], v[..., :3])
+    return np.concatenate([np.einsum("...ab,...b->...a", _rotation(q), linear), a[..., 3:]],
+                          axis=-1)
+
+
+def _from_mujoco_acceleration(q: np.ndarray, v: np.ndarray, qacc: np.ndarray) -> np.ndarray:
+    """The inverse of ``_mujoco_acceleration``: ``v̇ = Rᵀ qacc - ω × v``."""
+    linear = np.einsum("...ba,...b->...a", _rotation(q), qacc[..., :3])
+    return np.concatenate([linear - np.cross(v[..., 3:], v[..., :3]), qacc[..., 3:]], axis=-1)
+
+
 TYPES = (
     JointType(code=FREE_FLYER, name="free_flyer", kind="free_flyer", label="free-flyer",
               nq=7, nv=6, q_names=("x", "y", "z", "qx", "qy", "qz", "qw"),
@@ -138,7 +151,9 @@ TYPES = (
               subspace=_every_twist, limits=_unit_quaternion, random=_random,
               pinocchio=("JointModelFreeFlyer",), mujoco="free", to_mujoco=_to_mujoco,
               from_mujoco=_from_mujoco, mujoco_velocity=_mujoco_velocity,
-              from_mujoco_velocity=_from_mujoco_velocity),
+              from_mujoco_velocity=_from_mujoco_velocity,
+              mujoco_acceleration=_mujoco_acceleration,
+              from_mujoco_acceleration=_from_mujoco_acceleration),
 )
 """The free flyer's record (``record.JointType``): no actuator (nothing pushes on a
 floating base but contact and other external forces)."""

@@ -27,6 +27,10 @@ def _unchanged_velocity(q: np.ndarray, v: np.ndarray) -> np.ndarray:
     return v
 
 
+def _unchanged_acceleration(q: np.ndarray, v: np.ndarray, a: np.ndarray) -> np.ndarray:
+    return a
+
+
 @dataclass(frozen=True)
 class JointType:
     """The facts of one joint type. Arrays passed to the maps are one joint's coordinates,
@@ -59,7 +63,11 @@ class JointType:
     pinocchio_nq, to_pinocchio, from_pinocchio: Pinocchio's size of ``q_j`` and the maps.
     mujoco: MuJoCo's joint type (``None``: not in MuJoCo's vocabulary);
     to_mujoco, from_mujoco: ``q_j`` to MuJoCo's qpos and back; mujoco_velocity,
-    from_mujoco_velocity: ``(q_j, v_j)`` to MuJoCo's qvel and ``(q_j, qvel_j)`` back.
+    from_mujoco_velocity: ``(q_j, v_j)`` to MuJoCo's qvel and ``(q_j, qvel_j)`` back
+    (a linear map ``qvel = T(q) v`` with T orthogonal, so that generalised forces, dual to
+    velocities, convert by the same maps: ``τ = Tᵀ τ_mj`` is ``from_mujoco_velocity``);
+    mujoco_acceleration, from_mujoco_acceleration: ``(q_j, v_j, a_j)`` to MuJoCo's qacc
+    (``T a + Ṫ v``) and ``(q_j, v_j, qacc_j)`` back.
     """
 
     code: int
@@ -89,6 +97,8 @@ class JointType:
     from_mujoco: Callable = _same
     mujoco_velocity: Callable = _unchanged_velocity
     from_mujoco_velocity: Callable = _unchanged_velocity
+    mujoco_acceleration: Callable = _unchanged_acceleration
+    from_mujoco_acceleration: Callable = _unchanged_acceleration
 
     def __post_init__(self):
         if self.pinocchio_nq is None:

@@ -205,3 +205,20 @@ def from_mujoco_velocity(model, q, qvel) -> np.ndarray:
     parts = [joint.from_mujoco_velocity(q[..., s], qvel[..., t])
              for _, joint, s, t in joints_of(model)]
     return np.concatenate(parts, axis=-1) if parts else qvel
+
+
+def mujoco_acceleration(model, q, v, a) -> np.ndarray:
+    """cgadyn's acceleration (..., nv) at (q, v) as MuJoCo's qacc (a free joint's linear
+    part ``R (v̇ + ω × v)``)."""
+    q, v, a = (np.asarray(x, dtype=float) for x in (q, v, a))
+    parts = [joint.mujoco_acceleration(q[..., s], v[..., t], a[..., t])
+             for _, joint, s, t in joints_of(model)]
+    return np.concatenate(parts, axis=-1) if parts else a
+
+
+def from_mujoco_acceleration(model, q, v, qacc) -> np.ndarray:
+    """MuJoCo's qacc (..., nv) at (q, v) (cgadyn's layout) in cgadyn's layout."""
+    q, v, qacc = (np.asarray(x, dtype=float) for x in (q, v, qacc))
+    parts = [joint.from_mujoco_acceleration(q[..., s], v[..., t], qacc[..., t])
+             for _, joint, s, t in joints_of(model)]
+    return np.concatenate(parts, axis=-1) if parts else qacc
