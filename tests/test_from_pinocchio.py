@@ -21,6 +21,15 @@ ARM = ROOT / "robots" / "slide_arm.xml"
 TOL = 1e-12
 
 
+@pytest.fixture(autouse=True)
+def pinocchio_route(monkeypatch):
+    """These tests read MJCF through Pinocchio's parser, the route without MuJoCo
+    (``tests/test_mujoco_model.py`` tests MuJoCo's)."""
+    from cgadyn.multibody import mujoco_model
+
+    monkeypatch.setattr(mujoco_model, "available", lambda: False)
+
+
 def _rel(mine, theirs) -> float:
     theirs = np.asarray(theirs)
     return float(np.abs(np.asarray(mine) - theirs).max() / max(np.abs(theirs).max(), 1e-300))

@@ -22,7 +22,8 @@ from cgadyn.multibody.joints import TYPES, table
 PACKAGE = Path(cgadyn.__file__).parent
 JOINT_MODULE = PACKAGE / "multibody" / "joints"
 CONVERTERS = {PACKAGE / "multibody" / name for name in ("urdf.py", "mjcf.py",
-                                                        "pinocchio_model.py")} | {
+                                                        "pinocchio_model.py",
+                                                        "mujoco_model.py")} | {
     PACKAGE / "oracle.py"}
 """The files that translate other libraries' joints, and so may name types."""
 AXIS_KINDS = {PACKAGE / "cga" / "conventions.py"}

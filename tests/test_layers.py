@@ -30,7 +30,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("tasks",),
     ("sim",),
     ("distributed",),
-    ("oracle",),
+    ("oracle", "mujoco_oracle"),
     ("validate", "bench"),
     ("commands",),
     ("cli",),

@@ -28,6 +28,15 @@ BODY = ('<body name="{name}" pos="{pos}">{joint}'
 HINGE = '<joint name="{name}_joint" type="hinge" axis="0 1 0"/>'
 
 
+@pytest.fixture(autouse=True)
+def pinocchio_route(monkeypatch):
+    """These tests read MJCF through Pinocchio's parser, the route without MuJoCo
+    (``tests/test_mujoco_model.py`` tests MuJoCo's)."""
+    from cgadyn.multibody import mujoco_model
+
+    monkeypatch.setattr(mujoco_model, "available", lambda: False)
+
+
 def _scene(*bodies: str, extra: str = "") -> str:
     return (f'<mujoco model="scene"><worldbody><geom type="plane" size="1 1 0.1"/>'
             f'{"".join(bodies)}{extra}</worldbody></mujoco>')

@@ -31,17 +31,24 @@ from .multibody.joints import table
 from .multibody.packed import DEFAULT_GRAVITY
 
 CHECKS = {
-    "mj_placements": "body placements vs MuJoCo's xpos/xmat",
-    "mj_mass_matrix": "mass matrix vs MuJoCo's mj_fullM (armature included)",
-    "mj_rnea": "inverse dynamics vs MuJoCo's qfrc_inverse + qfrc_passive",
-    "mj_aba": "forward dynamics vs MuJoCo's qacc (mj_forward)",
-    "mj_passive": "passive torques vs MuJoCo's qfrc_passive",
+    "mj_placements": "MuJoCo: body placements (xpos, xmat)",
+    "mj_mass_matrix": "MuJoCo: mass matrix (mj_fullM)",
+    "mj_rnea": "MuJoCo: inverse dynamics (mj_inverse)",
+    "mj_aba": "MuJoCo: forward dynamics (qacc)",
+    "mj_passive": "MuJoCo: passive torques (qfrc_passive)",
 }
 """What is compared with MuJoCo: key -> label."""
 SCALED = ("mj_aba",)
 """The checks judged against tolerance × cond(M), as ``oracle.SCALED`` says."""
 
 _DISABLED = ("CONTACT", "LIMIT", "EQUALITY", "FRICTIONLOSS", "ACTUATION")
+
+
+def applies(robot) -> bool:
+    """Whether MuJoCo checks ``robot``: an MJCF model, with MuJoCo installed."""
+    from .multibody import mujoco_model, registry
+
+    return registry.resolve(robot)[0] == "mjcf" and mujoco_model.available()
 
 
 def compiled(robot):

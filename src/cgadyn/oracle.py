@@ -36,12 +36,14 @@ def models(robot, floating_base=None, check_inertia: bool = True):
     ``mjcf.pinocchio_model``, the model cgadyn converts)."""
     import pinocchio as pin
 
-    from .multibody import mjcf, registry
+    from .multibody import mjcf, mujoco_model, registry
 
     model = registry.load(robot, floating_base=floating_base, check_inertia=check_inertia)
     kind, value, _ = registry.resolve(robot)
     root = pin.JointModelFreeFlyer() if model.floating_base else None
-    if kind == "mjcf":
+    if kind == "mjcf" and mujoco_model.available():
+        pm = pinocchio_of(model)  # MuJoCo compiled it: the same bodies, in Pinocchio
+    elif kind == "mjcf":
         pm = mjcf.pinocchio_model(value, floating_base)
     elif kind == "text":
         pm = (pin.buildModelFromXML(value, root) if root is not None
@@ -54,6 +56,36 @@ def models(robot, floating_base=None, check_inertia: bool = True):
         raise RuntimeError(f"joint order differs from Pinocchio's: {list(pm.names[1:])} vs "
                            f"{list(model.joint_names)}")
     return model, pm
+
+
+def pinocchio_of(model):
+    """A ``pinocchio.Model`` of a cgadyn model: the same joints (each record's general
+    Pinocchio type, the last of its ``pinocchio`` names, built with its axis), placements,
+    bodies, armature and damping, and a ``BODY`` frame per link. For an MJCF model that
+    MuJoCo compiled, Pinocchio's own parser reads other bodies (``multibody.mjcf``): this
+    model checks the algorithms on the bodies MuJoCo compiled, and MuJoCo checks those
+    (``mujoco_oracle``)."""
+    import pinocchio as pin
+
+    from .multibody.joints import TYPES
+
+    pm = pin.Model()
+    pm.name = model.name
+    for j in range(model.njoints):
+        record = TYPES[int(model.joint_types[j])]
+        kind = getattr(pin, record.pinocchio[-1])
+        joint = kind(model.axis_vectors[j]) if record.axis is not None else kind()
+        placement = pin.SE3(model.placement_matrices[j])
+        pm.addJoint(int(model.parents[j]) + 1, joint, placement, model.joint_names[j])
+        pm.appendBodyToJoint(j + 1, pin.Inertia(float(model.body_mass[j]), model.body_com[j],
+                                                model.body_rotational_inertia[j]),
+                             pin.SE3.Identity())
+    for name, j, T in zip(model.link_names, model.link_joint, model.link_placement_matrices,
+                          strict=True):
+        pm.addBodyFrame(name, int(j) + 1, pin.SE3(T), 0)
+    pm.armature = np.array(model.armature)
+    pm.damping = np.array(model.damping)
+    return pm
 
 
 def pin_configuration(model, q: np.ndarray) -> np.ndarray:

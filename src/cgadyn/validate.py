@@ -1,4 +1,5 @@
-"""Cross-validation of cgadyn against Pinocchio, in the style of Table 1 of the CGA paper.
+"""Cross-validation of cgadyn against Pinocchio, in the style of Table 1 of the CGA paper,
+and of an MJCF model against MuJoCo as well (``mujoco_oracle``).
 
 For ``samples`` random states (``oracle.sample``) every check of ``oracle.CHECKS`` runs in
 cgadyn, as one batch call, and per sample in Pinocchio; the result reports per check the
@@ -21,7 +22,7 @@ import time
 
 import numpy as np
 
-from . import oracle
+from . import mujoco_oracle, oracle
 
 DEFAULT_SAMPLES = 100
 PAPER_SAMPLES = 1000
@@ -85,7 +86,8 @@ def validate_robot(robot, samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SE
 
     ``robot``: a name from ``cgadyn.robots()``, a URDF path or URDF text. Returns a
     JSON-ready dict: ``robot, dof, nq, nv, base, samples, seed, tolerance, versions,
-    relative_error, scaled, jacobian_links, checks`` (per key of ``oracle.CHECKS``:
+    relative_error, scaled, jacobian_links, checks`` (per key of ``oracle.CHECKS``, and
+    for an MJCF model with MuJoCo installed of ``mujoco_oracle.CHECKS`` too:
     ``mean_norm, max_abs, max_rel, tolerance, worst_sample, pass``; ``error``, why cgadyn
     refused, and ``not_applicable`` where the quantity is undefined, Pinocchio's result
     being NaN or infinite too, as for forward dynamics with a massless movable subtree),
@@ -118,6 +120,12 @@ def validate_robot(robot, samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SE
             rows[check.key] = _row(check.mine(model, states, leaves), ref, limit)
         except ValueError as exc:  # reported in the table with its reason, not hidden
             rows[check.key] = _failed(exc, undefined=not np.all(np.isfinite(ref)))
+    if mujoco_oracle.applies(robot):  # an MJCF model: MuJoCo, the second engine, too
+        mj = mujoco_oracle.compiled(robot)
+        refs = mujoco_oracle.references(model, mj, states)
+        for key, mine in mujoco_oracle.mine(model, mj, states).items():
+            limit = tolerance * (cond if key in mujoco_oracle.SCALED else np.ones(samples))
+            rows[key] = _row(mine, refs[key], limit)
     return {"robot": model.name, "dof": model.nv, "nq": model.nq, "nv": model.nv,
             "base": "free flyer" if model.floating_base else "fixed",
             "samples": samples, "seed": seed, "tolerance": tolerance, "versions": versions(),

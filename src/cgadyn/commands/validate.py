@@ -8,7 +8,7 @@ import argparse
 import math
 import sys
 
-from .. import oracle
+from .. import mujoco_oracle, oracle
 from .common import (
     DEFAULT_ROBOT,
     ROBOT_HELP,
@@ -85,9 +85,11 @@ def format_result(result: dict) -> str:
         f"Jacobians at: {', '.join(result['jacobian_links'])}", "",
         f"{'check':<42}{'mean norm':>11}{'max |diff|':>11}{'max rel':>11}{'limit':>10}  result",
         "-" * 93]
-    for check in oracle.CHECKS:
-        row = result["checks"][check.key]
-        lines.append(f"{check.label:<42}{_fmt(row['mean_norm']):>11}{_fmt(row['max_abs']):>11}"
+    labels = [(c.key, c.label) for c in oracle.CHECKS] + [
+        (key, label) for key, label in mujoco_oracle.CHECKS.items() if key in result["checks"]]
+    for key, label in labels:
+        row = result["checks"][key]
+        lines.append(f"{label:<42}{_fmt(row['mean_norm']):>11}{_fmt(row['max_abs']):>11}"
                      f"{_fmt(row['max_rel']):>11}{_fmt(row['tolerance']):>10}  {_verdict(row)}")
         if "error" in row:
             lines.append(f"    why: {row['error']}")

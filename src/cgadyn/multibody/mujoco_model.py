@@ -24,7 +24,8 @@ places every body. ``from_mujoco`` reads what it compiled, whole:
   in the frame ``body_iquat`` at ``body_ipos`` of the body frame.
 - **Links**: the world (``world``) and every body, named as in MuJoCo (an unnamed body
   ``body<id>``), placed in the frame of the joint that moves it; so
-  ``link_placements(model, q)`` are MuJoCo's ``xpos``/``xquat`` (``xmat``).
+  ``link_placements(model, q)`` are MuJoCo's ``xpos``/``xquat`` (``xmat``). Then every
+  named site whose name no body has (``site_xpos``, ``site_xmat``).
 - **Passive dynamics**: ``dof_armature`` (``Model.armature``), ``dof_damping``
   (``Model.damping``), ``jnt_stiffness`` and ``qpos_spring`` (``Model.stiffness``,
   ``Model.spring_reference``).
@@ -225,6 +226,13 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
             pieces[parent_joint].append((float(mj.body_mass[b]), inertial[:3, 3].copy(),
                                          rot @ np.diag(mj.body_inertia[b]) @ rot.T))
 
+    for site in range(mj.nsite):  # named sites: frames to ask Jacobians of
+        site_name = _name(mj, _obj("SITE"), site, "")
+        if site_name and site_name not in link_names:
+            joint, pose = attach[int(mj.site_bodyid[site])]
+            link_names.append(site_name)
+            link_joint.append(joint)
+            link_poses.append(pose @ _pose(mj.site_pos[site], _rotation(mj.site_quat[site])))
     n = len(joints["names"])
     mass, com, rotational = np.zeros(n), np.zeros((n, 3)), np.zeros((n, 3, 3))
     for j, body in enumerate(pieces):
@@ -248,10 +256,20 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
         raise ValueError(f"MuJoCo model {model_name!r}: {exc}") from None
 
 
-def load_mujoco(source, name: str | None = None, check_inertia: bool = True) -> Model:
+def available() -> bool:
+    """Whether MuJoCo is installed: ``cgadyn.load`` then reads MJCF through it."""
+    import importlib.util
+
+    return importlib.util.find_spec("mujoco") is not None
+
+
+def load_mujoco(source, name: str | None = None, floating_base: bool | None = None,
+                check_inertia: bool = True) -> Model:
     """The model of an MJCF file path or MJCF text, compiled by MuJoCo
     (``mujoco.MjModel.from_xml_path`` / ``from_xml_string``) and converted by
-    ``from_mujoco``. A ``ValueError`` carries MuJoCo's own message when it cannot compile
+    ``from_mujoco``. The base is the file's own (a free joint floats the model);
+    ``floating_base`` True or False must agree with it (a ``ValueError`` says what to change
+    in the file). A ``ValueError`` carries MuJoCo's own message when it cannot compile
     the file."""
     import os
     from pathlib import Path
@@ -269,7 +287,15 @@ def load_mujoco(source, name: str | None = None, check_inertia: bool = True) -> 
             mj = mujoco.MjModel.from_xml_string(text)
     except ValueError as exc:
         raise ValueError(f"MuJoCo could not compile the MJCF: {exc}") from None
-    return from_mujoco(mj, name=name, check_inertia=check_inertia)
+    model = from_mujoco(mj, name=name, check_inertia=check_inertia)
+    if floating_base is not None and bool(floating_base) != model.floating_base:
+        has = "has a free joint" if model.floating_base else "has no free joint"
+        raise ValueError(f"{model.name!r}: floating_base={floating_base}, but the model "
+                         f"{has} (MuJoCo compiles the file's own base); expected "
+                         f"floating_base=None, or "
+                         f"{'remove the' if model.floating_base else 'add a'} <freejoint/> "
+                         f"{'from' if model.floating_base else 'to'} the top-level body")
+    return model
 
 
 def mujoco_model(source):

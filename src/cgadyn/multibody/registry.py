@@ -13,6 +13,7 @@ import site
 import sys
 from pathlib import Path
 
+from cgadyn.multibody import mujoco_model
 from cgadyn.multibody.mjcf import file_is_mjcf, is_mjcf, load_mjcf
 from cgadyn.multibody.model import Model
 from cgadyn.multibody.urdf import load_urdf
@@ -277,7 +278,9 @@ def load(robot: str | os.PathLike = DEFAULT_ROBOT, floating_base: bool | None = 
          check_inertia: bool = True) -> Model:
     """Load a robot: a name from :func:`robots` (the project's MJCF ``slide_arm`` among
     them), a URDF file path, or URDF XML text; or an MJCF file or text (root element
-    ``<mujoco>``), parsed by Pinocchio and converted by ``from_pinocchio``.
+    ``<mujoco>``), compiled by MuJoCo and converted by ``from_mujoco`` when ``mujoco`` is
+    installed, else parsed by Pinocchio and converted by ``from_pinocchio``
+    (``multibody.mjcf``: what that parser reads differently).
 
     ``floating_base`` (``True``, ``False`` or ``None``; anything else is refused):
     ``None`` gives the robot its natural base (a free-flyer root
@@ -295,5 +298,8 @@ def load(robot: str | os.PathLike = DEFAULT_ROBOT, floating_base: bool | None = 
         floating = base == FREE if floating_base is None else bool(floating_base)
         return _load_named(value, floating, bool(check_inertia))
     if kind == "mjcf":
+        if mujoco_model.available():  # MuJoCo's compiler: the reference for MJCF
+            return mujoco_model.load_mujoco(value, floating_base=floating_base,
+                                            check_inertia=check_inertia)
         return load_mjcf(value, floating_base=floating_base, check_inertia=check_inertia)
     return load_urdf(value, floating_base=bool(floating_base), check_inertia=check_inertia)

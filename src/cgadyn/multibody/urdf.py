@@ -140,6 +140,18 @@ def _inertial(link, check: bool = True):
     return mass, origin[:3, 3].copy(), rot @ inertia @ rot.T
 
 
+def _damping(joint, where: str) -> float:
+    """A joint's ``<dynamics damping=...>`` (0 without one), finite and non-negative (as
+    Pinocchio's parser reads it into ``model.damping``)."""
+    dynamics = getattr(joint, "dynamics", None)
+    value = None if dynamics is None else dynamics.damping
+    value = 0.0 if value is None else float(value)
+    if not (np.isfinite(value) and value >= 0.0):
+        raise ValueError(f"{where}: joint {joint.name!r}: <dynamics damping=\"{value}\"> is "
+                         f"not a finite number >= 0")
+    return value
+
+
 def _limit(joint, attr, default):
     value = None if joint.limit is None else getattr(joint.limit, attr)
     return default if value is None else float(value)
@@ -262,6 +274,7 @@ def _build(xml: bytes, path: str | None, name: str | None, floating_base: bool,
     kinds = [base.kind if jt is None else jt.type for jt in joints]
     axis_vectors = np.zeros((n, 3))
     lower, upper, velocity, effort = [], [], [], []  # per coordinate of q, q, v, v
+    damping = []  # per coordinate of v
     mimic = []
     for j, jt in enumerate(joints):
         if jt is None:  # free flyer: a box of translations, a unit quaternion
@@ -270,6 +283,7 @@ def _build(xml: bytes, path: str | None, name: str | None, floating_base: bool,
             upper += hi.tolist()
             velocity += [np.inf] * base.nv
             effort += [np.inf] * base.nv
+            damping += [0.0] * base.nv
             mimic.append(None)
             continue
         axis = np.array([1.0, 0.0, 0.0]) if jt.axis is None else np.asarray(jt.axis, float)
@@ -288,6 +302,7 @@ def _build(xml: bytes, path: str | None, name: str | None, floating_base: bool,
             upper.append(_limit(jt, "upper", 0.0))
         velocity.append(_limit(jt, "velocity", np.inf))
         effort.append(_limit(jt, "effort", np.inf))
+        damping.append(_damping(jt, where))
         m = jt.mimic
         mimic.append(None if m is None else (
             m.joint, 1.0 if m.multiplier is None else float(m.multiplier),
@@ -334,4 +349,5 @@ def _build(xml: bytes, path: str | None, name: str | None, floating_base: bool,
         root_link=root,
         mimic=mimic,
         check_inertia=check_inertia,
+        damping=damping,
     )

@@ -67,12 +67,16 @@ from ..multibody.packed import unpack
 RK4, SEMI_IMPLICIT_EULER, EULER = 0, 1, 2
 """The integrators, by number."""
 
-PD, GRAVITY = 1, 2
-"""Controller flags: joint-space PD around ``(q_ref, v_ref)``, gravity compensation."""
+PD, GRAVITY, PASSIVE = 1, 2, 4
+"""Controller flags: joint-space PD around ``(q_ref, v_ref)``, gravity compensation, the
+passive joint torques (dampers and springs, ``cgadyn.passive_torques``)."""
 
-KP, KD, ACTUATED, SPEED_BOUND = 0, 1, 2, 3
-"""The rows of ``coords`` (4, nv), one value per velocity coordinate: the PD gains K_p and
-K_d, the actuation selector (1 actuated, 0 not), the speed bound."""
+KP, KD, ACTUATED, SPEED_BOUND, DAMPING, STIFFNESS, SPRING = 0, 1, 2, 3, 4, 5, 6
+COORDS = 7
+"""The rows of ``coords`` (COORDS, nv), one value per velocity coordinate: the PD gains K_p
+and K_d, the actuation selector (1 actuated, 0 not), the speed bound, the joint damping and
+stiffness, and the spring reference of the coordinate (of the joints whose coordinates add,
+the only ones with springs: ``Model.stiffness``)."""
 
 
 @inline
@@ -107,6 +111,12 @@ def _closed_loop(m, q, v, u, f, ctrl, qdd, sc, work):
             joint_difference(m, j, q, q_ref, tmp, dq)  # q_ref ⊖ q
         for k in range(m.nv):  # K_p, K_d zero where not actuated
             tau[k] += coords[KP, k] * dq[k] + coords[KD, k] * (v_ref[k] - v[k])
+    if flags & PASSIVE:  # τ_passive = -d v - k (q - q_spring), springs on additive joints
+        for k in range(m.nv):
+            tau[k] -= coords[DAMPING, k] * v[k]
+            if coords[STIFFNESS, k] != 0.0:
+                j = m.dof_joint[k]
+                tau[k] -= coords[STIFFNESS, k] * (q[m.iq[j] + k - m.iv[j]] - coords[SPRING, k])
     return aba_core(m, q, v, tau, f, qdd, work)
 
 

@@ -20,16 +20,22 @@ from ..algorithms.api import energy as _energy
 from ..algorithms.api import link_placements
 from ..algorithms.configuration import neutral
 from ..algorithms.status import DIVERGED, NONFINITE_RESULT, QUATERNION, SINGULAR, decode
+from ..multibody.joints.table import spring_deflection
 from ..multibody.packed import DEFAULT_GRAVITY
 from .controllers import PD, GravityCompensation, actuated_gains
 from .rollout import (
     ACTUATED,
+    COORDS,
+    DAMPING,
     EULER,
     KD,
     KP,
+    PASSIVE,
     RK4,
     SEMI_IMPLICIT_EULER,
     SPEED_BOUND,
+    SPRING,
+    STIFFNESS,
     energies,
     kept_row,
     kept_rows,
@@ -53,7 +59,7 @@ MEMORY_SHARE = 0.8
 
 def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravity=None,
              f_ext=None, controller=None, record_every: int = 1,
-             final_only: bool = False) -> Trajectory:
+             final_only: bool = False, passive: bool = True) -> Trajectory:
     """Integrate ``q̈ = ABA(q, v, τ)`` for ``steps`` steps of ``dt`` seconds.
 
     ``q0`` (nq,) and ``v0`` (nv,) for one rollout, or (B, nq) / (B, nv) for B (either one
@@ -66,7 +72,9 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     added to ``tau`` on the actuated coordinates (a free flyer is never pushed by a
     controller: ``Model.actuated``); ``record_every``: keep every k-th state (0, k, 2k, ...)
     and the last, so that a long run needs memory for those alone; ``final_only``: keep the
-    last state only.
+    last state only; ``passive``: add the joints' damping and spring torques
+    (``cgadyn.passive_torques``, ``Model.damping``, ``Model.stiffness``) at every stage,
+    as MuJoCo does (``False``: the rigid-body dynamics alone).
 
     Returns a ``Trajectory`` of the states kept. A rollout that diverges (a joint turning
     more than half a turn in one step, a slide moving further than the robot is large, a
@@ -90,7 +98,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     if server is not None:  # dask arrays: chunks of rollouts, scheduled by dask
         return server.simulate(model, q0, v0, dt, steps, tau, dict(
             integrator=integrator, gravity=gravity, f_ext=f_ext, controller=controller,
-            record_every=record_every, final_only=final_only))
+            record_every=record_every, final_only=final_only, passive=passive))
     gravity = DEFAULT_GRAVITY if gravity is None else gravity
     packed = _inputs.packed(model, gravity)
     q0 = _inputs.state(model, q0, "q0", model.nq)
@@ -107,10 +115,12 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     f = _inputs.external(model, f_ext, (B,) if batch else ())
     f = np.empty((0, model.njoints, 6)) if f is None else np.array(
         f.reshape(-1, model.njoints, 6))
-    coords = np.zeros((4, model.nv))
+    coords = np.zeros((COORDS, model.nv))
     coords[SPEED_BOUND] = speed_bounds(model, dt)
     coords[ACTUATED] = model.actuated
     flags, q_ref, v_ref = _controller(model, controller, q0, B, coords)
+    if passive and (np.any(model.damping) or np.any(model.stiffness)):
+        flags |= _passive(model, coords)
 
     shape = (B, rows)
     Q, V, A = (np.full(shape + (n,), np.nan) for n in (model.nq, model.nv, model.nv))
@@ -278,6 +288,15 @@ def _batch(arrays: dict) -> int:
         detail = ", ".join(f"{k} {arrays[k].shape}" for k in sizes)
         raise ValueError(f"the batched inputs disagree on the number of rollouts: {detail}")
     return next(iter(sizes.values()), 0)
+
+
+def _passive(model, coords: np.ndarray) -> int:
+    """The damping, stiffness and spring reference per velocity coordinate into ``coords``
+    (``rollout.DAMPING``, ``STIFFNESS``, ``SPRING``); the flag that turns them on."""
+    coords[DAMPING] = model.damping
+    coords[STIFFNESS] = model.stiffness
+    coords[SPRING] = spring_deflection(model, np.zeros(model.nq)) * -1.0  # q_spring, by v
+    return PASSIVE
 
 
 def _controller(model, controller, q0: np.ndarray, B: int, coords: np.ndarray):

@@ -1,0 +1,154 @@
+"""MJCF through MuJoCo's compiler (``cgadyn.from_mujoco``) checked against MuJoCo itself
+(``cgadyn.mujoco_oracle``): Gymnasium's and dm_control's suite models (copies under
+``robots/mujoco/``), random states, contacts, limits and equalities off; body placements,
+the mass matrix with armature, inverse dynamics with the passive torques, forward
+dynamics, the passive torques. Also the state conversions and what is refused."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+mujoco = pytest.importorskip("mujoco")
+
+import cgadyn  # noqa: E402
+from cgadyn import mujoco_oracle, oracle  # noqa: E402
+from cgadyn.multibody.mujoco_model import from_mujoco  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1] / "robots" / "mujoco"
+GYMNASIUM = ("ant", "half_cheetah", "hopper", "humanoid", "walker2d", "reacher", "swimmer",
+             "inverted_pendulum", "inverted_double_pendulum", "pusher", "humanoidstandup")
+DM_CONTROL = ("acrobot", "cartpole", "cheetah", "finger", "hopper", "humanoid", "walker",
+              "reacher", "swimmer", "pendulum", "point_mass")
+MODELS = [f"gymnasium/{n}" for n in GYMNASIUM] + [f"dm_control/{n}" for n in DM_CONTROL]
+TOL = 1e-9
+
+
+def _load(path):
+    mj = mujoco.MjModel.from_xml_path(str(path))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # a gravity other than cgadyn's default: warned
+        return from_mujoco(mj), mj
+
+
+@pytest.mark.parametrize("name", MODELS)
+def test_agrees_with_mujoco(name):
+    model, mj = _load(ROOT / f"{name}.xml")
+    states = oracle.sample(model, 4, 11)
+    states = oracle.States(states.q, 3.0 * states.v, states.a, states.tau)
+    refs = mujoco_oracle.references(model, mj, states)
+    mine = mujoco_oracle.mine(model, mj, states)
+    cond = np.linalg.cond(mine["mj_mass_matrix"])
+    assert set(refs) == set(mujoco_oracle.CHECKS)
+    for key, ref in refs.items():
+        scale = cond if key in mujoco_oracle.SCALED else 1.0
+        rel = oracle.relative_error(mine[key], ref)
+        assert np.all(rel <= TOL * scale), (name, key, float((rel / scale).max()))
+
+
+def test_gymnasium_humanoid_is_read_whole():
+    model, mj = _load(ROOT / "gymnasium/humanoid.xml")
+    assert model.floating_base and (model.nq, model.nv) == (mj.nq, mj.nv) == (24, 23)
+    names = [mujoco.mj_id2name(mj, mujoco.mjtObj.mjOBJ_JOINT, j) for j in range(mj.njnt)]
+    assert list(model.joint_names) == names  # MuJoCo's names and order
+    assert "abdomen_z" in names and "abdomen_y" in names  # two joints in one body
+    assert np.array_equal(model.armature, mj.dof_armature)
+    assert np.array_equal(model.damping, mj.dof_damping)
+    assert np.isclose(model.total_mass, mj.body_mass[1:].sum())
+
+
+def test_load_uses_mujoco_for_mjcf():
+    model = cgadyn.load(ROOT / "gymnasium/ant.xml")
+    mj = mujoco.MjModel.from_xml_path(str(ROOT / "gymnasium/ant.xml"))
+    assert model.name == "ant" and model.nv == mj.nv == 14
+    assert np.isclose(model.total_mass, mj.body_mass.sum())  # inertiafromgeom, as compiled
+    with pytest.raises(ValueError, match="floating_base=False, but the model has a free "
+                                         "joint"):
+        cgadyn.load(ROOT / "gymnasium/ant.xml", floating_base=False)
+
+
+CHAIN = """
+<mujoco model="chain">
+  <compiler angle="radian"/>
+  <worldbody>
+    <body name="a" pos="0.1 0.2 0.3" quat="0.9 0.1 -0.3 0.2">
+      <joint name="j1" type="hinge" axis="0.3 1 0.2" pos="0.05 -0.1 0.02" ref="0.4"
+             armature="0.3" damping="0.7" stiffness="2" springref="0.1"/>
+      <joint name="j2" type="slide" axis="1 0 0.5" pos="0.2 0 0" ref="-0.2" range="-1 1"/>
+      <joint name="j3" type="hinge" axis="0 0 1" pos="-0.1 0.3 0.1" damping="0.2"/>
+      <geom type="box" size="0.1 0.2 0.05" pos="0.1 0 0" euler="0.2 0.1 0.3"/>
+      <body name="b" pos="0 0 -0.5" euler="0.3 0.2 0.1">
+        <joint name="j4" type="hinge" axis="1 0 0" pos="0 0.1 0" stiffness="5"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0.1 -0.4" size="0.04"/>
+        <body name="welded" pos="0.3 0.1 -0.4">
+          <geom type="sphere" size="0.1" pos="0.05 0 0"/>
+        </body>
+      </body>
+    </body>
+    <body name="cart" pos="0 1 0">
+      <joint name="rail" type="slide" axis="0 1 0"/>
+      <geom type="box" size="0.1 0.1 0.1"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_several_joints_in_a_body_offsets_and_refs():
+    """A body with three joints (offset anchors, refs, a slide between hinges), a welded
+    body, two top-level bodies, springs with a spring reference: MuJoCo's numbers."""
+    mj = mujoco.MjModel.from_xml_string(CHAIN)
+    model = from_mujoco(mj)
+    assert model.joint_names == ("j1", "j2", "j3", "j4", "rail")
+    assert model.nq == mj.nq == 5
+    states = oracle.sample(model, 6, 5)
+    refs = mujoco_oracle.references(model, mj, states)
+    mine = mujoco_oracle.mine(model, mj, states)
+    cond = np.linalg.cond(mine["mj_mass_matrix"])
+    for key, ref in refs.items():
+        scale = cond if key in mujoco_oracle.SCALED else 1.0
+        assert np.all(oracle.relative_error(mine[key], ref) <= TOL * scale), key
+    assert np.any(np.abs(refs["mj_passive"]) > 0.1)  # the springs and dampers act
+
+
+def test_state_conversions_round_trip_and_free_body_accelerations():
+    model, mj = _load(ROOT / "gymnasium/ant.xml")
+    s = oracle.sample(model, 5, 2)
+    qpos, qvel = cgadyn.to_mujoco_state(model, s.q, s.v)
+    assert np.allclose(qpos[:, 3], s.q[:, 6]) and np.allclose(qpos[:, 4:7], s.q[:, 3:6])
+    q, v = cgadyn.from_mujoco_state(model, qpos, qvel)
+    assert np.allclose(q, s.q, atol=1e-15) and np.allclose(v, s.v, atol=1e-14)
+    from cgadyn.multibody.joints import table
+
+    qacc = table.mujoco_acceleration(model, s.q, s.v, s.a)
+    assert np.allclose(table.from_mujoco_acceleration(model, s.q, s.v, qacc), s.a, atol=1e-13)
+    # MuJoCo's qvel of a free joint: the body origin's velocity in the world
+    d = mujoco.MjData(mj)
+    d.qpos[:], d.qvel[:] = qpos[0], qvel[0]
+    mujoco.mj_forward(mj, d)
+    vel = np.zeros(6)
+    mujoco.mj_objectVelocity(mj, d, mujoco.mjtObj.mjOBJ_BODY, 1, vel, 0)  # world frame
+    assert np.allclose(vel[3:], qvel[0, :3], atol=1e-12)
+
+
+def test_what_cgadyn_cannot_model_is_refused_by_name():
+    ball = CHAIN.replace('name="j3" type="hinge"', 'name="j3" type="ball"')
+    with pytest.raises(ValueError, match="joint 'j3' is a ball joint"):
+        from_mujoco(mujoco.MjModel.from_xml_string(ball))
+    two = CHAIN.replace('<joint name="rail" type="slide" axis="0 1 0"/>', '<freejoint/>')
+    with pytest.raises(ValueError, match="free joint that is not the first joint"):
+        from_mujoco(mujoco.MjModel.from_xml_string(two))
+    with pytest.raises(ValueError, match="expects a mujoco.MjModel, got str"):
+        from_mujoco("ant")
+
+
+def test_passive_torques_checks_its_arguments():
+    model, _ = _load(ROOT / "gymnasium/half_cheetah.xml")
+    with pytest.raises(ValueError, match=r"v must have shape \(9,\)"):
+        cgadyn.passive_torques(model, np.zeros(9), np.zeros(8))
+    q = np.full(9, 0.3)
+    tau = cgadyn.passive_torques(model, q, np.zeros(9))
+    assert np.allclose(tau, -model.stiffness * (q - model.spring_reference))
