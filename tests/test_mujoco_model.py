@@ -152,3 +152,53 @@ def test_passive_torques_checks_its_arguments():
     q = np.full(9, 0.3)
     tau = cgadyn.passive_torques(model, q, np.zeros(9))
     assert np.allclose(tau, -model.stiffness * (q - model.spring_reference))
+
+
+@pytest.mark.parametrize("name", ["gymnasium/ant", "gymnasium/humanoid", "gymnasium/hopper",
+                                  "dm_control/cheetah", "dm_control/humanoid"])
+def test_motor_torques_are_mujocos(name):
+    """``actuator_torques`` of controls inside and outside ``ctrlrange`` against MuJoCo's
+    ``qfrc_actuator`` (clamped as MuJoCo clamps)."""
+    model, mj = _load(ROOT / f"{name}.xml")
+    assert len(model.actuators) == mj.nu > 0
+    assert [a["name"] for a in model.actuators] == [
+        mujoco.mj_id2name(mj, mujoco.mjtObj.mjOBJ_ACTUATOR, a) or f"actuator{a}"
+        for a in range(mj.nu)]  # MuJoCo's names, ``actuator<id>`` for an unnamed one
+    d = mujoco.MjData(mj)
+    rng = np.random.default_rng(1)
+    ctrl = rng.uniform(-2.0, 2.0, (4, mj.nu))  # beyond the ranges too
+    s = oracle.sample(model, 4, 1)
+    tau = cgadyn.actuator_torques(model, ctrl)
+    for i in range(4):
+        qpos, qvel = cgadyn.to_mujoco_state(model, s.q[i], s.v[i])
+        d.qpos[:], d.qvel[:], d.ctrl[:] = qpos, qvel, ctrl[i]
+        mujoco.mj_forward(mj, d)
+        T = mujoco_oracle.velocity_map(model, s.q[i])
+        np.testing.assert_allclose(tau[i], T.T @ d.qfrc_actuator, rtol=0, atol=1e-12)
+
+
+def test_actuator_torques_checks_its_arguments():
+    model, _ = _load(ROOT / "gymnasium/ant.xml")
+    with pytest.raises(ValueError, match="ctrl must have 8 entries per sample"):
+        cgadyn.actuator_torques(model, np.zeros(7))
+    with pytest.raises(ValueError, match="not finite"):
+        cgadyn.actuator_torques(model, np.full(8, np.nan))
+    info = model.actuators[0]
+    assert info["gear"] == 150.0 and info["ctrlrange"] == (-1.0, 1.0)
+    assert info["joint"] == model.joint_names[model.dof_joint[info["dof"]]]
+
+
+def test_simulate_takes_controls_and_passive_torques():
+    model, _ = _load(ROOT / "gymnasium/half_cheetah.xml")
+    q0, v0 = cgadyn.neutral(model), np.full(model.nv, 0.5)
+    ctrl = np.tile(np.linspace(-1.5, 1.5, len(model.actuators)), (20, 1))
+    by_ctrl = cgadyn.simulate(model, q0, v0, 1e-3, 20, ctrl=ctrl, passive=False)
+    by_tau = cgadyn.simulate(model, q0, v0, 1e-3, 20, tau=cgadyn.actuator_torques(model, ctrl),
+                             passive=False)
+    np.testing.assert_array_equal(by_ctrl.q, by_tau.q)
+    # one explicit Euler step with the passive torques equals aba with them added
+    step = cgadyn.simulate(model, q0, v0, 1e-3, 1, integrator="euler")
+    a = cgadyn.aba(model, q0, v0, cgadyn.passive_torques(model, q0, v0))
+    np.testing.assert_allclose(step.v[-1], v0 + 1e-3 * a, rtol=0, atol=1e-12)
+    free = cgadyn.simulate(model, q0, v0, 1e-3, 1, integrator="euler", passive=False)
+    assert not np.allclose(free.v[-1], step.v[-1])

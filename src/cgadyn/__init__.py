@@ -26,6 +26,7 @@ _LAZY = {
     "from_mujoco_state": "cgadyn.multibody.mujoco_model",
     "to_mujoco_state": "cgadyn.multibody.mujoco_model",
     "passive_torques": "cgadyn.algorithms.passive",
+    "actuator_torques": "cgadyn.algorithms.actuators",
     "rnea": "cgadyn.algorithms",
     "aba": "cgadyn.algorithms",
     "crba": "cgadyn.algorithms",

@@ -46,6 +46,10 @@ _ARRAY_FIELDS = (
     "damping",
     "stiffness",
     "spring_reference",
+    "actuator_dof",
+    "actuator_gear",
+    "actuator_ctrlrange",
+    "actuator_forcerange",
 )
 
 
@@ -130,6 +134,16 @@ class Model:
     spring_reference : float64 (nq,)
         The configuration at which the springs are relaxed (MuJoCo's ``qpos_spring``, in
         cgadyn's layout); defaults to the neutral configuration.
+    actuator_names : tuple[str, ...]
+        The joint motors (MuJoCo's ``<motor joint=...>``), none by default
+        (``cgadyn.actuator_torques``, ``simulate(ctrl=...)``).
+    actuator_dof : int64 (na,)
+        The velocity coordinate each motor drives.
+    actuator_gear : float64 (na,)
+        Torque per unit of control (MuJoCo's ``gear`` times its gain).
+    actuator_ctrlrange, actuator_forcerange : float64 (na, 2)
+        The control's range and the range of the force before the gear (``±inf``: none),
+        as MuJoCo clamps them.
     """
 
     name: str
@@ -159,12 +173,24 @@ class Model:
     damping: np.ndarray | None = None
     stiffness: np.ndarray | None = None
     spring_reference: np.ndarray | None = None
+    actuator_names: tuple = ()
+    actuator_dof: np.ndarray | None = None
+    actuator_gear: np.ndarray | None = None
+    actuator_ctrlrange: np.ndarray | None = None
+    actuator_forcerange: np.ndarray | None = None
 
     def __post_init__(self):
         nv = sum(NV[int(t)] for t in np.asarray(self.joint_types).reshape(-1))
         for field in ("armature", "damping", "stiffness"):  # none given: none
             if getattr(self, field) is None:
                 object.__setattr__(self, field, np.zeros(nv))
+        na = len(self.actuator_names)
+        defaults = {"actuator_dof": np.zeros(na, dtype=np.int64), "actuator_gear": np.ones(na),
+                    "actuator_ctrlrange": np.tile([-np.inf, np.inf], (na, 1)),
+                    "actuator_forcerange": np.tile([-np.inf, np.inf], (na, 1))}
+        for field, value in defaults.items():
+            if getattr(self, field) is None:
+                object.__setattr__(self, field, value.reshape((na,) + value.shape[1:]))
         if self.spring_reference is None:
             from .joints.table import neutral_of_types
 
@@ -172,11 +198,12 @@ class Model:
                                neutral_of_types(np.asarray(self.joint_types).reshape(-1)))
         for field in _ARRAY_FIELDS:
             arr = getattr(self, field)
-            dtype = np.int64 if field in ("joint_types", "parents", "link_joint") else np.float64
+            dtype = np.int64 if field in ("joint_types", "parents", "link_joint",
+                                          "actuator_dof") else np.float64
             arr = np.array(arr, dtype=dtype, copy=True)
             arr.flags.writeable = False
             object.__setattr__(self, field, arr)
-        for field in ("joint_names", "joint_kinds", "link_names", "mimic"):
+        for field in ("joint_names", "joint_kinds", "link_names", "mimic", "actuator_names"):
             object.__setattr__(self, field, tuple(getattr(self, field)))
         self._check()
 
@@ -210,6 +237,10 @@ class Model:
             "damping": (nv,),
             "stiffness": (nv,),
             "spring_reference": (nq,),
+            "actuator_dof": (len(self.actuator_names),),
+            "actuator_gear": (len(self.actuator_names),),
+            "actuator_ctrlrange": (len(self.actuator_names), 2),
+            "actuator_forcerange": (len(self.actuator_names), 2),
         }
         for field, shape in shapes.items():
             got = getattr(self, field).shape
@@ -238,6 +269,7 @@ class Model:
         self._check_axes()
         self._check_inertias()
         self._check_passive()
+        self._check_actuators()
         if np.any((self.link_joint < -1) | (self.link_joint >= n)):
             raise ValueError("link_joint entries must lie in [-1, n)")
         if len(set(self.joint_names)) != n:
@@ -281,6 +313,34 @@ class Model:
                 raise ValueError(f"joint {self.joint_names[j]!r} ({TYPES[int(t)].label}) "
                                  f"has a nonzero stiffness; cgadyn models joint springs only "
                                  f"on joints whose coordinates add (revolute, prismatic)")
+
+    def _check_actuators(self):
+        """Each motor drives an existing velocity coordinate with a finite gear; its ranges
+        are ordered (``lower <= upper``)."""
+        for a, name in enumerate(self.actuator_names):
+            dof = int(self.actuator_dof[a])
+            if not 0 <= dof < self.nv:
+                raise ValueError(f"actuator {name!r} drives velocity coordinate {dof}; "
+                                 f"expected one in [0, {self.nv})")
+            if not np.isfinite(self.actuator_gear[a]):
+                raise ValueError(f"actuator {name!r} has the gear {self.actuator_gear[a]}; "
+                                 f"expected a finite number")
+            for what in ("ctrlrange", "forcerange"):
+                lo, hi = getattr(self, f"actuator_{what}")[a]
+                if not lo <= hi:
+                    raise ValueError(f"actuator {name!r} has the {what} [{lo}, {hi}]; "
+                                     f"expected lower <= upper")
+
+    @property
+    def actuators(self) -> list[dict]:
+        """The joint motors, one dict each: ``name``, ``joint``, ``dof`` (the velocity
+        coordinate), ``gear``, ``ctrlrange``, ``forcerange``."""
+        return [{"name": name, "joint": self.joint_names[self.dof_joint[int(dof)]],
+                 "dof": int(dof), "gear": float(gear), "ctrlrange": tuple(map(float, c)),
+                 "forcerange": tuple(map(float, f))}
+                for name, dof, gear, c, f in zip(
+                    self.actuator_names, self.actuator_dof, self.actuator_gear,
+                    self.actuator_ctrlrange, self.actuator_forcerange, strict=True)]
 
     def _check_axes(self):
         """Joint axes pass through the joint frame's origin (URDF's convention): a revolute

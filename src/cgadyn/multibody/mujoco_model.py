@@ -29,6 +29,8 @@ places every body. ``from_mujoco`` reads what it compiled, whole:
 - **Passive dynamics**: ``dof_armature`` (``Model.armature``), ``dof_damping``
   (``Model.damping``), ``jnt_stiffness`` and ``qpos_spring`` (``Model.stiffness``,
   ``Model.spring_reference``).
+- **Actuators**: the joint motors (``Model.actuators``: gear, control and force ranges);
+  other actuators are left out with a warning.
 
 States: ``from_mujoco_state(model, qpos, qvel)`` and ``to_mujoco_state(model, q, v)``;
 the joint records (``multibody.joints``) hold each type's layouts: a free joint's qpos is
@@ -164,6 +166,7 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
     attach = {0: (-1, np.eye(4))}  # body -> (cgadyn joint moving it, its pose in that frame)
     link_names, link_joint, link_poses = [WORLD], [-1], [np.eye(4)]
     used = set()
+    joint_of = {}  # MuJoCo joint -> cgadyn joint
     no_damper, no_spring = _disabled(mj, "DAMPER"), _disabled(mj, "SPRING")  # <flag>s
 
     def add_joint(jname, kind, parent, placement, axis, lower, upper, mj_joint):
@@ -181,6 +184,7 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
         joints["stiffness"] += [0.0 if no_spring else float(mj.jnt_stiffness[mj_joint])] * \
             len(dofs)
         pieces.append([])
+        joint_of[mj_joint] = len(joints["names"]) - 1
         return len(joints["names"]) - 1
 
     for b in range(1, mj.nbody):
@@ -251,7 +255,7 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
             root_link=WORLD, check_inertia=check_inertia, armature=joints["armature"],
             damping=joints["damping"], stiffness=joints["stiffness"])
         return dataclasses.replace(model, spring_reference=table.from_mujoco(
-            model, mj.qpos_spring))
+            model, mj.qpos_spring), **_motors(mj, model, joint_of, model_name))
     except ValueError as exc:
         raise ValueError(f"MuJoCo model {model_name!r}: {exc}") from None
 
@@ -261,6 +265,46 @@ def available() -> bool:
     import importlib.util
 
     return importlib.util.find_spec("mujoco") is not None
+
+
+def _motors(mj, model: Model, joint_of: dict, where: str) -> dict:
+    """The ``Model.actuator_*`` fields of MuJoCo's joint motors (a joint transmission, a
+    fixed gain of 1, no bias, no activation dynamics: ``<motor joint=...>``): the torque
+    ``gear * clamp(clamp(ctrl, ctrlrange), forcerange)`` on the joint's coordinate. Any
+    other actuator is left out, with a warning naming it."""
+    import mujoco
+
+    names, dofs, gears, ctrl, force, skipped = [], [], [], [], [], []
+    clamp = not _disabled(mj, "CLAMPCTRL")
+    for a in range(mj.nu):
+        name = _name(mj, _obj("ACTUATOR"), a, f"actuator{a}")
+        joint = int(mj.actuator_trnid[a, 0])
+        motor = (mj.actuator_trntype[a] == mujoco.mjtTrn.mjTRN_JOINT
+                 and mj.actuator_gaintype[a] == mujoco.mjtGain.mjGAIN_FIXED
+                 and mj.actuator_biastype[a] == mujoco.mjtBias.mjBIAS_NONE
+                 and mj.actuator_dyntype[a] == mujoco.mjtDyn.mjDYN_NONE
+                 and mj.actuator_gainprm[a, 0] == 1.0 and joint in joint_of
+                 and model.joint_dofs(joint_of[joint]).stop
+                 - model.joint_dofs(joint_of[joint]).start == 1)
+        if not motor:
+            skipped.append(name)
+            continue
+        names.append(name)
+        dofs.append(model.joint_dofs(joint_of[joint]).start)
+        gears.append(float(mj.actuator_gear[a, 0]))
+        limited = clamp and bool(mj.actuator_ctrllimited[a])
+        ctrl.append(mj.actuator_ctrlrange[a] if limited else (-np.inf, np.inf))
+        force.append(mj.actuator_forcerange[a] if mj.actuator_forcelimited[a]
+                     else (-np.inf, np.inf))
+    if skipped:
+        warnings.warn(f"{where!r}: the actuators {', '.join(map(repr, skipped))} are not "
+                      f"joint motors (<motor joint=...> on a hinge or slide); cgadyn models "
+                      f"those only, so they are left out of model.actuators", stacklevel=4)
+    na = len(names)
+    return dict(actuator_names=tuple(names), actuator_dof=np.array(dofs, dtype=np.int64),
+                actuator_gear=np.array(gears, dtype=float),
+                actuator_ctrlrange=np.array(ctrl, dtype=float).reshape(na, 2),
+                actuator_forcerange=np.array(force, dtype=float).reshape(na, 2))
 
 
 def load_mujoco(source, name: str | None = None, floating_base: bool | None = None,

@@ -16,6 +16,7 @@ import numpy as np
 from .. import _arrays
 from .._threads import PARALLEL_LOCK
 from ..algorithms import _inputs
+from ..algorithms.actuators import actuator_torques
 from ..algorithms.api import energy as _energy
 from ..algorithms.api import link_placements
 from ..algorithms.configuration import neutral
@@ -59,7 +60,7 @@ MEMORY_SHARE = 0.8
 
 def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravity=None,
              f_ext=None, controller=None, record_every: int = 1,
-             final_only: bool = False, passive: bool = True) -> Trajectory:
+             final_only: bool = False, passive: bool = True, ctrl=None) -> Trajectory:
     """Integrate ``q̈ = ABA(q, v, τ)`` for ``steps`` steps of ``dt`` seconds.
 
     ``q0`` (nq,) and ``v0`` (nv,) for one rollout, or (B, nq) / (B, nv) for B (either one
@@ -74,7 +75,10 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     and the last, so that a long run needs memory for those alone; ``final_only``: keep the
     last state only; ``passive``: add the joints' damping and spring torques
     (``cgadyn.passive_torques``, ``Model.damping``, ``Model.stiffness``) at every stage,
-    as MuJoCo does (``False``: the rigid-body dynamics alone).
+    as MuJoCo does (``False``: the rigid-body dynamics alone); ``ctrl``: None, or controls
+    per step for the model's motors (``Model.actuators``), (steps, na) or (B, steps, na),
+    held over each step: their torques (``cgadyn.actuator_torques``, MuJoCo's clamping)
+    are added to ``tau``, so that a Gymnasium policy's actions drive the rollout unchanged.
 
     Returns a ``Trajectory`` of the states kept. A rollout that diverges (a joint turning
     more than half a turn in one step, a slide moving further than the robot is large, a
@@ -90,6 +94,13 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     """
     dt = _positive(dt)
     steps = _steps(steps)
+    if ctrl is not None:  # the motors' torques: state-independent, added to tau up front
+        u_ctrl = actuator_torques(model, ctrl)
+        if u_ctrl.ndim not in (2, 3) or u_ctrl.shape[-2] != steps:
+            raise ValueError(f"ctrl must have shape (steps, na) = ({steps}, "
+                             f"{len(model.actuator_names)}) or (B, steps, na), got "
+                             f"{np.shape(ctrl)}")
+        tau = u_ctrl if tau is None else np.asarray(tau, dtype=float) + u_ctrl
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {', '.join(map(repr, INTEGRATORS))}, "
                          f"got {integrator!r}")
