@@ -25,8 +25,9 @@ def _limits(values, j: int, idx) -> list[float]:
 
 
 def model_info(model) -> dict:
-    """Base, sizes, joints (kind, parent, coordinates, limits, body mass), links (with the
-    joint they move with) and total mass of a model."""
+    """Base, sizes, joints (kind, parent, coordinates, limits, armature, damping,
+    stiffness, body mass), links (with the joint they move with), actuators and total mass
+    of a model."""
     def joint(j: int) -> dict:
         parent = int(model.parents[j])
         return {"name": model.joint_names[j], "kind": model.joint_kinds[j],
@@ -37,6 +38,9 @@ def model_info(model) -> dict:
                 "upper": _limits(model.upper, j, model.idx_q),
                 "velocity_limit": _limits(model.velocity_limit, j, model.idx_v),
                 "effort_limit": _limits(model.effort_limit, j, model.idx_v),
+                "armature": _limits(model.armature, j, model.idx_v),
+                "damping": _limits(model.damping, j, model.idx_v),
+                "stiffness": _limits(model.stiffness, j, model.idx_v),
                 "body_mass": float(model.body_mass[j])}
 
     return {"robot": model.name, "base": "free flyer" if model.floating_base else "fixed",
@@ -45,7 +49,8 @@ def model_info(model) -> dict:
             "joints": [joint(j) for j in range(model.njoints)],
             "links": [{"name": n, "joint": None if model.link_joint[i] < 0
                        else model.joint_names[model.link_joint[i]]}
-                      for i, n in enumerate(model.link_names)]}
+                      for i, n in enumerate(model.link_names)],
+            "actuators": model.actuators}
 
 
 def native_extension() -> dict:
@@ -65,21 +70,32 @@ def _range(lo: list[float], hi: list[float]) -> str:
     return f"[{lo[0]:.4g}, {hi[0]:.4g}]"
 
 
+def _most(values: list[float]) -> str:
+    """A joint's armature, damping or stiffness in one column: its largest coordinate's."""
+    return f"{max(values, default=0.0):.3g}"
+
+
 def format_info(info: dict) -> str:
     """A readable listing of :func:`model_info`."""
     lines = [f"{info['robot']}: {info['base']} base, nq = {info['nq']}, nv = {info['nv']}, "
              f"{info['njoints']} joints, {len(info['links'])} links, root link "
              f"{info['root_link']}, moving mass {info['total_mass']:.4g} kg", "",
              f"{'#':>3}  {'joint':<28}{'kind':<12}{'q':>8}{'v':>8}  {'limits':<22}"
-             f"{'mass':>9}  parent"]
+             f"{'mass':>9}{'armature':>10}{'damping':>9}{'spring':>8}  parent"]
     for j, jt in enumerate(info["joints"]):
         q = f"{jt['q'][0]}:{jt['q'][1]}"
         v = f"{jt['v'][0]}:{jt['v'][1]}"
         lines.append(f"{j:>3}  {jt['name']:<28}{jt['kind']:<12}{q:>8}{v:>8}  "
-                     f"{_range(jt['lower'], jt['upper']):<22}{jt['body_mass']:>9.4g}  "
-                     f"{jt['parent'] or 'world'}")
+                     f"{_range(jt['lower'], jt['upper']):<22}{jt['body_mass']:>9.4g}"
+                     f"{_most(jt['armature']):>10}{_most(jt['damping']):>9}"
+                     f"{_most(jt['stiffness']):>8}  {jt['parent'] or 'world'}")
     lines += ["", f"{'link':<36}moves with joint"]
     lines += [f"{lk['name']:<36}{lk['joint'] or '(fixed to world)'}" for lk in info["links"]]
+    if info.get("actuators"):
+        lines += ["", f"{'actuator':<28}{'joint':<28}{'gear':>9}  control range"]
+        lines += [f"{a['name']:<28}{a['joint']:<28}{a['gear']:>9.4g}  "
+                  f"{_range([a['ctrlrange'][0]], [a['ctrlrange'][1]])}"
+                  for a in info["actuators"]]
     native = info.get("native_extension")
     if native is not None:
         lines += ["", f"C extension (fast single calls): {native['status']}"]
