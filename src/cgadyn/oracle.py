@@ -71,18 +71,27 @@ def pinocchio_of(model):
 
     pm = pin.Model()
     pm.name = model.name
+    turn = [pin.SE3.Identity()] * model.njoints  # Pinocchio's joint frame in cgadyn's
     for j in range(model.njoints):
         record = TYPES[int(model.joint_types[j])]
         kind = getattr(pin, record.pinocchio[-1])
-        joint = kind(model.axis_vectors[j]) if record.axis is not None else kind()
-        placement = pin.SE3(model.placement_matrices[j])
-        pm.addJoint(int(model.parents[j]) + 1, joint, placement, model.joint_names[j])
-        pm.appendBodyToJoint(j + 1, pin.Inertia(float(model.body_mass[j]), model.body_com[j],
-                                                model.body_rotational_inertia[j]),
-                             pin.SE3.Identity())
+        try:
+            joint = kind(model.axis_vectors[j]) if record.axis is not None else kind()
+        except TypeError:  # RevoluteUnboundedUnaligned takes no axis in Python: about z,
+            joint = getattr(pin, record.pinocchio[-2])()  # in a frame turned onto the axis
+            turn[j] = pin.SE3(pin.Quaternion.FromTwoVectors(
+                np.array([0.0, 0.0, 1.0]), model.axis_vectors[j]).matrix(), np.zeros(3))
+        parent = int(model.parents[j])
+        above = turn[parent] if parent >= 0 else pin.SE3.Identity()
+        placement = above.inverse() * pin.SE3(model.placement_matrices[j]) * turn[j]
+        pm.addJoint(parent + 1, joint, placement, model.joint_names[j])
+        body = pin.Inertia(float(model.body_mass[j]), model.body_com[j],
+                           model.body_rotational_inertia[j])
+        pm.appendBodyToJoint(j + 1, turn[j].actInv(body), pin.SE3.Identity())
     for name, j, T in zip(model.link_names, model.link_joint, model.link_placement_matrices,
                           strict=True):
-        pm.addBodyFrame(name, int(j) + 1, pin.SE3(T), 0)
+        above = turn[int(j)] if j >= 0 else pin.SE3.Identity()
+        pm.addBodyFrame(name, int(j) + 1, above.inverse() * pin.SE3(T), 0)
     pm.armature = np.array(model.armature)
     pm.damping = np.array(model.damping)
     return pm
