@@ -202,3 +202,14 @@ def test_simulate_takes_controls_and_passive_torques():
     np.testing.assert_allclose(step.v[-1], v0 + 1e-3 * a, rtol=0, atol=1e-12)
     free = cgadyn.simulate(model, q0, v0, 1e-3, 1, integrator="euler", passive=False)
     assert not np.allclose(free.v[-1], step.v[-1])
+
+
+def test_validate_checks_an_mjcf_model_against_both_engines():
+    from cgadyn.commands.validate import format_result
+    from cgadyn.validate import validate_robot
+
+    result = validate_robot(str(ROOT / "gymnasium/inverted_double_pendulum.xml"), samples=4)
+    assert set(mujoco_oracle.CHECKS) < set(result["checks"])
+    assert result["pass"], {k: r["max_rel"] for k, r in result["checks"].items()}
+    text = format_result(result)
+    assert "against Pinocchio and MuJoCo" in text and "MuJoCo: mass matrix (mj_fullM)" in text

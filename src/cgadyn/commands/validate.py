@@ -79,7 +79,9 @@ def format_result(result: dict) -> str:
         f"cgadyn validate: {result['robot']}, {result['base']} base, nq {result['nq']}, nv "
         f"{result['nv']}, {result['samples']} samples, seed {result['seed']} | cgadyn "
         f"{v['cgadyn']}, pinocchio {v['pinocchio']}, numpy {v['numpy']}, numba {v['numba']}",
-        "cgadyn (batched) against Pinocchio; the paper's Table 1 used 1000 samples",
+        f"cgadyn (batched) against Pinocchio"
+        f"{' and MuJoCo' if any(k in result['checks'] for k in mujoco_oracle.CHECKS) else ''}"
+        f"; the paper's Table 1 used 1000 samples",
         f"{result['relative_error']}; tolerance {result['tolerance']:.0e}",
         f"{result['scaled']}; largest cond(M) {result['conditioning']:.2e}",
         f"Jacobians at: {', '.join(result['jacobian_links'])}", "",
