@@ -22,7 +22,8 @@ def pin_rollout(pm, q, v, dt, steps, method="rk4", tau=None, pd=None, fext=None,
                 damped=True):
     """The integrators of ``cgadyn.sim.rollout`` on Pinocchio, with the joint damping
     Pinocchio's parser read (``model.damping``), which ``simulate`` applies by default:
-    states (steps+1, ...) and energies. ``pd``: (kp, kd, q_ref) of a PD law with gravity compensation."""
+    states (steps+1, ...) and energies. ``pd``: (kp, kd, q_ref) of a PD law with gravity
+    compensation."""
     d = pm.createData()
     zero = np.zeros(pm.nv)
 
