@@ -82,7 +82,7 @@ the only ones with springs: ``Model.stiffness``)."""
 @inline
 def closed_loop_acceleration(m, q, v, u, f, ctrl, qdd, sc, work):
     """``qdd = ABA(q, v, u + τ_ctrl(q, v))`` (the module's first equations); ``ctrl`` the
-    controller ``(flags, coords (4, nv), q_ref (nq), v_ref (nv))``. A status; ``qdd`` NaN
+    controller ``(flags, coords (COORDS, nv), q_ref (nq), v_ref (nv))``. A status; ``qdd`` NaN
     where it fails."""
     status = _closed_loop(m, q, v, u, f, ctrl, qdd, sc, work)
     if status != OK:
@@ -224,7 +224,7 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, step
 
     ``q0`` (B, nq), ``v0`` (B, nv); ``u`` the open-loop torques (1 or B, steps or 1, nv),
     one row held over every step where it has one;
-    ``f`` wrenches (0, 1 or B, n, 6); ``coords`` (4, nv) per velocity coordinate (``KP``,
+    ``f`` wrenches (0, 1 or B, n, 6); ``coords`` (COORDS, nv) per velocity coordinate (``KP``,
     ``KD``, ``ACTUATED``, ``SPEED_BOUND``); ``q_ref`` (B, nq), ``v_ref`` (B, nv); ``every``
     the states kept (``kept_row``). Writes the kept states into ``Q`` (B, rows, nq), ``V``,
     ``A`` (B, rows, nv), and per rollout the steps ``completed`` and the ``status`` (0, or
@@ -258,7 +258,7 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, step
             fb = _rows(f[0], mb.n, 6)
         elif f.shape[0] > 1:
             fb = _rows(f[b], mb.n, 6)
-        ctrl = (flags, _rows(coords, 4, mb.nv), _rows(q_ref[b], 1, mb.nq)[0],
+        ctrl = (flags, _rows(coords, COORDS, mb.nv), _rows(q_ref[b], 1, mb.nq)[0],
                 _rows(v_ref[b], 1, mb.nv)[0])
         for k in range(mb.nq):
             q[k] = q0[b, k]
