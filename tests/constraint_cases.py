@@ -105,3 +105,55 @@ def random_case(seed: int, floating: bool, joints: int = 8):
             if cs and np.linalg.cond(cgadyn.delassus(model, q, cs)) < 1e6:
                 v, tau = rng.normal(size=model.nv), rng.normal(size=model.nv)
                 return model, pm, q, v, tau, cs
+
+
+def _rod(name: str, length: float, mass: float = 1.0) -> str:
+    i = mass * length * length / 12.0
+    return (f'<link name="{name}"><inertial><origin xyz="{length / 2} 0 0"/>'
+            f'<mass value="{mass}"/><inertia ixx="1e-4" ixy="0" ixz="0" iyy="{i}" iyz="0" '
+            f'izz="{i}"/></inertial></link>')
+
+
+CRANK, COUPLER, ROCKER, GROUND = 0.4, 1.0, 0.8, 1.0
+FOUR_BAR = (
+    '<robot name="four_bar"><link name="ground"/>' + _rod("crank", CRANK)
+    + _rod("coupler", COUPLER) + _rod("rocker", ROCKER)
+    + '<joint name="crank_joint" type="continuous"><parent link="ground"/>'
+      '<child link="crank"/><axis xyz="0 1 0"/></joint>'
+    + f'<joint name="coupler_joint" type="continuous"><parent link="crank"/>'
+      f'<child link="coupler"/><origin xyz="{CRANK} 0 0"/><axis xyz="0 1 0"/></joint>'
+    + f'<joint name="rocker_joint" type="continuous"><parent link="ground"/>'
+      f'<child link="rocker"/><origin xyz="{GROUND} 0 0"/><axis xyz="0 1 0"/></joint>'
+      '</robot>')
+"""A planar four-bar linkage in the xz plane (joints about y, gravity in the plane) as a tree:
+ground-crank-coupler and ground-rocker; the loop is closed by a point constraint."""
+
+
+def along_x(x: float) -> np.ndarray:
+    T = np.eye(4)
+    T[0, 3] = x
+    return T
+
+
+def four_bar(corrector=(25.0, 10.0), crank_angle: float = 1.0, crank_speed: float = 2.0):
+    """The four-bar's model, its loop constraint (the coupler's end held on the rocker's end),
+    and a state on the loop: the crank at ``crank_angle``, turning at ``crank_speed``, the
+    other two joints solved for by Gauss-Newton on the loop error."""
+    model = cgadyn.load(FOUR_BAR)
+    loop = cgadyn.Constraint(model, "point", "coupler", along_x(COUPLER), "rocker",
+                             along_x(ROCKER), corrector=corrector)
+    q = np.array([crank_angle, -1.0, -2.0])
+    for _ in range(30):
+        J = cgadyn.constraint_jacobian(model, q, [loop])
+        q[1:] -= np.linalg.lstsq(J[:, 1:], loop_error(model, loop, q), rcond=None)[0]
+    v = np.array([crank_speed, 0.0, 0.0])
+    J = cgadyn.constraint_jacobian(model, q, [loop])
+    v[1:] = np.linalg.lstsq(J[:, 1:], -J[:, 0] * crank_speed, rcond=None)[0]
+    return model, loop, q, v
+
+
+def loop_error(model, c, q) -> np.ndarray:
+    """The world position of a point constraint's first end minus its second's."""
+    T = cgadyn.link_placements(model, q)
+    second = c.other_placement if c.other is None else T[c.other] @ c.other_placement
+    return (T[c.link] @ c.placement)[:3, 3] - second[:3, 3]
