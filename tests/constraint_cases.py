@@ -47,13 +47,14 @@ def random_tree_urdf(rng, n: int) -> str:
     return f'<robot name="tree">{"".join(links)}{"".join(joints)}</robot>'
 
 
-def random_constraints(model, rng, rows: int) -> list:
-    """Random point and frame constraints in both frames, on the world or between links, with
-    random placements and correctors, of at most ``rows`` rows in all."""
+def random_constraints(model, rng, rows: int, frames: float = 0.4) -> list:
+    """Random point and frame constraints (a share ``frames`` of frames) in both frames, on
+    the world or between links, with random placements and correctors, of at most ``rows``
+    rows in all."""
     out, used = [], 0
     movable = [i for i in range(model.nlinks) if model.link_joint[i] >= 0]
     while True:
-        kind = "frame" if rng.random() < 0.4 else "point"
+        kind = "frame" if rng.random() < frames else "point"
         size = 6 if kind == "frame" else 3
         if used + size > rows:
             break
@@ -93,7 +94,7 @@ def pinocchio_results(model, pm, q, v, tau, constraints, restitution=0.0) -> dic
             "v_after": v_after, "impulses": impulses}
 
 
-def random_case(seed: int, floating: bool, joints: int = 8):
+def random_case(seed: int, floating: bool, joints: int = 8, frames: float = 0.4):
     """A random tree, constraints on it whose Delassus matrix is well conditioned at a random
     state (cond < 1e6, redrawn until so), and that state: ``(model, pm, q, v, tau, cs)``."""
     rng = np.random.default_rng(seed)
@@ -101,7 +102,7 @@ def random_case(seed: int, floating: bool, joints: int = 8):
         model, pm = oracle.models(random_tree_urdf(rng, joints), floating_base=floating)
         q = cgadyn.random_configuration(model, rng)
         for _ in range(20):
-            cs = random_constraints(model, rng, model.nv - 1)
+            cs = random_constraints(model, rng, model.nv - 1, frames)
             if cs and np.linalg.cond(cgadyn.delassus(model, q, cs)) < 1e6:
                 v, tau = rng.normal(size=model.nv), rng.normal(size=model.nv)
                 return model, pm, q, v, tau, cs

@@ -84,6 +84,47 @@ def test_random_trees(seed, floating):
     assert max(err.values()) < TOL, err
 
 
+@pytest.mark.parametrize("floating", [False, True])
+@pytest.mark.parametrize("seed", range(3))
+def test_random_trees_with_frames(seed, floating):
+    """Trees of 14 joints with frame constraints (welds to the world and between links) in
+    both frames, and a few points."""
+    model, pm, q, v, tau, cs = random_case(100 + seed, floating, joints=14, frames=0.8)
+    assert any(c.kind == "frame" for c in cs)
+    world = all(c.other is None for c in cs)
+    err = errors(model, pm, q[None], v[None], tau[None], cs, 0.4, impulses=world)
+    print(f"\nrandom tree {100 + seed}, floating {floating}, "
+          f"{[(c.name, c.frame) for c in cs]}: {err}")
+    assert max(err.values()) < TOL, err
+
+
+def test_anymal_four_feet():
+    model, pm = oracle.models("anymal")
+    q, v, tau = states(model, 4, samples=2)
+    cs = [cgadyn.Constraint(model, "point", foot, frame=frame, corrector=(3.0, 1.0), q=q[0])
+          for foot, frame in zip(("LF_FOOT", "RF_FOOT", "LH_FOOT", "RH_FOOT"),
+                                 ("local", "local_world_aligned") * 2, strict=True)]
+    err = errors(model, pm, q, v, tau, cs, restitution=0.2)
+    print(f"\nanymal, four point feet: {err}")
+    assert max(err.values()) < TOL, err
+
+
+@pytest.mark.parametrize("frame", ["local", "local_world_aligned"])
+def test_talos_hands_welded_to_each_other(frame):
+    """A humanoid standing on both soles with its hands welded to each other (a loop through
+    both arms and the torso)."""
+    model, pm = oracle.models("talos_reduced")
+    q, v, tau = states(model, 5, samples=2)
+    cs = [cgadyn.Constraint(model, "frame", sole, frame=frame, q=q[0]) for sole in SOLES]
+    grip = np.eye(4)
+    grip[:3, 3] = [0.0, 0.0, -0.1]
+    cs.append(cgadyn.Constraint(model, "frame", "gripper_left_base_link", grip,
+                                "gripper_right_base_link", grip, frame, corrector=(4.0, 2.0)))
+    err = errors(model, pm, q, v, tau, cs, impulses=False)
+    print(f"\ntalos_reduced, soles and hands welded, {frame}: {err}")
+    assert max(err.values()) < TOL, err
+
+
 def test_pinocchio_delassus_is_in_the_local_frame():
     """Pinocchio 4.1's ``computeDelassusMatrix`` gives ``J M⁻¹ Jᵀ`` with the rows of the
     constraint's local frame whatever its ``reference_frame``: for a world-aligned constraint
