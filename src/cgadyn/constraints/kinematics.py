@@ -17,8 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..algorithms.api import jacobian, link_placements
-from ..cga.conventions import motion_from_twist
-from ..cga.objects import Motor
+from ..cga.conventions import motion_from_twist, motor_from_matrix
+from ..kernels.motors import motor_log, motor_normalize
 from .model import Constraint
 
 
@@ -69,11 +69,16 @@ def drift_acceleration(model, J: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 def log6(T: np.ndarray) -> np.ndarray:
     """The twist ``[v, ω]`` with ``exp = T``, rotation angle in [0, π]: the motor's log
-    (``Motor.log``, angle in [0, 2π)), of ``-M`` where the angle passes π (the same motion)."""
-    m = Motor.from_matrix(T).values
-    x = motion_from_twist(Motor(m).log().values)
-    if np.linalg.norm(x[3:]) > np.pi:
-        x = motion_from_twist(Motor(-m).log().values)
+    (``kernels.motors.motor_log``, angle in [0, 2π)), of ``-M`` where the angle passes π (the
+    same motion)."""
+    m = np.empty(8)
+    motor_normalize(motor_from_matrix(T), m)
+    twist = np.empty(6)
+    motor_log(m, twist)
+    x = motion_from_twist(twist)
+    if x[3:] @ x[3:] > np.pi * np.pi:
+        motor_log(-m, twist)
+        x = motion_from_twist(twist)
     return x
 
 
