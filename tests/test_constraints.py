@@ -135,26 +135,38 @@ def test_a_link_fixed_to_the_world_is_named():
 
 
 def test_batches_match_single_calls():
+    """A batch runs the compiled calls once for all samples (their batch entries, rounded
+    alike to 1e-12) and gives each sample's results."""
     model, q, v, tau = solo()
     rng = np.random.default_rng(5)
     Q = np.array([cgadyn.random_configuration(model, rng) for _ in range(3)])
     V, T = rng.normal(size=(3, model.nv)), rng.normal(size=(3, model.nv))
     cs = [cgadyn.Constraint(model, "point", f, frame="local", q=q) for f in FEET]
-    qdd, lam = cgadyn.constrained_dynamics(model, Q, V, T, cs)
-    G = cgadyn.delassus(model, Q, cs, damping=0.1)
-    gamma = cgadyn.constraint_drift(model, Q, V, cs)
-    v_after, imp = cgadyn.impulse_dynamics(model, Q, V, cs)
-    assert qdd.shape == (3, model.nv) and lam.shape == (3, 12) and G.shape == (3, 12, 12)
+    batch = {"dynamics": cgadyn.constrained_dynamics(model, Q, V, T, cs),
+             "G": cgadyn.delassus(model, Q, cs, damping=0.1),
+             "J": cgadyn.constraint_jacobian(model, Q, cs),
+             "gamma": cgadyn.constraint_drift(model, Q, V, cs),
+             "impulse": cgadyn.impulse_dynamics(model, Q, V, cs),
+             "inverse": cgadyn.contact_inverse_dynamics(model, Q, V, T, cs)}
+    assert batch["dynamics"][0].shape == (3, model.nv) and batch["G"].shape == (3, 12, 12)
+    qdd, lam, infos = cgadyn.constrained_dynamics(model, Q, V, T, cs, return_info=True)
+    assert len(infos) == 3 and all(i.converged for i in infos)
     for i in range(3):
-        one = cgadyn.constrained_dynamics(model, Q[i], V[i], T[i], cs)
-        np.testing.assert_array_equal(qdd[i], one[0])
-        np.testing.assert_array_equal(lam[i], one[1])
-        np.testing.assert_array_equal(G[i], cgadyn.delassus(model, Q[i], cs, damping=0.1))
-        np.testing.assert_array_equal(gamma[i], cgadyn.constraint_drift(model, Q[i], V[i], cs))
-        np.testing.assert_array_equal(v_after[i], cgadyn.impulse_dynamics(model, Q[i], V[i],
-                                                                          cs)[0])
-    np.testing.assert_allclose(G[0] - 0.1 * np.eye(12), cgadyn.delassus(model, Q[0], cs),
-                               rtol=0, atol=1e-12 * np.abs(G[0]).max())
+        single = {"dynamics": cgadyn.constrained_dynamics(model, Q[i], V[i], T[i], cs),
+                  "G": cgadyn.delassus(model, Q[i], cs, damping=0.1),
+                  "J": cgadyn.constraint_jacobian(model, Q[i], cs),
+                  "gamma": cgadyn.constraint_drift(model, Q[i], V[i], cs),
+                  "impulse": cgadyn.impulse_dynamics(model, Q[i], V[i], cs),
+                  "inverse": cgadyn.contact_inverse_dynamics(model, Q[i], V[i], T[i], cs)}
+        for key, one in single.items():
+            pairs = zip(batch[key], one, strict=True) if isinstance(one, tuple) else \
+                [(batch[key], one)]
+            for mine, s in pairs:
+                np.testing.assert_allclose(mine[i], s, rtol=0,
+                                           atol=1e-12 * max(1, np.abs(s).max()), err_msg=key)
+    np.testing.assert_allclose(batch["G"][0] - 0.1 * np.eye(12),
+                               cgadyn.delassus(model, Q[0], cs), rtol=0,
+                               atol=1e-12 * np.abs(batch["G"][0]).max())
 
 
 def test_contact_inverse_dynamics_by_substitution():

@@ -3,7 +3,7 @@
 
 Forces come in Pinocchio's ``lambda_c`` layout: ``[f]`` per point constraint and ``[f, τ]``
 per frame constraint, each in its constraint's frame, in constraint order. A batch of states
-is computed sample by sample (a Python loop over the one-sample path).
+runs the compiled calls once for all samples and assembles each sample in a Python loop.
 """
 
 from __future__ import annotations
@@ -12,8 +12,9 @@ import numpy as np
 
 from ..algorithms import _inputs
 from ..algorithms.api import aba, rnea
+from ..algorithms.derivatives_api import minverse
 from .model import check_constraints
-from .operators import damping_value, delassus_matrix, each, states, system
+from .operators import damping_value, delassus_matrix, each, kinematics, states, system
 from .solve import solve
 
 G0 = _inputs.DEFAULT_GRAVITY
@@ -53,24 +54,15 @@ def constrained_dynamics(model, q, v, tau, constraints, damping=0.0, iterations=
     mu, n, acc = _settings(damping, iterations, accuracy)
     q, v, tau = states(model, (q, v, tau), ("q", "v", "tau"))
 
-    def one(x, y, t):
-        J, g = system(model, x, y, constraints)
-        a_free = aba(model, x, y, t, gravity)
-        G, MinvJt = delassus_matrix(model, x, J)
+    def one(k, y, a_free, Minv):
+        J, g = system(model, k, y, constraints)
+        G, MinvJt = delassus_matrix(Minv, J)
         lam, info = solve(G, -g - J @ a_free, constraints, mu, n, acc)  # C6, C8
         return a_free + MinvJt @ lam, lam, info
 
-    out = each(one, (q, v, tau)) if q.ndim == 1 else _many(one, (q, v, tau))
-    return (out[0], out[1], out[2]) if return_info else (out[0], out[1])
-
-
-def _many(function, arrays):
-    """A batch whose third result (a ``SolveInfo``) is not an array: kept as a list."""
-    results = [function(*sample) for sample in zip(*arrays, strict=True)]
-    if not results:
-        return np.empty((0, arrays[1].shape[-1])), np.empty((0, 0)), []
-    return (np.stack([r[0] for r in results]), np.stack([r[1] for r in results]),
-            [r[2] for r in results])
+    out = each(one, kinematics(model, q, constraints),
+               (v, aba(model, q, v, tau, gravity), minverse(model, q)))
+    return out if return_info else out[:2]
 
 
 def impulse_dynamics(model, q, v, constraints, restitution=0.0, damping=0.0, iterations=None,
@@ -88,14 +80,14 @@ def impulse_dynamics(model, q, v, constraints, restitution=0.0, damping=0.0, ite
         raise ValueError(f"restitution must be a number in [0, 1], got {restitution!r}")
     q, v = states(model, (q, v), ("q", "v"))
 
-    def one(x, y):
-        J, _ = system(model, x, None, constraints)
-        G, MinvJt = delassus_matrix(model, x, J)
+    def one(k, y, Minv):
+        J, _ = system(model, k, None, constraints)
+        G, MinvJt = delassus_matrix(Minv, J)
         lam, info = solve(G, -(1.0 + e) * (J @ y), constraints, mu, n, acc)  # C9
         return y + MinvJt @ lam, lam, info
 
-    out = each(one, (q, v)) if q.ndim == 1 else _many(one, (q, v))
-    return (out[0], out[1], out[2]) if return_info else (out[0], out[1])
+    out = each(one, kinematics(model, q, constraints), (v, minverse(model, q)))
+    return out if return_info else out[:2]
 
 
 def contact_inverse_dynamics(model, q, v, a, constraints, gravity=G0):
@@ -108,9 +100,8 @@ def contact_inverse_dynamics(model, q, v, a, constraints, gravity=G0):
     q, v, a = states(model, (q, v, a), ("q", "v", "a"))
     free = ~np.asarray(model.actuated, dtype=bool)
 
-    def one(x, y, z):
-        tau = rnea(model, x, y, z, gravity)
-        J, _ = system(model, x, None, constraints)
+    def one(k, tau):
+        J, _ = system(model, k, None, constraints)
         if not free.any() or len(J) == 0:
             lam = np.zeros(len(J))
         else:
@@ -124,4 +115,4 @@ def contact_inverse_dynamics(model, q, v, a, constraints, gravity=G0):
         tau[free] = 0.0
         return tau, lam
 
-    return each(one, (q, v, a))
+    return each(one, kinematics(model, q, constraints), (rnea(model, q, v, a, gravity),))

@@ -82,24 +82,29 @@ def log6(T: np.ndarray) -> np.ndarray:
     return x
 
 
-def ends(model, q: np.ndarray, constraints: tuple[Constraint, ...],
+def placements(model, q: np.ndarray, constraints: tuple[Constraint, ...]):
+    """The compiled calls the ends need, once for one configuration (nq,) or a batch
+    (B, nq): the world placements of every link and the world Jacobian of each constrained
+    link, ``(T, {link: J})``."""
+    links = {c.link for c in constraints} | {c.other for c in constraints} - {None}
+    return link_placements(model, q), {i: jacobian(model, q, i, "world") for i in links}
+
+
+def ends(model, T: np.ndarray, jacobians: dict, constraints: tuple[Constraint, ...],
          v: np.ndarray | None = None) -> list[tuple[End, End]]:
-    """Both ends of each constraint at one configuration q (and velocity v, else V = A = 0)."""
-    T = link_placements(model, q)
+    """Both ends of each constraint at one state, from its ``placements`` (and velocity v,
+    else V = A = 0)."""
     zero6, zeroJ = np.zeros(6), np.zeros((6, model.nv))
-    motion: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+    motion: dict[int, tuple[np.ndarray, np.ndarray]] = {}
 
     def end(link: int | None, P: np.ndarray) -> End:
         if link is None:
             return End(P, zeroJ, zero6, zero6)
+        J = jacobians[link]
         if link not in motion:
-            J = jacobian(model, q, link, "world")
-            if v is None:
-                motion[link] = (J, zero6, zero6)
-            else:
-                motion[link] = (J, J @ v, drift_acceleration(model, J, v))
-        J, V, A = motion[link]
-        return End(T[link] @ P, J, V, A)
+            motion[link] = ((zero6, zero6) if v is None else
+                            (J @ v, drift_acceleration(model, J, v)))
+        return End(T[link] @ P, J, *motion[link])
 
     return [(end(c.link, c.placement), end(c.other, c.other_placement)) for c in constraints]
 

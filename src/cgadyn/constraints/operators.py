@@ -2,8 +2,9 @@
 Delassus matrix G = J M⁻¹ Jᵀ (C7), for one state or a batch.
 
 Rows follow the constraints in their order, each in its own frame (``Constraint.frame``), as
-Pinocchio's ``getConstraintsJacobian`` and ``computeDelassusMatrix`` give them. A batch
-``(B, nq)`` is computed sample by sample (a Python loop over the one-sample path).
+Pinocchio's ``getConstraintsJacobian`` and ``computeDelassusMatrix`` give them. A batch ``(B, nq)``
+runs the compiled calls (placements, Jacobians, M⁻¹) once for all samples and assembles
+each sample's matrices in a Python loop.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ import numpy as np
 
 from ..algorithms import _inputs
 from ..algorithms.derivatives_api import minverse
-from .kinematics import drift, ends, rows
+from .kinematics import drift, ends, placements, rows
 from .model import check_constraints
 
 
@@ -30,20 +31,33 @@ def states(model, arrays: tuple, names: tuple[str, ...]) -> tuple[np.ndarray, ..
     return out
 
 
-def each(function: Callable, arrays: tuple[np.ndarray, ...]):
-    """``function`` on one sample, or on each sample of a batch with its results stacked
-    (a tuple of results stacked one by one)."""
+def each(function: Callable, kinematics: list, arrays: tuple[np.ndarray, ...]):
+    """``function(kinematics, *sample)`` on one sample, or on each sample of a batch with its
+    results stacked (each array of a tuple of results stacked; other results listed)."""
     if arrays[0].ndim == 1:
-        return function(*arrays)
-    results = [function(*sample) for sample in zip(*arrays, strict=True)]
-    if results and isinstance(results[0], tuple):
-        return tuple(np.stack(r) for r in zip(*results, strict=True))
-    return np.stack(results) if results else np.empty((0,))
+        return function(kinematics[0], *arrays)
+    results = [function(k, *x) for k, x in zip(kinematics, zip(*arrays, strict=True),
+                                                strict=True)]
+    if not results:
+        return np.empty((0,))
+    if not isinstance(results[0], tuple):
+        return np.stack(results)
+    return tuple(np.stack(r) if isinstance(r[0], np.ndarray) else list(r)
+                 for r in zip(*results, strict=True))
 
 
-def system(model, q: np.ndarray, v: np.ndarray | None, constraints) -> tuple:
+def kinematics(model, q: np.ndarray, constraints) -> list:
+    """The compiled part of the rows, one call for all samples (``placements``), split into
+    one ``(T, {link: J})`` per sample."""
+    T, jacobians = placements(model, q, constraints)
+    if q.ndim == 1:
+        return [(T, jacobians)]
+    return [(T[b], {i: J[b] for i, J in jacobians.items()}) for b in range(len(q))]
+
+
+def system(model, kinematics: tuple, v: np.ndarray | None, constraints) -> tuple:
     """``J`` (m, nv) and, with v, ``γ`` (m,) at one state."""
-    pairs = ends(model, q, constraints, v)
+    pairs = ends(model, *kinematics, constraints, v)
     J = np.concatenate([rows(c, *e) for c, e in zip(constraints, pairs, strict=True)]
                        or [np.zeros((0, model.nv))])
     if v is None:
@@ -58,7 +72,8 @@ def constraint_jacobian(model, q, constraints) -> np.ndarray:
     frame, in constraint order; Pinocchio's ``getConstraintsJacobian``."""
     constraints = check_constraints(model, constraints)
     (q,) = states(model, (q,), ("q",))
-    return each(lambda x: system(model, x, None, constraints)[0], (q,))
+    return each(lambda k, x: system(model, k, None, constraints)[0],
+                kinematics(model, q, constraints), (q,))
 
 
 def constraint_drift(model, q, v, constraints) -> np.ndarray:
@@ -67,7 +82,8 @@ def constraint_drift(model, q, v, constraints) -> np.ndarray:
     motion has ``J q̈ + γ = 0`` (C6), Pinocchio's convention."""
     constraints = check_constraints(model, constraints)
     q, v = states(model, (q, v), ("q", "v"))
-    return each(lambda x, y: system(model, x, y, constraints)[1], (q, v))
+    return each(lambda k, x, y: system(model, k, y, constraints)[1],
+                kinematics(model, q, constraints), (q, v))
 
 
 def damping_value(damping) -> float:
@@ -80,10 +96,10 @@ def damping_value(damping) -> float:
     return mu
 
 
-def delassus_matrix(model, q: np.ndarray, J: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def delassus_matrix(Minv: np.ndarray, J: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``G = J M⁻¹ Jᵀ`` (C7) and ``M⁻¹ Jᵀ`` at one configuration, M⁻¹ from the
     articulated-body recursion (``cgadyn.minverse``)."""
-    MinvJt = minverse(model, q) @ J.T
+    MinvJt = Minv @ J.T
     return J @ MinvJt, MinvJt
 
 
@@ -94,8 +110,8 @@ def delassus(model, q, constraints, damping=0.0) -> np.ndarray:
     mu = damping_value(damping)
     (q,) = states(model, (q,), ("q",))
 
-    def one(x):
-        G = delassus_matrix(model, x, system(model, x, None, constraints)[0])[0]
+    def one(k, x, Minv):
+        G = delassus_matrix(Minv, system(model, k, None, constraints)[0])[0]
         return G + mu * np.eye(len(G))
 
-    return each(one, (q,))
+    return each(one, kinematics(model, q, constraints), (q, minverse(model, q)))
