@@ -10,6 +10,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from constraint_cases import FEET, four_bar, loop_error, random_case
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import cgadyn
 from cgadyn.algebra.multivector import Multivector
@@ -27,8 +29,10 @@ def solo(q_seed: int = 0):
 CASES = [(seed, floating) for seed in range(4) for floating in (False, True)]
 
 
-@pytest.mark.parametrize("seed, floating", CASES)
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 2**31), st.booleans())
 def test_constrained_dynamics_identities(seed, floating):
+    """Random trees with random point and frame constraints, loops included."""
     model, _, q, v, tau, cs = random_case(seed, floating)
     qdd, lam = cgadyn.constrained_dynamics(model, q, v, tau, cs)
     J = cgadyn.constraint_jacobian(model, q, cs)
