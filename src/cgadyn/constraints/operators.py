@@ -2,9 +2,9 @@
 Delassus matrix G = J M⁻¹ Jᵀ (C7), for one state or a batch.
 
 Rows follow the constraints in their order, each in its own frame (``Constraint.frame``), as
-Pinocchio's ``getConstraintsJacobian`` and ``computeDelassusMatrix`` give them. A batch ``(B, nq)``
-runs the compiled calls (placements, Jacobians, M⁻¹) once for all samples and assembles
-each sample's matrices in a Python loop.
+Pinocchio's ``getConstraintsJacobian`` gives them. A batch ``(B, nq)`` runs the compiled
+calls (placements, Jacobians, M⁻¹) once for all samples and assembles each sample's
+matrices in a Python loop.
 """
 
 from __future__ import annotations
@@ -104,8 +104,10 @@ def delassus_matrix(Minv: np.ndarray, J: np.ndarray) -> tuple[np.ndarray, np.nda
 
 
 def delassus(model, q, constraints, damping=0.0) -> np.ndarray:
-    """The Delassus matrix ``G + damping·I`` (m, m) or (B, m, m), ``G = J M⁻¹ Jᵀ`` (C7);
-    Pinocchio's ``computeDelassusMatrix`` with ``mu = damping``."""
+    """The Delassus matrix ``G + damping·I`` (m, m) or (B, m, m), ``G = J M⁻¹ Jᵀ`` (C7), in
+    the constraints' frames. Pinocchio 4.1's ``computeDelassusMatrix`` at ``mu = 0`` gives G
+    for constraints anchored to the world, in their local frames (docs/constraints.md); its
+    ``mu`` is not a shift of the diagonal."""
     constraints = check_constraints(model, constraints)
     mu = damping_value(damping)
     (q,) = states(model, (q,), ("q",))
