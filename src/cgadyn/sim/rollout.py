@@ -55,14 +55,32 @@ from ..algorithms import _workspace as ws
 from ..algorithms._checks import finite
 from ..algorithms._workspace import chunks
 from ..algorithms.aba import aba_core
-from ..algorithms.aba import workspace_size as aba_workspace
 from ..algorithms.energy import energy_core
-from ..algorithms.energy import workspace_size as energy_workspace
 from ..algorithms.rnea import rnea_core
-from ..algorithms.rnea import workspace_size as rnea_workspace
 from ..algorithms.status import DIVERGED, NONFINITE_RESULT, OK, fault
+from ..algorithms.work.aba import workspace_size as aba_workspace
+from ..algorithms.work.energy import workspace_size as energy_workspace
+from ..algorithms.work.rnea import workspace_size as rnea_workspace
 from ..multibody.joints import joint_difference, joint_integrate
 from ..multibody.packed import unpack
+from .work.rollout import workspace, workspace_size
+
+WORKSPACE = {  # one rollout's scratch, in order (tools/generate_workspaces.py)
+    "K": (4, "nv"),  # the RK4 stages' velocities
+    "Ka": (4, "nv"),  # and accelerations
+    "tau": ("nv",),
+    "g": ("nv",),
+    "dq": ("nv",),
+    "zero": ("nv",),  # zeros
+    "none": (0, 6),  # no wrenches
+    "tmp": (3, 8),
+    "qs": ("nq",),  # the stage configuration
+    "q": ("nq",),  # the loop's state
+    "v": ("nv",),
+    "qn": ("nq",),  # the next one
+    "vn": ("nv",),
+    "a": ("nv",),  # the acceleration
+}
 
 RK4, SEMI_IMPLICIT_EULER, EULER = 0, 1, 2
 """The integrators, by number."""
@@ -93,7 +111,7 @@ def _closed_loop(m, q, v, u, f, ctrl, qdd, sc, work):
     flags, coords, q_ref, v_ref = ctrl
     if flags == 0:  # no feedback: τ = τ_ol
         return aba_core(m, q, v, u, f, qdd, work)
-    tau, g, dq, zero, none, tmp = sc[2], sc[3], sc[4], sc[5], sc[6], sc[7]
+    tau, g, dq, zero, none, tmp = sc.tau, sc.g, sc.dq, sc.zero, sc.none, sc.tmp
     for k in range(m.nv):
         tau[k] = u[k]
     if flags & GRAVITY:
@@ -127,7 +145,7 @@ def _advance(m, q, v, h, tmp, dq, out):
 @inline
 def step(m, method, q, v, u, f, ctrl, dt, qn, vn, a, sc, work):
     """One step of ``method`` from ``(q, v)`` to ``(qn, vn)``; ``a = q̈(q, v)``. A status."""
-    K, Ka, tau, dq, tmp, qs = sc[0], sc[1], sc[2], sc[4], sc[7], sc[8]
+    K, Ka, tau, dq, tmp, qs = sc.K, sc.Ka, sc.tau, sc.dq, sc.tmp, sc.qs
     status = closed_loop_acceleration(m, q, v, u, f, ctrl, a, sc, work)
     if status != OK:
         return status
@@ -172,39 +190,9 @@ def _within_bounds(m, v, coords):
 
 
 @inline
-def workspace_size(n, nq, nv, nl):
-    """The floats of one rollout's scratch (``_scratch``)."""
-    return 15 * nv + 3 * nq + 24
-
-
-@inline
 def core_workspace_size(n, nq, nv, nl):
     """The largest workspace of the cores a step calls, shared by them in turn."""
     return max(aba_workspace(n, nq, nv, nl), rnea_workspace(n, nq, nv, nl))
-
-
-@inline
-def _scratch(buf, m):
-    """K, K̈ (4, nv) the RK4 stages' velocities and accelerations, τ, g, δ, 0 (nv), no
-    wrenches (0, 6), tmp (3, 8), the stage configuration (nq); the loop's state (q, v) and
-    the next one (nq, nv each) and the acceleration (nv)."""
-    K, o = ws.carve(buf, 0, (4, m.nv))
-    Ka, o = ws.carve(buf, o, (4, m.nv))
-    tau, o = ws.carve(buf, o, (m.nv,))
-    g, o = ws.carve(buf, o, (m.nv,))
-    dq, o = ws.carve(buf, o, (m.nv,))
-    zero, o = ws.carve(buf, o, (m.nv,))
-    none, o = ws.carve(buf, o, (0, 6))
-    tmp, o = ws.carve(buf, o, (3, 8))
-    qs, o = ws.carve(buf, o, (m.nq,))
-    q, o = ws.carve(buf, o, (m.nq,))
-    v, o = ws.carve(buf, o, (m.nv,))
-    qn, o = ws.carve(buf, o, (m.nq,))
-    vn, o = ws.carve(buf, o, (m.nv,))
-    a, o = ws.carve(buf, o, (m.nv,))
-    for k in range(m.nv):
-        zero[k] = 0.0
-    return K, Ka, tau, g, dq, zero, none, tmp, qs, q, v, qn, vn, a
 
 
 @parallel
@@ -232,8 +220,10 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, step
         buf = np.empty(size)
         heap = np.empty(csize)
         work = ws.carve(ws.data_pointer(heap), 0, (csize,))[0]  # bare: no reference counts
-        sc = _scratch(ws.data_pointer(buf), mb)
-        q, v, qn, vn, a = sc[9], sc[10], sc[11], sc[12], sc[13]
+        sc = workspace(ws.data_pointer(buf), mb)
+        for k in range(mb.nv):
+            sc.zero[k] = 0.0
+        q, v, qn, vn, a = sc.q, sc.v, sc.qn, sc.vn, sc.a
         # bare views of this rollout's rows (no reference counts in the loop over steps)
         rows = Q.shape[1]
         Qb = _rows(Q[b], rows, mb.nq)
@@ -243,7 +233,7 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, step
         if u.shape[0] > 1:
             ub = _rows(u[b], held, mb.nv)  # this rollout's own
         hold = 1 if held == steps else 0  # a row per step, or one for all
-        fb = sc[6]  # no wrenches, or
+        fb = sc.none  # no wrenches, or
         if f.shape[0] == 1:
             fb = _rows(f[0], mb.n, 6)
         elif f.shape[0] > 1:
