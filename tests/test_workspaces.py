@@ -73,17 +73,16 @@ def test_carving_matches_the_declaration_and_the_size(source):
     for sizes in (Sizes(3, 3, 3, 5), Sizes(5, 11, 10, 7)):
         extra = _extra(module)
         size = module.workspace_size.py_func(*sizes, *extra)
-        buf = np.zeros(size + 5)
-        work, end = module.workspace_at.py_func(buf, 5, sizes, *extra)
-        assert end == size + 5
+        buf = np.zeros(size)
+        work = module.workspace.py_func(buf, sizes, *extra)
         assert list(work._fields) == list(DECLARED[source])
-        o = 5
+        o = 0
         for name, array in zip(work._fields, work, strict=True):
             if array.size:
                 assert array.__array_interface__["data"][0] == buf[o:].ctypes.data, name
             assert array.ndim == len(DECLARED[source][name]), name
             o += array.size
-        assert o == size + 5
+        assert o == size
 
 
 @pytest.mark.parametrize("source", sorted(DECLARED), ids=lambda p: p.stem)
@@ -103,7 +102,7 @@ def test_the_lane_twin_has_the_scalar_offsets(source):
     sizes = Sizes(5, 11, 10, 7)
     size = module.workspace_size.py_func(*sizes, *extra)
     got = offsets(np.zeros(8 * size), sizes, *extra)
-    work, _ = module.workspace_at.py_func(np.zeros(size), 0, sizes, *extra)
+    work = module.workspace.py_func(np.zeros(size), sizes, *extra)
     expected, o = [], 0
     for array in work:
         expected.append(o)

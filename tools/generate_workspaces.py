@@ -20,9 +20,8 @@ From that declaration this script writes, for the module,
 - ``<Module>Workspace``: a named tuple of the arrays (``k.V`` in every core and lane
   pass; no array is ever read by position);
 - ``workspace_size(n, nq, nv, nl)``: the number of floats it takes;
-- ``workspace(buf, m)`` and ``workspace_at(buf, o, m)``: the named tuple carved from a
-  pointer ``buf`` (``_views.data_pointer``) at offset 0 or ``o`` (then also the next
-  offset);
+- ``workspace(buf, m)``: the named tuple carved from a pointer ``buf``
+  (``_views.data_pointer``);
 - ``lane_workspace(buf, m)``: its lane twin, the same arrays for ``W`` samples side by
   side in the flat array ``buf`` (element ``x`` of sample ``l`` at ``x * W + l``), as
   arrays of ``Lanes`` (``kernels.lane_arrays``) at the same offsets, so that a scalar pass
@@ -188,18 +187,8 @@ def module(source: Path, arrays: dict[str, tuple]) -> str:
         "",
         "",
         "@inline",
-        f"def workspace_at(buf, o, m{extra}):",
-        '    """The workspace\'s arrays carved from the pointer ``buf`` at offset ``o``, and',
-        '    the offset after them."""',
-        *carving,
-        "    " + _wrap([f"_{x}" for x in names], f"return {cls}(", "), o", 4),
-        "",
-        "",
-        "@inline",
         f"def workspace(buf, m{extra}):",
-        '    """The workspace\'s arrays carved from the pointer ``buf`` (``workspace_at``',
-        "    at 0, written out: numba's analysis of parallel loops fails on the pair's",
-        '    first item)."""',
+        '    """The workspace\'s arrays carved from the pointer ``buf``."""',
         "    o = 0",
         *carving,
         f"    {tuple_}",

@@ -5,7 +5,7 @@ accelerations, momenta, wrenches and the per-coordinate twists u, ψ, w: D2-D6, 
 16) does the same arithmetic on every sample. Here it runs on a group of ``W`` samples
 laid side by side, one vector instruction per operation, by the scalar pass's own
 ``forward_from_scalars`` on arrays of vectors (``kernels.lane_arrays``), in a workspace
-laid out as the scalar one with every number replaced by ``W`` (``lanes_like``). Only the
+laid out as the scalar one with every number replaced by ``W`` (``lane_workspace``). Only the
 joint scalars (eq. 6: the half-angle sines and cosines) are computed one sample at a time.
 The first half of the backward pass, the composites and P, Q, G, H (D7,
 D11, ``composites``), runs on the group too. What the entries read (S, u, ψ, w, P, Q, G,

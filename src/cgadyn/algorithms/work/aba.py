@@ -40,36 +40,8 @@ def workspace_size(n, nq, nv, nl):
 
 
 @inline
-def workspace_at(buf, o, m):
-    """The workspace's arrays carved from the pointer ``buf`` at offset ``o``, and
-    the offset after them."""
-    _Ad, o = carve(buf, o, (m.n, 6, 6))
-    _V, o = carve(buf, o, (m.n, 6))
-    _C, o = carve(buf, o, (m.n, 6))
-    _Wh, o = carve(buf, o, (m.n, 6))
-    _Ih, o = carve(buf, o, (m.n, 6, 6))
-    _U, o = carve(buf, o, (m.nv, 6))
-    _G, o = carve(buf, o, (m.nv, 6))
-    _ut, o = carve(buf, o, (m.nv,))
-    _u, o = carve(buf, o, (m.nv,))
-    _tmp, o = carve(buf, o, (6,))
-    _tmp2, o = carve(buf, o, (6,))
-    _It, o = carve(buf, o, (6, 6))
-    _D, o = carve(buf, o, (6, 6))
-    _Dinv, o = carve(buf, o, (6, 6))
-    _M, o = carve(buf, o, (m.n, 8))
-    _tmp8, o = carve(buf, o, (8,))
-    _c, o = carve(buf, o, (m.nq,))
-    _s, o = carve(buf, o, (m.nq,))
-    return AbaWorkspace(_Ad, _V, _C, _Wh, _Ih, _U, _G, _ut, _u, _tmp, _tmp2, _It, _D, _Dinv, _M,
-                        _tmp8, _c, _s), o
-
-
-@inline
 def workspace(buf, m):
-    """The workspace's arrays carved from the pointer ``buf`` (``workspace_at``
-    at 0, written out: numba's analysis of parallel loops fails on the pair's
-    first item)."""
+    """The workspace's arrays carved from the pointer ``buf``."""
     o = 0
     _Ad, o = carve(buf, o, (m.n, 6, 6))
     _V, o = carve(buf, o, (m.n, 6))

@@ -31,25 +31,8 @@ def workspace_size(n, nq, nv, nl):
 
 
 @inline
-def workspace_at(buf, o, m):
-    """The workspace's arrays carved from the pointer ``buf`` at offset ``o``, and
-    the offset after them."""
-    _x, o = carve(buf, o, (m.nv,))
-    _b, o = carve(buf, o, (m.nv,))
-    _X, o = carve(buf, o, (m.nv, 2 * m.nv))
-    _acc, o = carve(buf, o, (2 * m.nv,))
-    _Ic, o = carve(buf, o, (m.n, 10))
-    _Fc, o = carve(buf, o, (m.n, 6))
-    _Aq, o = carve(buf, o, (m.n, 6))
-    _rest, o = carve(buf, o, (_rnea_derivatives_size(m.n, m.nq, m.nv, m.nl),))
-    return AbaDerivativesWorkspace(_x, _b, _X, _acc, _Ic, _Fc, _Aq, _rest), o
-
-
-@inline
 def workspace(buf, m):
-    """The workspace's arrays carved from the pointer ``buf`` (``workspace_at``
-    at 0, written out: numba's analysis of parallel loops fails on the pair's
-    first item)."""
+    """The workspace's arrays carved from the pointer ``buf``."""
     o = 0
     _x, o = carve(buf, o, (m.nv,))
     _b, o = carve(buf, o, (m.nv,))

@@ -36,31 +36,8 @@ def workspace_size(n, nq, nv, nl):
 
 
 @inline
-def workspace_at(buf, o, m):
-    """The workspace's arrays carved from the pointer ``buf`` at offset ``o``, and
-    the offset after them."""
-    _Mw, o = carve(buf, o, (m.n, 8))
-    _M, o = carve(buf, o, (m.n, 8))
-    _tmp8, o = carve(buf, o, (8,))
-    _c, o = carve(buf, o, (m.nq,))
-    _s, o = carve(buf, o, (m.nq,))
-    _Ad, o = carve(buf, o, (6, 6))
-    _V, o = carve(buf, o, (m.n, 6))
-    _A, o = carve(buf, o, (m.n, 6))
-    _W, o = carve(buf, o, (6,))
-    _tmp, o = carve(buf, o, (6,))
-    _VJ, o = carve(buf, o, (6,))
-    _Ic, o = carve(buf, o, (m.n, 10))
-    _Sw, o = carve(buf, o, (m.nv, 6))
-    _F, o = carve(buf, o, (m.nv, 6))
-    return CentroidalWorkspace(_Mw, _M, _tmp8, _c, _s, _Ad, _V, _A, _W, _tmp, _VJ, _Ic, _Sw, _F), o
-
-
-@inline
 def workspace(buf, m):
-    """The workspace's arrays carved from the pointer ``buf`` (``workspace_at``
-    at 0, written out: numba's analysis of parallel loops fails on the pair's
-    first item)."""
+    """The workspace's arrays carved from the pointer ``buf``."""
     o = 0
     _Mw, o = carve(buf, o, (m.n, 8))
     _M, o = carve(buf, o, (m.n, 8))

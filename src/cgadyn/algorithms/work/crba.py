@@ -28,24 +28,8 @@ def workspace_size(n, nq, nv, nl):
 
 
 @inline
-def workspace_at(buf, o, m):
-    """The workspace's arrays carved from the pointer ``buf`` at offset ``o``, and
-    the offset after them."""
-    _Ic, o = carve(buf, o, (m.n, 10))
-    _Sw, o = carve(buf, o, (m.nv, 6))
-    _Mw, o = carve(buf, o, (m.n, 8))
-    _M, o = carve(buf, o, (m.n, 8))
-    _tmp8, o = carve(buf, o, (8,))
-    _c, o = carve(buf, o, (m.nq,))
-    _s, o = carve(buf, o, (m.nq,))
-    return CrbaWorkspace(_Ic, _Sw, _Mw, _M, _tmp8, _c, _s), o
-
-
-@inline
 def workspace(buf, m):
-    """The workspace's arrays carved from the pointer ``buf`` (``workspace_at``
-    at 0, written out: numba's analysis of parallel loops fails on the pair's
-    first item)."""
+    """The workspace's arrays carved from the pointer ``buf``."""
     o = 0
     _Ic, o = carve(buf, o, (m.n, 10))
     _Sw, o = carve(buf, o, (m.nv, 6))

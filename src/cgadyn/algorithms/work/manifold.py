@@ -22,18 +22,8 @@ def workspace_size(n, nq, nv, nl):
 
 
 @inline
-def workspace_at(buf, o, m):
-    """The workspace's arrays carved from the pointer ``buf`` at offset ``o``, and
-    the offset after them."""
-    _tmp, o = carve(buf, o, (3, 8))
-    return ManifoldWorkspace(_tmp,), o
-
-
-@inline
 def workspace(buf, m):
-    """The workspace's arrays carved from the pointer ``buf`` (``workspace_at``
-    at 0, written out: numba's analysis of parallel loops fails on the pair's
-    first item)."""
+    """The workspace's arrays carved from the pointer ``buf``."""
     o = 0
     _tmp, o = carve(buf, o, (3, 8))
     return ManifoldWorkspace(_tmp,)

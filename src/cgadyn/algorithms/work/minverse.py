@@ -40,35 +40,8 @@ def workspace_size(n, nq, nv, nl):
 
 
 @inline
-def workspace_at(buf, o, m):
-    """The workspace's arrays carved from the pointer ``buf`` at offset ``o``, and
-    the offset after them."""
-    _Mw, o = carve(buf, o, (m.n, 8))
-    _M, o = carve(buf, o, (m.n, 8))
-    _Ih, o = carve(buf, o, (m.n, 6, 6))
-    _par, o = carve(buf, o, (10,))
-    _F, o = carve(buf, o, (m.n, m.nv, 6))
-    _Sw, o = carve(buf, o, (m.nv, 6))
-    _U, o = carve(buf, o, (m.nv, 6))
-    _G, o = carve(buf, o, (m.nv, 6))
-    _D, o = carve(buf, o, (6, 6))
-    _Dinv, o = carve(buf, o, (6, 6))
-    _It, o = carve(buf, o, (6, 6))
-    _t1, o = carve(buf, o, (6,))
-    _tmp8, o = carve(buf, o, (8,))
-    _c, o = carve(buf, o, (m.nq,))
-    _s, o = carve(buf, o, (m.nq,))
-    _pk, o = carve(buf, o, (2, 6))
-    _e, o = carve(buf, o, (6,))
-    return MinverseWorkspace(_Mw, _M, _Ih, _par, _F, _Sw, _U, _G, _D, _Dinv, _It, _t1, _tmp8,
-                             _c, _s, _pk, _e), o
-
-
-@inline
 def workspace(buf, m):
-    """The workspace's arrays carved from the pointer ``buf`` (``workspace_at``
-    at 0, written out: numba's analysis of parallel loops fails on the pair's
-    first item)."""
+    """The workspace's arrays carved from the pointer ``buf``."""
     o = 0
     _Mw, o = carve(buf, o, (m.n, 8))
     _M, o = carve(buf, o, (m.n, 8))

@@ -48,40 +48,8 @@ def workspace_size(n, nq, nv, nl):
 
 
 @inline
-def workspace_at(buf, o, m):
-    """The workspace's arrays carved from the pointer ``buf`` at offset ``o``, and
-    the offset after them."""
-    _scalar, o = carve(buf, o, (_minverse_size(m.n, m.nq, m.nv, m.nl),))
-    _Sw, o = carve(buf, o, (m.nv, 6))
-    _c, o = carve(buf, o, (m.nq,))
-    _s, o = carve(buf, o, (m.nq,))
-    _Ql, o = carve(buf, o, (m.nq * W,))
-    _Cl, o = carve(buf, o, (m.nq * W,))
-    _Snl, o = carve(buf, o, (m.nq * W,))
-    _T8l, o = carve(buf, o, (8 * W,))
-    _Mjl, o = carve(buf, o, (m.n * 8 * W,))
-    _Mwl, o = carve(buf, o, (m.n * 8 * W,))
-    _Rl, o = carve(buf, o, (10 * W,))
-    _Sl, o = carve(buf, o, (m.nv * 6 * W,))
-    _Il, o = carve(buf, o, (m.n * 36 * W,))
-    _Ul, o = carve(buf, o, (m.nv * 6 * W,))
-    _Gl, o = carve(buf, o, (m.nv * 6 * W,))
-    _Al, o = carve(buf, o, (m.n * 6 * W,))
-    _Ml, o = carve(buf, o, (m.nv * m.nv * W,))
-    _Dl, o = carve(buf, o, (36 * W,))
-    _Pl, o = carve(buf, o, (36 * W,))
-    _Tl, o = carve(buf, o, (12 * W,))
-    _pk, o = carve(buf, o, (12,))
-    _Ol, o = carve(buf, o, (W, m.nv, m.nv))
-    return MinverseLanesWorkspace(_scalar, _Sw, _c, _s, _Ql, _Cl, _Snl, _T8l, _Mjl, _Mwl, _Rl,
-                                  _Sl, _Il, _Ul, _Gl, _Al, _Ml, _Dl, _Pl, _Tl, _pk, _Ol), o
-
-
-@inline
 def workspace(buf, m):
-    """The workspace's arrays carved from the pointer ``buf`` (``workspace_at``
-    at 0, written out: numba's analysis of parallel loops fails on the pair's
-    first item)."""
+    """The workspace's arrays carved from the pointer ``buf``."""
     o = 0
     _scalar, o = carve(buf, o, (_minverse_size(m.n, m.nq, m.nv, m.nl),))
     _Sw, o = carve(buf, o, (m.nv, 6))

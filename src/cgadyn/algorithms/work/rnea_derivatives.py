@@ -46,40 +46,8 @@ def workspace_size(n, nq, nv, nl):
 
 
 @inline
-def workspace_at(buf, o, m):
-    """The workspace's arrays carved from the pointer ``buf`` at offset ``o``, and
-    the offset after them."""
-    _Mw, o = carve(buf, o, (m.n, 8))
-    _M, o = carve(buf, o, (m.n, 8))
-    _V, o = carve(buf, o, (m.n, 6))
-    _A, o = carve(buf, o, (m.n, 6))
-    _h, o = carve(buf, o, (m.n, 6))
-    _F, o = carve(buf, o, (m.n, 6))
-    _Iw, o = carve(buf, o, (m.n, 10))
-    _Id, o = carve(buf, o, (m.n, 10))
-    _Sw, o = carve(buf, o, (m.nv, 6))
-    _U, o = carve(buf, o, (m.nv, 6))
-    _Psi, o = carve(buf, o, (m.nv, 6))
-    _Wv, o = carve(buf, o, (m.nv, 6))
-    _P, o = carve(buf, o, (6, m.nv))
-    _Q, o = carve(buf, o, (6, m.nv))
-    _G, o = carve(buf, o, (6, m.nv))
-    _H, o = carve(buf, o, (6, m.nv))
-    _g, o = carve(buf, o, (6,))
-    _t1, o = carve(buf, o, (6,))
-    _t2, o = carve(buf, o, (6,))
-    _tmp8, o = carve(buf, o, (8,))
-    _c, o = carve(buf, o, (m.nq,))
-    _s, o = carve(buf, o, (m.nq,))
-    return RneaDerivativesWorkspace(_Mw, _M, _V, _A, _h, _F, _Iw, _Id, _Sw, _U, _Psi, _Wv, _P,
-                                    _Q, _G, _H, _g, _t1, _t2, _tmp8, _c, _s), o
-
-
-@inline
 def workspace(buf, m):
-    """The workspace's arrays carved from the pointer ``buf`` (``workspace_at``
-    at 0, written out: numba's analysis of parallel loops fails on the pair's
-    first item)."""
+    """The workspace's arrays carved from the pointer ``buf``."""
     o = 0
     _Mw, o = carve(buf, o, (m.n, 8))
     _M, o = carve(buf, o, (m.n, 8))

@@ -35,26 +35,8 @@ def workspace_size(n, nq, nv, nl):
 
 
 @inline
-def workspace_at(buf, o, m):
-    """The workspace's arrays carved from the pointer ``buf`` at offset ``o``, and
-    the offset after them."""
-    _samples, o = carve(buf, o, (W, _rnea_derivatives_size(m.n, m.nq, m.nv, m.nl)))
-    _lanes, o = carve(buf, o, (W * _rnea_derivatives_size(m.n, m.nq, m.nv, m.nl),))
-    _Ql, o = carve(buf, o, (m.nq * W,))
-    _Vl, o = carve(buf, o, (m.nv * W,))
-    _Al, o = carve(buf, o, (m.nv * W,))
-    _Fl, o = carve(buf, o, (m.n * 6 * W,))
-    _r0, o = carve(buf, o, (m.nv, m.nv))
-    _r1, o = carve(buf, o, (m.nv, m.nv))
-    _r2, o = carve(buf, o, (m.nv, m.nv))
-    return RneaDerivativesLanesWorkspace(_samples, _lanes, _Ql, _Vl, _Al, _Fl, _r0, _r1, _r2), o
-
-
-@inline
 def workspace(buf, m):
-    """The workspace's arrays carved from the pointer ``buf`` (``workspace_at``
-    at 0, written out: numba's analysis of parallel loops fails on the pair's
-    first item)."""
+    """The workspace's arrays carved from the pointer ``buf``."""
     o = 0
     _samples, o = carve(buf, o, (W, _rnea_derivatives_size(m.n, m.nq, m.nv, m.nl)))
     _lanes, o = carve(buf, o, (W * _rnea_derivatives_size(m.n, m.nq, m.nv, m.nl),))

@@ -36,32 +36,8 @@ def workspace_size(n, nq, nv, nl):
 
 
 @inline
-def workspace_at(buf, o, m):
-    """The workspace's arrays carved from the pointer ``buf`` at offset ``o``, and
-    the offset after them."""
-    _K, o = carve(buf, o, (4, m.nv))
-    _Ka, o = carve(buf, o, (4, m.nv))
-    _tau, o = carve(buf, o, (m.nv,))
-    _g, o = carve(buf, o, (m.nv,))
-    _dq, o = carve(buf, o, (m.nv,))
-    _zero, o = carve(buf, o, (m.nv,))
-    _none, o = carve(buf, o, (0, 6))
-    _tmp, o = carve(buf, o, (3, 8))
-    _qs, o = carve(buf, o, (m.nq,))
-    _q, o = carve(buf, o, (m.nq,))
-    _v, o = carve(buf, o, (m.nv,))
-    _qn, o = carve(buf, o, (m.nq,))
-    _vn, o = carve(buf, o, (m.nv,))
-    _a, o = carve(buf, o, (m.nv,))
-    return RolloutWorkspace(_K, _Ka, _tau, _g, _dq, _zero, _none, _tmp, _qs, _q, _v, _qn, _vn,
-                            _a), o
-
-
-@inline
 def workspace(buf, m):
-    """The workspace's arrays carved from the pointer ``buf`` (``workspace_at``
-    at 0, written out: numba's analysis of parallel loops fails on the pair's
-    first item)."""
+    """The workspace's arrays carved from the pointer ``buf``."""
     o = 0
     _K, o = carve(buf, o, (4, m.nv))
     _Ka, o = carve(buf, o, (4, m.nv))

@@ -36,30 +36,8 @@ def workspace_size(n, nq, nv, nl, nr, window):
 
 
 @inline
-def workspace_at(buf, o, m, nr, window):
-    """The workspace's arrays carved from the pointer ``buf`` at offset ``o``, and
-    the offset after them."""
-    _stack, o = carve(buf, o, (__stack_size(m.n, m.nq, m.nv, m.nl),))
-    _r, o = carve(buf, o, (nr,))
-    _J, o = carve(buf, o, (nr, m.nv))
-    _r2, o = carve(buf, o, (nr,))
-    _J2, o = carve(buf, o, (nr, m.nv))
-    _A, o = carve(buf, o, (m.nv, m.nv))
-    _g, o = carve(buf, o, (m.nv,))
-    _d, o = carve(buf, o, (m.nv,))
-    _qc, o = carve(buf, o, (m.nq,))
-    _qt, o = carve(buf, o, (m.nq,))
-    _tmp, o = carve(buf, o, (3, 8))
-    _free, o = carve(buf, o, (m.nv,))
-    _ring, o = carve(buf, o, (window + 1,))
-    return SolveWorkspace(_stack, _r, _J, _r2, _J2, _A, _g, _d, _qc, _qt, _tmp, _free, _ring), o
-
-
-@inline
 def workspace(buf, m, nr, window):
-    """The workspace's arrays carved from the pointer ``buf`` (``workspace_at``
-    at 0, written out: numba's analysis of parallel loops fails on the pair's
-    first item)."""
+    """The workspace's arrays carved from the pointer ``buf``."""
     o = 0
     _stack, o = carve(buf, o, (__stack_size(m.n, m.nq, m.nv, m.nl),))
     _r, o = carve(buf, o, (nr,))

@@ -44,39 +44,8 @@ def workspace_size(n, nq, nv, nl):
 
 
 @inline
-def workspace_at(buf, o, m):
-    """The workspace's arrays carved from the pointer ``buf`` at offset ``o``, and
-    the offset after them."""
-    _M, o = carve(buf, o, (m.n, 8))
-    _Mw, o = carve(buf, o, (m.n, 8))
-    _c, o = carve(buf, o, (m.nq,))
-    _s, o = carve(buf, o, (m.nq,))
-    _tmp8, o = carve(buf, o, (8,))
-    _L, o = carve(buf, o, (8,))
-    _F, o = carve(buf, o, (8,))
-    _E, o = carve(buf, o, (8,))
-    _tw, o = carve(buf, o, (6,))
-    _xi, o = carve(buf, o, (6,))
-    _Jf, o = carve(buf, o, (6, m.nv))
-    _J6, o = carve(buf, o, (6, 6))
-    _t, o = carve(buf, o, (6, 3, 3))
-    _F2, o = carve(buf, o, (8,))
-    _H, o = carve(buf, o, (8,))
-    _K2, o = carve(buf, o, (6, 6))
-    _K3, o = carve(buf, o, (6, 6))
-    _Ma, o = carve(buf, o, (8,))
-    _Mr, o = carve(buf, o, (8,))
-    _Ja, o = carve(buf, o, (6, m.nv))
-    _Jr, o = carve(buf, o, (6, m.nv))
-    return StackWorkspace(_M, _Mw, _c, _s, _tmp8, _L, _F, _E, _tw, _xi, _Jf, _J6, _t, _F2, _H,
-                          _K2, _K3, _Ma, _Mr, _Ja, _Jr), o
-
-
-@inline
 def workspace(buf, m):
-    """The workspace's arrays carved from the pointer ``buf`` (``workspace_at``
-    at 0, written out: numba's analysis of parallel loops fails on the pair's
-    first item)."""
+    """The workspace's arrays carved from the pointer ``buf``."""
     o = 0
     _M, o = carve(buf, o, (m.n, 8))
     _Mw, o = carve(buf, o, (m.n, 8))
