@@ -134,6 +134,44 @@ def test_no_workspace_is_read_by_position():
     assert not bad, "\n".join(bad)
 
 
+_ALLOCATIONS = {"empty", "zeros", "ones", "full", "empty_like", "zeros_like", "copy"}
+
+
+def _root(node: ast.expr) -> ast.expr:
+    while isinstance(node, (ast.Attribute, ast.Subscript)):
+        node = node.value
+    return node
+
+
+def test_bare_views_are_carved_from_arguments():
+    """A bare view (``data_pointer``, ``_views.carve``) owns no reference, and compiled code
+    frees a local array after its last use, not at the end of its scope: a workspace
+    allocated in a function and carved there is freed before its views are used. So every
+    ``data_pointer`` reads an argument of its function (or a view carved from one), never
+    an array the same function allocates."""
+    bad = []
+    for path in PACKAGE.rglob("*.py"):
+        tree = ast.parse(path.read_text())
+        for fn in ast.walk(tree):
+            if not isinstance(fn, ast.FunctionDef):
+                continue
+            allocated = {
+                target.id for node in ast.walk(fn) if isinstance(node, ast.Assign)
+                and isinstance(node.value, ast.Call)
+                and isinstance(node.value.func, ast.Attribute)
+                and node.value.func.attr in _ALLOCATIONS
+                for target in node.targets if isinstance(target, ast.Name)}
+            for node in ast.walk(fn):
+                if (isinstance(node, ast.Call) and isinstance(node.func, (ast.Name, ast.Attribute))
+                        and (getattr(node.func, "id", None) or node.func.attr) == "data_pointer"
+                        and node.args):
+                    root = _root(node.args[0])
+                    if isinstance(root, ast.Call) or (isinstance(root, ast.Name)
+                                                      and root.id in allocated):
+                        bad.append(f"{path.relative_to(ROOT)}:{node.lineno} {ast.unparse(node)}")
+    assert not bad, "\n".join(bad)
+
+
 def test_a_bad_declaration_is_refused(tmp_path, monkeypatch):
     with pytest.raises(ValueError, match="size argument"):
         GENERATOR.module(PACKAGE / "algorithms" / "rnea.py", {"X": ("N", 6)})

@@ -50,7 +50,7 @@ from __future__ import annotations
 import numpy as np
 from numba import prange
 
-from .._jit import inline, parallel
+from .._jit import inline, parallel, serial
 from ..algorithms import _workspace as ws
 from ..algorithms._checks import finite
 from ..algorithms._workspace import chunks
@@ -212,62 +212,72 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, step
     after it.
     """
     m = unpack(packed)
-    B, held = q0.shape[0], u.shape[1]
     size = workspace_size(m.n, m.nq, m.nv, m.nl)
     csize = core_workspace_size(m.n, m.nq, m.nv, m.nl)
-    for b in prange(B):
-        mb = unpack(packed)
-        buf = np.empty(size)
-        heap = np.empty(csize)
-        work = ws.carve(ws.data_pointer(heap), 0, (csize,))[0]  # bare: no reference counts
-        sc = workspace(ws.data_pointer(buf), mb)
-        for k in range(mb.nv):
-            sc.zero[k] = 0.0
-        q, v, qn, vn, a = sc.q, sc.v, sc.qn, sc.vn, sc.a
-        # bare views of this rollout's rows (no reference counts in the loop over steps)
-        rows = Q.shape[1]
-        Qb = _rows(Q[b], rows, mb.nq)
-        Vb = _rows(V[b], rows, mb.nv)
-        Ab = _rows(A[b], rows, mb.nv)
-        ub = _rows(u[0], held, mb.nv)  # shared by all rollouts, or
-        if u.shape[0] > 1:
-            ub = _rows(u[b], held, mb.nv)  # this rollout's own
-        hold = 1 if held == steps else 0  # a row per step, or one for all
-        fb = sc.none  # no wrenches, or
-        if f.shape[0] == 1:
-            fb = _rows(f[0], mb.n, 6)
-        elif f.shape[0] > 1:
-            fb = _rows(f[b], mb.n, 6)
-        ctrl = (flags, _rows(coords, 4, mb.nv), _rows(q_ref[b], 1, mb.nq)[0],
-                _rows(v_ref[b], 1, mb.nv)[0])
+    for b in prange(q0.shape[0]):
+        # the buffers are arguments of the call that carves them: alive while it runs
+        _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, steps,
+                 every, Q, V, A, completed, status, np.empty(size), np.empty(csize))
+
+
+@serial
+def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, steps, every,
+             Q, V, A, completed, status, buf, heap):
+    """Rollout ``b`` of ``rollouts``, in the scratch ``buf`` (``workspace``) and the cores'
+    workspace ``heap`` (``core_workspace_size``). Bare views (``_views.carve``) are valid
+    only while the array they view lives, and compiled code frees a local array after its
+    last use, not at the end of its scope: so the two buffers are this function's
+    arguments, alive until it returns."""
+    mb = unpack(packed)
+    held = u.shape[1]
+    work = ws.carve(ws.data_pointer(heap), 0, (heap.shape[0],))[0]  # bare: no reference counts
+    sc = workspace(ws.data_pointer(buf), mb)
+    for k in range(mb.nv):
+        sc.zero[k] = 0.0
+    q, v, qn, vn, a = sc.q, sc.v, sc.qn, sc.vn, sc.a
+    # bare views of this rollout's rows (no reference counts in the loop over steps)
+    rows = Q.shape[1]
+    Qb = _rows(Q[b], rows, mb.nq)
+    Vb = _rows(V[b], rows, mb.nv)
+    Ab = _rows(A[b], rows, mb.nv)
+    ub = _rows(u[0], held, mb.nv)  # shared by all rollouts, or
+    if u.shape[0] > 1:
+        ub = _rows(u[b], held, mb.nv)  # this rollout's own
+    hold = 1 if held == steps else 0  # a row per step, or one for all
+    fb = sc.none  # no wrenches, or
+    if f.shape[0] == 1:
+        fb = _rows(f[0], mb.n, 6)
+    elif f.shape[0] > 1:
+        fb = _rows(f[b], mb.n, 6)
+    ctrl = (flags, _rows(coords, 4, mb.nv), _rows(q_ref[b], 1, mb.nq)[0],
+            _rows(v_ref[b], 1, mb.nv)[0])
+    for k in range(mb.nq):
+        q[k] = q0[b, k]
+    for k in range(mb.nv):
+        v[k] = v0[b, k]
+    s = OK
+    done = 0
+    for i in range(steps):
+        s = step(mb, method, q, v, ub[hold * i], fb, ctrl, dt, qn, vn, a, sc, work)
+        r = kept_row(i, steps, every)
+        if r >= 0:
+            _keep(q, v, a, Qb[r], Vb[r], Ab[r])
+        if s != OK:
+            break
         for k in range(mb.nq):
-            q[k] = q0[b, k]
+            q[k] = qn[k]
         for k in range(mb.nv):
-            v[k] = v0[b, k]
-        s = OK
-        done = 0
-        for i in range(steps):
-            s = step(mb, method, q, v, ub[hold * i], fb, ctrl, dt, qn, vn, a, sc, work)
-            r = kept_row(i, steps, every)
-            if r >= 0:
-                _keep(q, v, a, Qb[r], Vb[r], Ab[r])
-            if s != OK:
-                break
-            for k in range(mb.nq):
-                q[k] = qn[k]
-            for k in range(mb.nv):
-                v[k] = vn[k]
-            done = i + 1
-        if s == OK:
-            s = closed_loop_acceleration(mb, q, v, ub[hold * (steps - 1)], fb, ctrl, a, sc,
-                                         work)
-            r = kept_row(steps, steps, every)
-            _keep(q, v, a, Qb[r], Vb[r], Ab[r])
-        elif kept_row(done, steps, every) < 0:
-            r = stop_row(done, every)
-            _keep(q, v, a, Qb[r], Vb[r], Ab[r])
-        completed[b] = done
-        status[b] = s
+            v[k] = vn[k]
+        done = i + 1
+    if s == OK:
+        s = closed_loop_acceleration(mb, q, v, ub[hold * (steps - 1)], fb, ctrl, a, sc, work)
+        r = kept_row(steps, steps, every)
+        _keep(q, v, a, Qb[r], Vb[r], Ab[r])
+    elif kept_row(done, steps, every) < 0:
+        r = stop_row(done, every)
+        _keep(q, v, a, Qb[r], Vb[r], Ab[r])
+    completed[b] = done
+    status[b] = s
 
 
 @inline
@@ -322,10 +332,17 @@ def energies(packed, Q, V, last, E, threads):
     size = energy_workspace(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(B * rows, threads)
     for c in prange(starts.shape[0]):
-        mc = unpack(packed)
-        heap = np.empty(size)
-        work = ws.carve(ws.data_pointer(heap), 0, (size,))[0]
-        for r in range(starts[c], stops[c]):
-            b, i = r // rows, r % rows
-            if i <= last[b]:
-                energy_core(mc, Q[b, i], V[b, i], E[b, i], work)  # a fault leaves NaN
+        _energies_of(packed, Q, V, last, E, starts[c], stops[c], np.empty(size))
+
+
+@serial
+def _energies_of(packed, Q, V, last, E, start, stop, heap):
+    """Rows ``start`` to ``stop`` of ``energies``, in the workspace ``heap`` (an argument,
+    so alive while its bare view is used: ``_rollout``)."""
+    m = unpack(packed)
+    rows = Q.shape[1]
+    work = ws.carve(ws.data_pointer(heap), 0, (heap.shape[0],))[0]
+    for r in range(start, stop):
+        b, i = r // rows, r % rows
+        if i <= last[b]:
+            energy_core(m, Q[b, i], V[b, i], E[b, i], work)  # a fault leaves NaN

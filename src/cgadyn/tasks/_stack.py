@@ -74,7 +74,14 @@ def cooperative_space(packed, q, task, Ma, Ja, Mr, Jr):
     """The absolute and relative motors and their Jacobians of a cooperative task row's two
     links at q (``_cooperative``, C1-C4), for Python."""
     m = unpack(packed)
-    work = np.empty(workspace_size(m.n, m.nq, m.nv, m.nl))
+    _cooperative_space(m, q, task, Ma, Ja, Mr, Jr, np.empty(workspace_size(m.n, m.nq, m.nv,
+                                                                           m.nl)))
+
+
+@serial
+def _cooperative_space(m, q, task, Ma, Ja, Mr, Jr, work):
+    """``cooperative_space`` in ``work``, an argument: the bare views carved from it are
+    valid while it lives (``_views.data_pointer``)."""
     sw = workspace(data_pointer(work), m)
     world_motors(m, q, sw.c, sw.s, sw.tmp8, sw.M, sw.Mw)
     cooperative(m, sw.Mw, task, Ma, Ja, Mr, Jr, sw)
@@ -84,6 +91,11 @@ def cooperative_space(packed, q, task, Ma, Ja, Mr, Jr):
 def evaluate(packed, q, tasks, r, J):
     """``r, J`` of a stack at one configuration (for Python: tests, the task objects)."""
     m = unpack(packed)
-    work = np.empty(workspace_size(m.n, m.nq, m.nv, m.nl))
+    _evaluate(m, q, tasks, r, J, np.empty(workspace_size(m.n, m.nq, m.nv, m.nl)))
+
+
+@serial
+def _evaluate(m, q, tasks, r, J, work):
+    """``evaluate`` in ``work``, an argument (``_cooperative_space``)."""
     stack_rows(m, q, tasks, r, J, workspace(data_pointer(work), m))
 
