@@ -4,12 +4,10 @@ model and workspaces hold what they should."""
 
 from __future__ import annotations
 
-import importlib
 import json
 import os
 import subprocess
 import sys
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -208,18 +206,6 @@ def test_packed_model_unpacks_to_its_fields():
         np.testing.assert_allclose(motion_from_twist(got[15]), [0, 0, 9.81, 0, 0, 0])
         moon = _unpacked(with_gravity(m.packed, (0.0, 0.0, -1.62)))[15]
         np.testing.assert_allclose(motion_from_twist(moon), [0, 0, 1.62, 0, 0, 0])
-
-
-@pytest.mark.parametrize("alg", ALGORITHMS, ids=lambda a: a.name)
-def test_workspace_sizes_match_their_carving(alg):
-    """Each core carves exactly ``workspace_size`` floats (run in pure Python: ``carve``
-    slices a numpy buffer there)."""
-    module = importlib.import_module(f"cgadyn.algorithms.{alg.module}")
-    for n, nq, nv, nl in ((3, 3, 3, 5), (5, 11, 10, 7)):
-        size = module.workspace_size.py_func(n, nq, nv, nl)
-        m = SimpleNamespace(n=n, nq=nq, nv=nv, nl=nl)
-        arrays = module._workspace.py_func(np.zeros(size), m)
-        assert sum(a.size for a in arrays) == size
 
 
 def _chain(n: int) -> cgadyn.Model:

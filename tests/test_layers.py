@@ -28,6 +28,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("multibody",),
     ("algorithms",),
     ("tasks",),
+    ("constraints",),
     ("sim",),
     ("distributed",),
     ("oracle", "mujoco_oracle"),

@@ -6,7 +6,7 @@ import json
 import pytest
 
 from cgadyn.cli import main
-from cgadyn.pga import cli
+from cgadyn.commands import simulate_body as cli
 
 
 def parse(argv):

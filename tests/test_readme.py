@@ -19,3 +19,7 @@ def test_readme_examples_run():
     assert (solo.nq, solo.nv) == (19, 18)
     np.testing.assert_allclose(
         namespace["cgadyn"].difference(solo, q, namespace["q_next"]), 0.01 * v, atol=1e-14)
+    # the quadruped held by its feet: still, and its weight on its feet
+    weight = 9.81 * namespace["cgadyn"].total_mass(solo)
+    assert abs(namespace["forces"][2::3].sum() - weight) <= 1e-12 * weight
+    assert np.abs(namespace["qdd"]).max() <= 1e-10

@@ -5,7 +5,6 @@ pattern, controllers, blow-ups and bad input."""
 from __future__ import annotations
 
 import warnings
-from types import SimpleNamespace
 
 import numpy as np
 import pinocchio as pin
@@ -255,10 +254,3 @@ def test_bad_gains(gains, match):
         PD(*gains)
 
 
-def test_scratch_size_matches_its_carving():
-    from cgadyn.sim import rollout
-
-    for n, nq, nv, nl in ((3, 3, 3, 5), (5, 11, 10, 7)):
-        size = rollout.workspace_size.py_func(n, nq, nv, nl)
-        arrays = rollout._scratch.py_func(np.zeros(size), SimpleNamespace(n=n, nq=nq, nv=nv))
-        assert sum(a.size for a in arrays) == size

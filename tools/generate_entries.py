@@ -163,12 +163,14 @@ def module(alg) -> str:
         "from ...multibody.packed import unpack",
         "from .._pointers import SIGNATURE, packed_array",
         "from .._workspace import STACK_FLOATS, chunks, stack_buffer",
-        f"from ..{alg.module} import {alg.core}, workspace_size",
+        f"from ..{alg.module} import {alg.core}",
     ]
     if alg.group:
         imports.append(f"from ..{alg.group} import {alg.name}_group")
-        imports.append(f"from ..{alg.group} import workspace_size as group_workspace_size")
     imports.append("from ..status import OK, WRONG_SHAPE" + ("" if alg.group else ", at_sample"))
+    imports.append(f"from ..work.{alg.module} import workspace_size")
+    if alg.group:
+        imports.append(f"from ..work.{alg.group} import workspace_size as group_workspace_size")
     doc = (f'"""Compiled entry points of ``{alg.name}``: one sample, C, batch.\n\n'
            f'{GENERATED}\n"""\n\n')
     return doc + "\n".join(imports) + "\n" + entries(alg) + "\n"

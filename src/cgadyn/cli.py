@@ -33,7 +33,7 @@ from .commands.common import UsageError
 __all__ = ["COMMANDS", "build_parser", "main"]
 
 COMMANDS = ("cgadyn.commands.validate", "cgadyn.commands.info", "cgadyn.commands.robots",
-            "cgadyn.commands.bench", "cgadyn.pga.cli",
+            "cgadyn.commands.bench", "cgadyn.commands.simulate_body",
             "cgadyn.commands.ik", "cgadyn.commands.simulate")
 """The modules that register a subcommand, in the order ``--help`` lists them."""
 

@@ -278,3 +278,29 @@ def conditioning(model, q: np.ndarray) -> np.ndarray:
 def finite_or_none(x: float):
     """A number for standard JSON: ``None`` for NaN and inf."""
     return float(x) if math.isfinite(x) else None
+
+
+def pin_constraints(model, pm, constraints):
+    """Pinocchio's ``(StdVec_RigidConstraintModel, StdVec_RigidConstraintData)`` of cgadyn
+    ``Constraint``s: each end on the joint that carries its link (joint 0, the world, for a
+    world anchor or a link fixed to the world), its placement in that joint's frame, the
+    same reference frame and Baumgarte gains."""
+    pin = _pin()
+    kinds = {"point": pin.ContactType.CONTACT_3D, "frame": pin.ContactType.CONTACT_6D}
+    frames = {"local": pin.LOCAL, "local_world_aligned": pin.LOCAL_WORLD_ALIGNED}
+
+    def end(link, placement):
+        if link is None:
+            return 0, pin.SE3(placement)
+        joint = int(model.link_joint[link])
+        return joint + 1, pin.SE3(model.link_placement_matrices[link] @ placement)
+
+    models, datas = pin.StdVec_RigidConstraintModel(), pin.StdVec_RigidConstraintData()
+    for c in constraints:
+        j1, P1 = end(c.link, c.placement)
+        j2, P2 = end(c.other, c.other_placement)
+        cm = pin.RigidConstraintModel(kinds[c.kind], pm, j1, P1, j2, P2, frames[c.frame])
+        cm.setBaumgarteCorrectorParameters(pin.BaumgarteCorrectorParameters(*c.corrector))
+        models.append(cm)
+        datas.append(cm.createData())
+    return models, datas

@@ -6,8 +6,9 @@ pointer ``data_pointer(work)``). A one-sample entry takes ``work`` from its own 
 (``stack_buffer``: no allocator, no reference counts, gone when the call returns) up to
 ``STACK_FLOATS``; a batch allocates one heap workspace per chunk of samples. Both are arrays
 of one type, so each core is compiled for one signature. Concurrent calls never share
-memory. Each core module has a ``workspace_size(n, nv, nl)`` and a ``_workspace`` that
-carves exactly that many floats (a test checks the two agree).
+memory. Each core module declares its arrays once, by name and shape, in ``WORKSPACE``;
+``tools/generate_workspaces.py`` writes from it ``work/<module>.py``, with the size, the
+carving into a named tuple and the lane twin (``docs/architecture.md``, "Workspaces").
 """
 
 from __future__ import annotations

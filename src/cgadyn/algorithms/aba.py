@@ -72,6 +72,28 @@ from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from ._dense import spd_inverse
 from .status import OK, SINGULAR, fault
+from .work.aba import workspace
+
+WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py)
+    "Ad": ("n", 6, 6),  # M_j (·) ~M_j as a matrix, per body
+    "V": ("n", 6),  # the bodies' twists
+    "C": ("n", 6),  # the bias twists c_j
+    "Wh": ("n", 6),  # the bias wrenches
+    "Ih": ("n", 6, 6),  # the articulated inertias Î_j
+    "U": ("nv", 6),  # U_j = Î_j[S_j]
+    "G": ("nv", 6),  # D_j⁻¹ U_j
+    "ut": ("nv",),  # ũ
+    "u": ("nv",),  # τ̂
+    "tmp": (6,),
+    "tmp2": (6,),
+    "It": (6, 6),  # Ĩ_j
+    "D": (6, 6),
+    "Dinv": (6, 6),
+    "M": ("n", 8),  # the joint motors
+    "tmp8": (8,),
+    "c": ("nq",),  # the joint motors' scalars (eq. 6)
+    "s": ("nq",),
+}
 
 
 @core
@@ -82,8 +104,25 @@ def aba_core(m, q, v, tau, f, qdd, work):
     if status != OK:
         return status
     n, S = m.n, m.S
-    Ad, V, C, Wh, Ih, U, G, ut, u, tmp, tmp2, It, D, Dinv, M, tmp8, c, s = _workspace(
-        ws.data_pointer(work), m)
+    k_ = workspace(ws.data_pointer(work), m)
+    Ad = k_.Ad
+    V = k_.V
+    C = k_.C
+    Wh = k_.Wh
+    Ih = k_.Ih
+    U = k_.U
+    G = k_.G
+    ut = k_.ut
+    u = k_.u
+    tmp = k_.tmp
+    tmp2 = k_.tmp2
+    It = k_.It
+    D = k_.D
+    Dinv = k_.Dinv
+    M = k_.M
+    tmp8 = k_.tmp8
+    c = k_.c
+    s = k_.s
     joint_scalars(q, c, s)  # the scalars of every revolute joint motor (eq. 6)
     joint_motors(m, q, c, s, tmp8, M)  # M_j = X_j M_J(q_j)
     for j in range(n):
@@ -204,33 +243,3 @@ def _articulated(Ih, U, G, k0, k1, It):
     for k in range(6):
         for l in range(k + 1, 6):
             It[l, k] = It[k, l]
-
-
-@inline
-def workspace_size(n, nq, nv, nl):
-    return 98 * n + 2 * nq + 14 * nv + 128
-
-
-@inline
-def _workspace(buf, m):
-    """Ad, Ih (n,6,6), V, C, Wh (n,6), U, G (nv,6), ũ, τ̂ (nv), tmp, tmp2 (6), It, D, D⁻¹
-    (6,6), M (n,8), tmp8 (8), the joint motors' scalars c, s (nq)."""
-    Ad, o = ws.carve(buf, 0, (m.n, 6, 6))
-    V, o = ws.carve(buf, o, (m.n, 6))
-    C, o = ws.carve(buf, o, (m.n, 6))
-    Wh, o = ws.carve(buf, o, (m.n, 6))
-    Ih, o = ws.carve(buf, o, (m.n, 6, 6))
-    U, o = ws.carve(buf, o, (m.nv, 6))
-    G, o = ws.carve(buf, o, (m.nv, 6))
-    ut, o = ws.carve(buf, o, (m.nv,))
-    u, o = ws.carve(buf, o, (m.nv,))
-    tmp, o = ws.carve(buf, o, (6,))
-    tmp2, o = ws.carve(buf, o, (6,))
-    It, o = ws.carve(buf, o, (6, 6))
-    D, o = ws.carve(buf, o, (6, 6))
-    Dinv, o = ws.carve(buf, o, (6, 6))
-    M, o = ws.carve(buf, o, (m.n, 8))
-    tmp8, o = ws.carve(buf, o, (8,))
-    c, o = ws.carve(buf, o, (m.nq,))
-    s, o = ws.carve(buf, o, (m.nq,))
-    return Ad, V, C, Wh, Ih, U, G, ut, u, tmp, tmp2, It, D, Dinv, M, tmp8, c, s

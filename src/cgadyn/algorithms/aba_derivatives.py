@@ -21,10 +21,21 @@ from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from ._dense import minus_product, rows_subtract1, rows_subtract4
 from .ltdl import ltdl, ltdl_inverse, ltdl_solve, ltdl_solve_rows, supports
-from .rnea_derivatives import _workspace as rnea_derivatives_workspace
 from .rnea_derivatives import rnea_derivatives_backward, rnea_derivatives_forward
-from .rnea_derivatives import workspace_size as rnea_derivatives_size
 from .status import OK, SINGULAR, fault
+from .work.aba_derivatives import workspace
+from .work.rnea_derivatives import workspace as rnea_derivatives_workspace
+
+WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py)
+    "x": ("nv",),  # q̈ (zero for the forward pass)
+    "b": ("nv",),  # the bias τ(q, v, 0)
+    "X": ("nv", "2 * nv"),  # [∂τ/∂q  ∂τ/∂v]
+    "acc": ("2 * nv",),  # a row of its product with M⁻¹
+    "Ic": ("n", 10),  # the composites' copies (D7)
+    "Fc": ("n", 6),
+    "Aq": ("n", 6),  # q̈'s part of the accelerations
+    "rest": ("size(rnea_derivatives)",),  # the rnea derivatives' workspace
+}
 
 
 @inline
@@ -75,7 +86,7 @@ def mass_and_bias(m, k_, Ic, Fc, H, b):
     torques of that pass ``b = τ(q, v, 0)`` (the bias, ``⟨S_k, F^c⟩``), with the
     composites accumulated in the copies ``Ic`` (n, 10) and ``Fc`` (n, 6) (D7), so that
     the body inertias and wrenches stay for the passes at q̈."""
-    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H_, g, t1, t2, tmp8, c, s = k_
+    Iw, Sw = k_.Iw, k_.Sw
     for j in range(m.n):
         for i in range(10):
             Ic[j, i] = Iw[j, i]
@@ -98,7 +109,7 @@ def mass_and_bias(m, k_, Ic, Fc, H, b):
 def bias(m, k_, Fc, b):
     """The torques of the forward pass at q̈ = 0, ``b = τ(q, v, 0) = ⟨S_k, F^c⟩`` (D13),
     with the composite wrenches accumulated in the copy ``Fc`` (n, 6)."""
-    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H_, g, t1, t2, tmp8, c, s = k_
+    F, Sw = k_.F, k_.Sw
     for j in range(m.n):
         for i in range(6):
             Fc[j, i] = F[j, i]
@@ -116,7 +127,7 @@ def accelerate(m, k_, qdd, Aq):
     """Add q̈'s part to the forward pass run at q̈ = 0: ``A_j += Aq_j`` with ``Aq_j = Aq_λ +
     S_j q̈_j`` (D2; the velocity products do not involve q̈), ``ψ_k += Aq_λ × S_k`` (D4)
     and ``F_j += I_j[Aq_j]`` (eq. 15); every one is linear in the acceleration."""
-    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H, g, t1, t2, tmp8, c, s = k_
+    A, F, Iw, Sw, Psi, t1 = k_.A, k_.F, k_.Iw, k_.Sw, k_.Psi, k_.t1
     for j in range(m.n):
         p = m.parents[j]
         k0, k1 = m.iv[j], m.iv[j + 1]
@@ -147,7 +158,8 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, work):
     status = check_configuration(m, q)
     if status != OK:
         return status
-    x, b, X, acc, Ic, Fc, Aq, rest = _workspace(ws.data_pointer(work), m)
+    w = workspace(ws.data_pointer(work), m)
+    x, rest = w.x, w.rest
     for k in range(m.nv):
         x[k] = 0.0
     rnea_derivatives_forward(m, q, v, x, f, rnea_derivatives_workspace(ws.data_pointer(rest),
@@ -159,8 +171,9 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, work):
 def from_forward(m, tau, dq, dv, dtau, work):
     """``aba_derivatives_core`` after the forward pass at q̈ = 0, whose results are in the
     rnea derivatives' part of ``work``; a status."""
-    x, b, X, acc, Ic, Fc, Aq, rest = _workspace(ws.data_pointer(work), m)
-    k_ = rnea_derivatives_workspace(ws.data_pointer(rest), m)
+    w = workspace(ws.data_pointer(work), m)
+    x, b, X, acc, Ic, Fc, Aq = w.x, w.b, w.X, w.acc, w.Ic, w.Fc, w.Aq
+    k_ = rnea_derivatives_workspace(ws.data_pointer(w.rest), m)
     mass_and_bias(m, k_, Ic, Fc, dtau, b)  # M, τ(q, v, 0)
     k = ltdl(m, dtau)  # M = Lᵀ D L (L1, L2)
     if k >= 0:
@@ -194,8 +207,9 @@ def from_inverse(m, tau, dq, dv, Minv, work):
     articulated-body recursion on a group of samples, ``minverse_lanes``): q̈ = M⁻¹ (τ -
     τ(q, v, 0)) as the product (D13) instead of by M's factors, which are not formed; a
     status."""
-    x, b, X, acc, Ic, Fc, Aq, rest = _workspace(ws.data_pointer(work), m)
-    k_ = rnea_derivatives_workspace(ws.data_pointer(rest), m)
+    w = workspace(ws.data_pointer(work), m)
+    x, b, X, acc, Fc, Aq = w.x, w.b, w.X, w.acc, w.Fc, w.Aq
+    k_ = rnea_derivatives_workspace(ws.data_pointer(w.rest), m)
     nv = m.nv
     bias(m, k_, Fc, b)  # τ(q, v, 0)
     for k in range(nv):
@@ -213,24 +227,3 @@ def from_inverse(m, tau, dq, dv, Minv, work):
         status = check_result(dv)
     return status
 
-
-@inline
-def workspace_size(n, nq, nv, nl):
-    return 4 * nv + 2 * nv * nv + 22 * n + rnea_derivatives_size(n, nq, nv, nl)
-
-
-@inline
-def _workspace(buf, m):
-    """q̈ (nv) (zero, then q̈, then the scratch row of ``ltdl_inverse``), the bias b (nv),
-    ``X = [∂τ/∂q  ∂τ/∂v]`` (nv, 2nv) and the row ``acc`` (2nv) of their product with M⁻¹,
-    the composites' copies Ic (n, 10) and Fc (n, 6), q̈'s part of the accelerations Aq
-    (n, 6), then the rnea derivatives' space."""
-    x, o = ws.carve(buf, 0, (m.nv,))
-    b, o = ws.carve(buf, o, (m.nv,))
-    X, o = ws.carve(buf, o, (m.nv, 2 * m.nv))
-    acc, o = ws.carve(buf, o, (2 * m.nv,))
-    Ic, o = ws.carve(buf, o, (m.n, 10))
-    Fc, o = ws.carve(buf, o, (m.n, 6))
-    Aq, o = ws.carve(buf, o, (m.n, 6))
-    rest, o = ws.carve(buf, o, (rnea_derivatives_size(m.n, m.nq, m.nv, m.nl),))
-    return x, b, X, acc, Ic, Fc, Aq, rest

@@ -18,28 +18,38 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._jit import core, inline
+from .._jit import core
 from ..kernels.lane_arrays import offset_in
 from ..kernels.lanes import W
 from . import _workspace as ws
-from .aba_derivatives import _workspace as scalar_workspace
 from .aba_derivatives import aba_derivatives_core, from_forward, from_inverse
-from .aba_derivatives import workspace_size as scalar_size
 from .minverse_lanes import group_inverse, in_lanes
-from .minverse_lanes import workspace_size as inverse_size
-from .rnea_derivatives import _workspace as rnea_derivatives_workspace
-from .rnea_derivatives import workspace_size as rnea_derivatives_size
 from .rnea_derivatives_lanes import forward_in_lanes
 from .status import OK, at_sample
+from .work.aba_derivatives import workspace as scalar_workspace
+from .work.aba_derivatives_lanes import workspace
+from .work.rnea_derivatives import workspace as rnea_derivatives_workspace
+
+WORKSPACE = {  # a group's arrays, in order (tools/generate_workspaces.py)
+    "samples": ("W", "size(aba_derivatives)"),  # each sample's scalar workspace
+    "lanes": ("W * size(rnea_derivatives)",),  # the group's rnea derivatives workspace
+    "Ql": ("nq * W",),  # the group's q, v, q̈ = 0 side by side
+    "Vl": ("nv * W",),
+    "Al": ("nv * W",),
+    "Fl": ("n * 6 * W",),  # and its external wrenches
+    "inverse": ("size(minverse_lanes)",),  # the workspace of ``group_inverse``
+}
 
 
 @core
 def aba_derivatives_group(m, q, v, tau, f, o0, o1, o2, start, stop, work):
     """``aba_derivatives`` of the samples ``start .. stop`` of a batch, the forward pass
     and M⁻¹ ``W`` samples at a time; a status (at the sample of the first fault)."""
-    samples, lanes, Ql, Vl, Al, Fl, inverse = _workspace(ws.data_pointer(work), m)
-    o = offset_in(scalar_workspace(ws.data_pointer(samples[0]), m)[-1], samples[0])
-    c = offset_in(rnea_derivatives_workspace(ws.data_pointer(samples[0, o:]), m)[-2],
+    k_ = workspace(ws.data_pointer(work), m)
+    samples, lanes, Ql, Vl, Al, Fl, inverse = (k_.samples, k_.lanes, k_.Ql, k_.Vl, k_.Al,
+                                               k_.Fl, k_.inverse)
+    o = offset_in(scalar_workspace(ws.data_pointer(samples[0]), m).rest, samples[0])
+    c = offset_in(rnea_derivatives_workspace(ws.data_pointer(samples[0, o:]), m).c,
                   samples[0]) - o  # the group's joint scalars c, s in ``lanes``
     Cl, Snl = lanes[c * W:(c + m.nq) * W], lanes[(c + m.nq) * W:(c + 2 * m.nq) * W]
     recursion = in_lanes(m)
@@ -72,24 +82,3 @@ def aba_derivatives_group(m, q, v, tau, f, o0, o1, o2, start, stop, work):
             return at_sample(s, i)
     return OK
 
-
-@inline
-def workspace_size(n, nq, nv, nl):
-    return W * (scalar_size(n, nq, nv, nl) + rnea_derivatives_size(n, nq, nv, nl) + nq
-                + 2 * nv + 6 * n) + inverse_size(n, nq, nv, nl)
-
-
-@inline
-def _workspace(buf, m):
-    """``W`` one-sample workspaces (``aba_derivatives_core``'s, one after another), the
-    group's workspace of the rnea derivatives (every number ``W`` numbers), the group's q
-    (nq), v, q̈ = 0 (nv) and external wrenches (n, 6) side by side, and the workspace of
-    ``group_inverse``."""
-    samples, o = ws.carve(buf, 0, (W, scalar_size(m.n, m.nq, m.nv, m.nl)))
-    lanes, o = ws.carve(buf, o, (W * rnea_derivatives_size(m.n, m.nq, m.nv, m.nl),))
-    Ql, o = ws.carve(buf, o, (m.nq * W,))
-    Vl, o = ws.carve(buf, o, (m.nv * W,))
-    Al, o = ws.carve(buf, o, (m.nv * W,))
-    Fl, o = ws.carve(buf, o, (m.n * 6 * W,))
-    inverse, o = ws.carve(buf, o, (inverse_size(m.n, m.nq, m.nv, m.nl),))
-    return samples, lanes, Ql, Vl, Al, Fl, inverse

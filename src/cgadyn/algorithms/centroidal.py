@@ -42,6 +42,24 @@ from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from .kinematics import frame_motors, free_root, world_motors
 from .status import OK
+from .work.centroidal import workspace
+
+WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py)
+    "Mw": ("n", 8),  # both cores': the world and joint motors
+    "M": ("n", 8),
+    "tmp8": (8,),
+    "c": ("nq",),  # the joint motors' scalars (eq. 6)
+    "s": ("nq",),
+    "Ad": (6, 6),  # ``com_core``'s
+    "V": ("n", 6),
+    "A": ("n", 6),
+    "W": (6,),
+    "tmp": (6,),
+    "VJ": (6,),
+    "Ic": ("n", 10),  # ``centroidal_core``'s
+    "Sw": ("nv", 6),
+    "F": ("nv", 6),
+}
 
 
 @core
@@ -51,7 +69,9 @@ def com_core(m, q, v, a, out, work):
     status = check_configuration(m, q)
     if status != OK:
         return status
-    Mw, M, tmp8, c, s, Ad, V, A, W, tmp, VJ, _, _, _ = _workspace(ws.data_pointer(work), m)
+    k_ = workspace(ws.data_pointer(work), m)
+    Mw, M, tmp8, c, s, Ad, V, A, W, tmp, VJ = (k_.Mw, k_.M, k_.tmp8, k_.c, k_.s, k_.Ad, k_.V, k_.A,
+                                               k_.W, k_.tmp, k_.VJ)
     world_motors(m, q, c, s, tmp8, M, Mw)
     for i in range(3):
         for k in range(3):
@@ -105,7 +125,8 @@ def centroidal_core(m, q, Ag, com, work):
     status = check_configuration(m, q)
     if status != OK:
         return status
-    Mw, M, tmp8, c, s, _, _, _, _, _, _, Ic, Sw, F = _workspace(ws.data_pointer(work), m)
+    k_ = workspace(ws.data_pointer(work), m)
+    Mw, M, tmp8, c, s, Ic, Sw, F = k_.Mw, k_.M, k_.tmp8, k_.c, k_.s, k_.Ic, k_.Sw, k_.F
     local = one_free_tree(m)
     frame_motors(m, q, c, s, tmp8, M, Mw, local)  # the root body's frame, or the world
     for j in range(m.n):
@@ -159,30 +180,3 @@ def _to_world(root, Ag, com):
         Ag[3, k], Ag[4, k], Ag[5, k] = rigid_rotate(r, Ag[3, k], Ag[4, k], Ag[5, k])
     x, y, z = rigid_rotate(r, com[0], com[1], com[2])
     com[0], com[1], com[2] = x + p[0], y + p[1], z + p[2]
-
-
-@inline
-def workspace_size(n, nq, nv, nl):
-    return 38 * n + 2 * nq + 12 * nv + 62
-
-
-@inline
-def _workspace(buf, m):
-    """Both cores': Mw, M (n, 8), tmp8 (8), the joint motors' scalars c, s (nq); for
-    ``com_core`` Ad (6, 6), V, A (n, 6), W, tmp, VJ (6); for ``centroidal_core`` Ic (n, 10),
-    Sw, F (nv, 6)."""
-    Mw, o = ws.carve(buf, 0, (m.n, 8))
-    M, o = ws.carve(buf, o, (m.n, 8))
-    tmp8, o = ws.carve(buf, o, (8,))
-    c, o = ws.carve(buf, o, (m.nq,))
-    s, o = ws.carve(buf, o, (m.nq,))
-    Ad, o = ws.carve(buf, o, (6, 6))
-    V, o = ws.carve(buf, o, (m.n, 6))
-    A, o = ws.carve(buf, o, (m.n, 6))
-    W, o = ws.carve(buf, o, (6,))
-    tmp, o = ws.carve(buf, o, (6,))
-    VJ, o = ws.carve(buf, o, (6,))
-    Ic, o = ws.carve(buf, o, (m.n, 10))
-    Sw, o = ws.carve(buf, o, (m.nv, 6))
-    F, o = ws.carve(buf, o, (m.nv, 6))
-    return Mw, M, tmp8, c, s, Ad, V, A, W, tmp, VJ, Ic, Sw, F

@@ -24,13 +24,24 @@ matrix is returned.
 
 from __future__ import annotations
 
-from .._jit import core, inline
+from .._jit import core
 from ..kernels import dot
 from ..kernels.rigid import rigid_apply, rigid_frame, rigid_move_inertia, rigid_move_twist
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from .kinematics import frame_motors
 from .status import OK
+from .work.crba import workspace
+
+WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py)
+    "Ic": ("n", 10),  # ten parameters of the composite rigid inertias
+    "Sw": ("nv", 6),  # S_k in the world
+    "Mw": ("n", 8),  # the world motors
+    "M": ("n", 8),  # the joint motors
+    "tmp8": (8,),
+    "c": ("nq",),  # the joint motors' scalars (eq. 6)
+    "s": ("nq",),
+}
 
 
 @core
@@ -41,7 +52,8 @@ def crba_core(m, q, H, work):
     if status != OK:
         return status
     n, iv, parents = m.n, m.iv, m.parents
-    Ic, Sw, Mw, M, tmp8, c, s = _workspace(ws.data_pointer(work), m)
+    k_ = workspace(ws.data_pointer(work), m)
+    Ic, Sw, Mw, M, tmp8, c, s = k_.Ic, k_.Sw, k_.Mw, k_.M, k_.tmp8, k_.c, k_.s
     frame_motors(m, q, c, s, tmp8, M, Mw, True)  # M^w_j = M^w_λ X_j M_J(q_j), free roots at rest
     for j in range(n):
         r, p = rigid_frame(Mw[j])  # R and p of M^w_j
@@ -64,22 +76,3 @@ def crba_core(m, q, H, work):
             for l in range(10):
                 Ic[p, l] += Ic[j, l]  # I^c_λ += I^c_j, ten parameters in world coordinates
     return check_result(H)
-
-
-@inline
-def workspace_size(n, nq, nv, nl):
-    return 26 * n + 2 * nq + 6 * nv + 8
-
-
-@inline
-def _workspace(buf, m):
-    """Ic (n,10) (ten parameters of rigid inertias), Sw (nv,6), Mw (n,8), M, tmp8 (8), the
-    joint motors' scalars c, s (nq), carved from ``buf``."""
-    Ic, o = ws.carve(buf, 0, (m.n, 10))
-    Sw, o = ws.carve(buf, o, (m.nv, 6))
-    Mw, o = ws.carve(buf, o, (m.n, 8))
-    M, o = ws.carve(buf, o, (m.n, 8))
-    tmp8, o = ws.carve(buf, o, (8,))
-    c, o = ws.carve(buf, o, (m.nq,))
-    s, o = ws.carve(buf, o, (m.nq,))
-    return Ic, Sw, Mw, M, tmp8, c, s

@@ -9,7 +9,7 @@ Gravity is read from the model's base acceleration ``V̇_0 = -g``.
 
 from __future__ import annotations
 
-from .._jit import core, inline
+from .._jit import core
 from ..kernels import dot, inertia_apply, twist_sandwich_rev
 from ..kernels.layout import physical
 from ..kernels.rigid import rigid_frame, rigid_parameters, rigid_rotate
@@ -18,6 +18,18 @@ from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from .kinematics import world_motors
 from .status import OK
+from .work.energy import workspace
+
+WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py)
+    "Mw": ("n", 8),  # the world motors
+    "V": ("n", 6),  # the bodies' twists
+    "tmp": (6,),
+    "VJ": (6,),
+    "M": ("n", 8),  # the joint motors
+    "tmp8": (8,),
+    "c": ("nq",),  # the joint motors' scalars (eq. 6)
+    "s": ("nq",),
+}
 
 
 @core
@@ -26,7 +38,8 @@ def energy_core(m, q, v, out, work):
     status = check_configuration(m, q)
     if status != OK:
         return status
-    Mw, V, tmp, VJ, M, tmp8, c, s = _workspace(ws.data_pointer(work), m)
+    k_ = workspace(ws.data_pointer(work), m)
+    Mw, V, tmp, VJ, M, tmp8, c, s = k_.Mw, k_.V, k_.tmp, k_.VJ, k_.M, k_.tmp8, k_.c, k_.s
     _, _, _, g1, g2, g3 = physical(m.gravity)  # -g, the base acceleration's linear part
     kinetic = 0.0
     potential = 0.0
@@ -52,22 +65,3 @@ def energy_core(m, q, v, out, work):
     out[0] = kinetic
     out[1] = potential
     return check_result(out)
-
-
-@inline
-def workspace_size(n, nq, nv, nl):
-    return 22 * n + 2 * nq + 20
-
-
-@inline
-def _workspace(buf, m):
-    """Mw (m.n, 8), V (m.n, 6), tmp, VJ (6), M, tmp8 (8), the joint motors' scalars c, s (nq)."""
-    Mw, o = ws.carve(buf, 0, (m.n, 8))
-    V, o = ws.carve(buf, o, (m.n, 6))
-    tmp, o = ws.carve(buf, o, (6,))
-    VJ, o = ws.carve(buf, o, (6,))
-    M, o = ws.carve(buf, o, (m.n, 8))
-    tmp8, o = ws.carve(buf, o, (8,))
-    c, o = ws.carve(buf, o, (m.nq,))
-    s, o = ws.carve(buf, o, (m.nq,))
-    return Mw, V, tmp, VJ, M, tmp8, c, s

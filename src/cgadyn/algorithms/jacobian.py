@@ -10,13 +10,27 @@ layout, rows ``[v, ω]``.
 
 from __future__ import annotations
 
-from .._jit import core, inline
+from .._jit import core
 from ..kernels import motor_translation, translator_rotor, twist_sandwich, twist_sandwich_rev
 from ..kernels.layout import physical
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from .kinematics import link_motor, world_motors
 from .status import OK
+from .work.jacobian import workspace
+
+WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py)
+    "Mw": ("n", 8),  # the world motors
+    "L": (8,),
+    "F": (8,),
+    "M": ("n", 8),  # the joint motors
+    "tmp8": (8,),
+    "tw": (6,),
+    "tw2": (6,),
+    "c": ("nq",),  # the joint motors' scalars (eq. 6)
+    "s": ("nq",),
+}
+
 
 WORLD, LOCAL, LOCAL_WORLD_ALIGNED = 0, 1, 2
 
@@ -28,7 +42,8 @@ def jacobian_core(m, q, J, link, frame, work):
     status = check_configuration(m, q)
     if status != OK:
         return status
-    Mw, L, F, M, tmp8, tw, tw2, c, s = _workspace(ws.data_pointer(work), m)
+    k_ = workspace(ws.data_pointer(work), m)
+    Mw, L, F, M, tmp8, tw, tw2, c, s = k_.Mw, k_.L, k_.F, k_.M, k_.tmp8, k_.tw, k_.tw2, k_.c, k_.s
     world_motors(m, q, c, s, tmp8, M, Mw)
     link_motor(m, Mw, link, L)  # M^w_L
     if frame == LOCAL_WORLD_ALIGNED:  # the link's translation only
@@ -52,23 +67,3 @@ def jacobian_core(m, q, J, link, frame, work):
             J[0, k], J[1, k], J[2, k], J[3, k], J[4, k], J[5, k] = v1, v2, v3, w1, w2, w3
         j = m.parents[j]
     return check_result(J)
-
-
-@inline
-def workspace_size(n, nq, nv, nl):
-    return 16 * n + 2 * nq + 36
-
-
-@inline
-def _workspace(buf, m):
-    """Mw (m.n, 8), L, F, M, tmp8 (8), tw, tw2 (6), the joint motors' scalars c, s (nq)."""
-    Mw, o = ws.carve(buf, 0, (m.n, 8))
-    L, o = ws.carve(buf, o, (8,))
-    F, o = ws.carve(buf, o, (8,))
-    M, o = ws.carve(buf, o, (m.n, 8))
-    tmp8, o = ws.carve(buf, o, (8,))
-    tw, o = ws.carve(buf, o, (6,))
-    tw2, o = ws.carve(buf, o, (6,))
-    c, o = ws.carve(buf, o, (m.nq,))
-    s, o = ws.carve(buf, o, (m.nq,))
-    return Mw, L, F, M, tmp8, tw, tw2, c, s

@@ -15,6 +15,15 @@ from ..multibody.joints import free_root, joint_motors, joint_scalars
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from .status import OK
+from .work.kinematics import workspace
+
+WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py)
+    "M": ("n", 8),  # the joint motors
+    "tmp8": (8,),
+    "c": ("nq",),  # the joint motors' scalars (eq. 6)
+    "s": ("nq",),
+    "Mw": ("n", 8),  # the world motors (``motors_core`` writes them into its output)
+}
 
 
 @inline
@@ -79,7 +88,8 @@ def motors_core(m, q, joints, links, work):
     status = check_configuration(m, q)
     if status != OK:
         return status
-    M, tmp8, c, s, _ = _workspace(ws.data_pointer(work), m)
+    k_ = workspace(ws.data_pointer(work), m)
+    M, tmp8, c, s = k_.M, k_.tmp8, k_.c, k_.s
     world_motors(m, q, c, s, tmp8, M, joints)
     for i in range(m.nl):
         link_motor(m, joints, i, links[i])
@@ -92,26 +102,10 @@ def placements_core(m, q, T, work):
     status = check_configuration(m, q)
     if status != OK:
         return status
-    M, tmp8, c, s, Mw = _workspace(ws.data_pointer(work), m)
+    k_ = workspace(ws.data_pointer(work), m)
+    M, tmp8, c, s, Mw = k_.M, k_.tmp8, k_.c, k_.s, k_.Mw
     world_motors(m, q, c, s, tmp8, M, Mw)
     for i in range(m.nl):
         link_motor(m, Mw, i, tmp8)
         motor_matrix(tmp8, T[i])
     return check_result(T)
-
-
-@inline
-def workspace_size(n, nq, nv, nl):
-    return 16 * n + 2 * nq + 8
-
-
-@inline
-def _workspace(buf, m):
-    """M (n, 8), tmp8 (8), the joint motors' scalars c, s (nq), the joints' world motors Mw (m.n, 8)
-    (``motors_core`` writes them into its output instead)."""
-    M, o = ws.carve(buf, 0, (m.n, 8))
-    tmp8, o = ws.carve(buf, o, (8,))
-    c, o = ws.carve(buf, o, (m.nq,))
-    s, o = ws.carve(buf, o, (m.nq,))
-    Mw, o = ws.carve(buf, o, (m.n, 8))
-    return M, tmp8, c, s, Mw

@@ -7,11 +7,16 @@ exponential of its body twist and takes the logarithm of the relative motor, as 
 
 from __future__ import annotations
 
-from .._jit import core, inline
+from .._jit import core
 from ..multibody.joints import joint_difference, joint_integrate
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from .status import OK
+from .work.manifold import workspace
+
+WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py)
+    "tmp": (3, 8),
+}
 
 
 @core
@@ -20,7 +25,8 @@ def integrate_core(m, q, v, out, work):
     status = check_configuration(m, q)
     if status != OK:
         return status
-    tmp = _workspace(ws.data_pointer(work), m)[0]
+    k_ = workspace(ws.data_pointer(work), m)
+    tmp = k_.tmp
     for j in range(m.n):
         joint_integrate(m, j, q, v, tmp, out)
     return check_result(out)
@@ -34,19 +40,8 @@ def difference_core(m, q0, q1, out, work):
         status = check_configuration(m, q1)
     if status != OK:
         return status
-    tmp = _workspace(ws.data_pointer(work), m)[0]
+    k_ = workspace(ws.data_pointer(work), m)
+    tmp = k_.tmp
     for j in range(m.n):
         joint_difference(m, j, q0, q1, tmp, out)
     return check_result(out)
-
-
-@inline
-def workspace_size(n, nq, nv, nl):
-    return 24
-
-
-@inline
-def _workspace(buf, m):
-    """tmp (3, 8)."""
-    tmp, o = ws.carve(buf, 0, (3, 8))
-    return (tmp,)

@@ -39,6 +39,27 @@ from ._dense import spd_inverse
 from .aba import _articulated
 from .kinematics import frame_motors, free_root, unit_coefficient
 from .status import OK, SINGULAR, fault
+from .work.minverse import workspace
+
+WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py)
+    "Mw": ("n", 8),  # the world motors
+    "M": ("n", 8),  # the joint motors
+    "Ih": ("n", 6, 6),  # the articulated inertias Î_j
+    "par": (10,),  # ten parameters of an inertia
+    "F": ("n", "nv", 6),  # a wrench or twist per torque column
+    "Sw": ("nv", 6),  # S_k in the world
+    "U": ("nv", 6),  # U_j = Î_j[S_j]
+    "G": ("nv", 6),  # D_j⁻¹ U_j
+    "D": (6, 6),
+    "Dinv": (6, 6),
+    "It": (6, 6),  # Ĩ_j
+    "t1": (6,),
+    "tmp8": (8,),
+    "c": ("nq",),  # the joint motors' scalars (eq. 6)
+    "s": ("nq",),
+    "pk": (2, 6),  # a free root's unit coefficients
+    "e": (6,),
+}
 
 
 @inline
@@ -64,7 +85,9 @@ def move_axes_inertias(m, Mw, par, Sw, Ih):
 @inline
 def minverse_pass(m, q, Minv, k_):
     """``Minv`` (nv, nv) into its upper triangle; a status. ``k_`` the workspace arrays."""
-    Mw, M, Ih, par, F, Sw, U, G, D, Dinv, It, t1, tmp8, c, s, pk, e = k_
+    Mw, M, Ih, par, F, Sw, U, G = k_.Mw, k_.M, k_.Ih, k_.par, k_.F, k_.Sw, k_.U, k_.G
+    D, Dinv, It, t1, tmp8, c, s, pk, e = (k_.D, k_.Dinv, k_.It, k_.t1, k_.tmp8, k_.c, k_.s,
+                                          k_.pk, k_.e)
     nv = m.nv
     world_axes_inertias(m, q, c, s, tmp8, M, Mw, par, Sw, Ih)
     for i in range(nv):
@@ -219,38 +242,9 @@ def minverse_core(m, q, Minv, work):
     status = check_configuration(m, q)
     if status != OK:
         return status
-    status = minverse_pass(m, q, Minv, _workspace(ws.data_pointer(work), m))
+    status = minverse_pass(m, q, Minv, workspace(ws.data_pointer(work), m))
     if status != OK:
         return status
     mirror_upper(Minv)
     return check_result(Minv)
 
-
-@inline
-def workspace_size(n, nq, nv, nl):
-    return 52 * n + 6 * n * nv + 18 * nv + 2 * nq + 150
-
-
-@inline
-def _workspace(buf, m):
-    """Mw, M (n, 8), Î (n, 6, 6), par (10), F (n, nv, 6) (a wrench or twist per column),
-    Sw, U, G (nv, 6), D, D⁻¹, Ĩ (6, 6), t1 (6), tmp8 (8), the joint motors' scalars c, s
-    (nq), a free root's unit coefficients pk (2, 6) and e (6)."""
-    Mw, o = ws.carve(buf, 0, (m.n, 8))
-    M, o = ws.carve(buf, o, (m.n, 8))
-    Ih, o = ws.carve(buf, o, (m.n, 6, 6))
-    par, o = ws.carve(buf, o, (10,))
-    F, o = ws.carve(buf, o, (m.n, m.nv, 6))
-    Sw, o = ws.carve(buf, o, (m.nv, 6))
-    U, o = ws.carve(buf, o, (m.nv, 6))
-    G, o = ws.carve(buf, o, (m.nv, 6))
-    D, o = ws.carve(buf, o, (6, 6))
-    Dinv, o = ws.carve(buf, o, (6, 6))
-    It, o = ws.carve(buf, o, (6, 6))
-    t1, o = ws.carve(buf, o, (6,))
-    tmp8, o = ws.carve(buf, o, (8,))
-    c, o = ws.carve(buf, o, (m.nq,))
-    s, o = ws.carve(buf, o, (m.nq,))
-    pk, o = ws.carve(buf, o, (2, 6))
-    e, o = ws.carve(buf, o, (6,))
-    return Mw, M, Ih, par, F, Sw, U, G, D, Dinv, It, t1, tmp8, c, s, pk, e

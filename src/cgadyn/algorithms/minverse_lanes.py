@@ -51,16 +51,40 @@ from ._checks import check_configuration
 from ._stream import STREAM_FLOATS, stream_copy
 from .kinematics import chain_motors, free_root, unit_coefficient
 from .minverse import minverse_core, mirror_upper, move_axes_inertias
-from .minverse import workspace_size as scalar_size
 from .status import OK, at_sample
+from .work.minverse_lanes import workspace
+
+WORKSPACE = {  # a group's arrays, in order (tools/generate_workspaces.py)
+    "scalar": ("size(minverse)",),  # the one-sample pass's, for a sample on its own
+    "Sw": ("nv", 6),  # the first sample's S_k
+    "c": ("nq",),  # one sample's joint scalars
+    "s": ("nq",),
+    "Ql": ("nq * W",),  # the group's q and joint scalars c, s
+    "Cl": ("nq * W",),
+    "Snl": ("nq * W",),
+    "T8l": ("8 * W",),  # a motor's scratch
+    "Mjl": ("n * 8 * W",),  # the joint and world motors
+    "Mwl": ("n * 8 * W",),
+    "Rl": ("10 * W",),  # ten parameters of an inertia
+    "Sl": ("nv * 6 * W",),  # S, Î, U, G (``_lanes_pass``'s layout)
+    "Il": ("n * 36 * W",),
+    "Ul": ("nv * 6 * W",),
+    "Gl": ("nv * 6 * W",),
+    "Al": ("n * 6 * W",),  # one column's A_j
+    "Ml": ("nv * nv * W",),  # M⁻¹
+    "Dl": ("36 * W",),  # D, D⁻¹
+    "Pl": ("36 * W",),
+    "Tl": ("12 * W",),  # two scratch rows
+    "pk": (12,),  # a free root's unit coefficients
+    "Ol": ("W", "nv", "nv"),  # the group's results before they are streamed
+}
 
 
 @core
 def minverse_group(m, q, Minv, start, stop, work):
     """``Minv[b] = M(q[b])⁻¹`` for the samples ``start .. stop`` of a batch; a status (at
     the sample of the first fault)."""
-    size = scalar_size(m.n, m.nq, m.nv, m.nl)
-    k_ = _workspace(ws.data_pointer(work), size, m)
+    k_ = workspace(ws.data_pointer(work), m)
     b = start
     lanes = in_lanes(m)
     streamed = Minv.size > STREAM_FLOATS
@@ -85,9 +109,7 @@ def group_inverse(m, Ql, Cl, Snl, Minv, b, work):
     joint scalars c, s (nq) side by side, configurations already checked; in a workspace of
     ``workspace_size``, for a model of ``in_lanes``. False if one of them needs the
     one-at-a-time path."""
-    size = scalar_size(m.n, m.nq, m.nv, m.nl)
-    return _from_scalars(m, Ql, Cl, Snl, Minv, b, False,
-                         _workspace(ws.data_pointer(work), size, m))
+    return _from_scalars(m, Ql, Cl, Snl, Minv, b, False, workspace(ws.data_pointer(work), m))
 
 
 @inline
@@ -105,7 +127,7 @@ def in_lanes(m):
 def _group(m, q, Minv, b, streamed, k_):
     """Samples ``b .. b + W``; False if one of them needs the one-at-a-time path. ``Minv``
     is C-contiguous (the batch's output, allocated by ``calls``)."""
-    Sw, c, s, Ql, Cl, Snl, T8l, Mjl, Mwl, Rl, Sl, Il, Ul, Gl, Al, Ml, Dl, Pl, Tl, pk, Ol = k_
+    c, s, Ql, Cl, Snl = k_.c, k_.s, k_.Ql, k_.Cl, k_.Snl
     for l in range(W):  # each sample's q and joint scalars, laid side by side
         x = q[b + l]
         if check_configuration(m, x) != OK:
@@ -119,7 +141,9 @@ def _group(m, q, Minv, b, streamed, k_):
 @inline
 def _from_scalars(m, Ql, Cl, Snl, Minv, b, streamed, k_):
     """``_group`` from the group's q and joint scalars c, s side by side on."""
-    Sw, c, s, Q_, C_, S_, T8l, Mjl, Mwl, Rl, Sl, Il, Ul, Gl, Al, Ml, Dl, Pl, Tl, pk, Ol = k_
+    Sw, T8l, Mjl, Mwl, Rl, Sl, Il = k_.Sw, k_.T8l, k_.Mjl, k_.Mwl, k_.Rl, k_.Sl, k_.Il
+    Ul, Gl, Al, Ml, Dl, Pl, Tl, pk, Ol = (k_.Ul, k_.Gl, k_.Al, k_.Ml, k_.Dl, k_.Pl, k_.Tl,
+                                          k_.pk, k_.Ol)
     nv = m.nv
     Mw = lane_matrix(Mwl, 0, 8)  # the world motors, then S_k and I_j (eqs. 4, 16, M5)
     chain_motors(m, lane_array(Ql, 0), lane_array(Cl, 0), lane_array(Snl, 0),
@@ -358,39 +382,3 @@ def _spd_inverse(Dl, k, Pl):
                     store(Pl, o, fnma(f, load(Pl, t), load(Pl, o)))
     return True
 
-
-@inline
-def workspace_size(n, nq, nv, nl):
-    return scalar_size(n, nq, nv, nl) + 6 * nv + 2 * nq + 12 + W * (
-        58 * n + 3 * nq + 18 * nv + 2 * nv * nv + 102)
-
-
-@inline
-def _workspace(buf, o, m):
-    """After the scalar pass's workspace (``o`` floats): the first sample's S_k (nv, 6),
-    one sample's joint scalars c, s (nq); the group's q, c, s (nq), a motor's scratch (8),
-    the joint and world motors (n, 8), ten parameters of an inertia, S, Î, U, G, one
-    column's A_j, M⁻¹, D, D⁻¹ and two scratch rows side by side (``_lanes_pass``'s
-    layout), a free root's unit coefficients pk (12)."""
-    Sw, o = ws.carve(buf, o, (m.nv, 6))
-    c, o = ws.carve(buf, o, (m.nq,))
-    s, o = ws.carve(buf, o, (m.nq,))
-    Ql, o = ws.carve(buf, o, (m.nq * W,))
-    Cl, o = ws.carve(buf, o, (m.nq * W,))
-    Snl, o = ws.carve(buf, o, (m.nq * W,))
-    T8l, o = ws.carve(buf, o, (8 * W,))
-    Mjl, o = ws.carve(buf, o, (m.n * 8 * W,))
-    Mwl, o = ws.carve(buf, o, (m.n * 8 * W,))
-    Rl, o = ws.carve(buf, o, (10 * W,))
-    Sl, o = ws.carve(buf, o, (m.nv * 6 * W,))
-    Il, o = ws.carve(buf, o, (m.n * 36 * W,))
-    Ul, o = ws.carve(buf, o, (m.nv * 6 * W,))
-    Gl, o = ws.carve(buf, o, (m.nv * 6 * W,))
-    Al, o = ws.carve(buf, o, (m.n * 6 * W,))
-    Ml, o = ws.carve(buf, o, (m.nv * m.nv * W,))
-    Dl, o = ws.carve(buf, o, (36 * W,))
-    Pl, o = ws.carve(buf, o, (36 * W,))
-    Tl, o = ws.carve(buf, o, (12 * W,))
-    pk, o = ws.carve(buf, o, (12,))
-    Ol, o = ws.carve(buf, o, (W, m.nv, m.nv))
-    return Sw, c, s, Ql, Cl, Snl, T8l, Mjl, Mwl, Rl, Sl, Il, Ul, Gl, Al, Ml, Dl, Pl, Tl, pk, Ol

@@ -27,7 +27,7 @@ by the invariance of the power pairing, ``~M_j V M_j = Ad_jᵀ V``.
 
 from __future__ import annotations
 
-from .._jit import core, inline
+from .._jit import core
 from ..kernels import (
     adjoint_apply,
     adjoint_apply_transpose,
@@ -40,6 +40,22 @@ from ..multibody.joints import joint_motors, joint_power, joint_scalars, joint_t
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from .status import OK
+from .work.rnea import workspace, workspace_size
+
+__all__ = ["WORKSPACE", "rnea_core", "workspace_size"]
+
+WORKSPACE = {  # one sample's arrays (tools/generate_workspaces.py writes work/rnea.py)
+    "Ad": ("n", 6, 6),  # M_j (·) ~M_j as a matrix, per body
+    "V": ("n", 6),  # the bodies' twists V_j
+    "A": ("n", 6),  # their accelerations V̇_j
+    "W": ("n", 6),  # their wrenches W_j
+    "VJ": (6,),  # S_j q̇_j, then S_j q̈_j
+    "tmp": (6,),
+    "M": ("n", 8),  # the joint motors M_j
+    "tmp8": (8,),
+    "c": ("nq",),  # the joint motors' scalars (eq. 6)
+    "s": ("nq",),
+}
 
 
 @core
@@ -50,7 +66,9 @@ def rnea_core(m, q, v, a, f, tau, work):
     if status != OK:
         return status
     n = m.n
-    Ad, V, A, W, VJ, tmp, M, tmp8, c, s = _workspace(ws.data_pointer(work), m)
+    k_ = workspace(ws.data_pointer(work), m)
+    Ad, V, A, W, VJ, tmp, M, tmp8, c, s = (k_.Ad, k_.V, k_.A, k_.W, k_.VJ, k_.tmp, k_.M,
+                                           k_.tmp8, k_.c, k_.s)
     joint_scalars(q, c, s)  # the scalars of every revolute joint motor (eq. 6)
     joint_motors(m, q, c, s, tmp8, M)  # M_j = X_j M_J(q_j)
     for j in range(n):
@@ -88,25 +106,3 @@ def rnea_core(m, q, v, a, f, tau, work):
             for k in range(6):
                 W[p, k] += tmp[k]
     return check_result(tau)
-
-
-@inline
-def workspace_size(n, nq, nv, nl):
-    return 62 * n + 2 * nq + 20
-
-
-@inline
-def _workspace(buf, m):
-    """Ad (n,6,6), V, A, W (n,6), VJ, tmp (6), M (n,8), tmp8 (8), the joint motors' scalars c, s
-    (nq), carved from ``buf``."""
-    Ad, o = ws.carve(buf, 0, (m.n, 6, 6))
-    V, o = ws.carve(buf, o, (m.n, 6))
-    A, o = ws.carve(buf, o, (m.n, 6))
-    W, o = ws.carve(buf, o, (m.n, 6))
-    VJ, o = ws.carve(buf, o, (6,))
-    tmp, o = ws.carve(buf, o, (6,))
-    M, o = ws.carve(buf, o, (m.n, 8))
-    tmp8, o = ws.carve(buf, o, (8,))
-    c, o = ws.carve(buf, o, (m.nq,))
-    s, o = ws.carve(buf, o, (m.nq,))
-    return Ad, V, A, W, VJ, tmp, M, tmp8, c, s

@@ -44,6 +44,32 @@ from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from .kinematics import chain_motors, free_root, unit_coefficient
 from .status import OK
+from .work.rnea_derivatives import workspace
+
+WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py)
+    "Mw": ("n", 8),  # the bodies' motors in the frame
+    "M": ("n", 8),  # the joint motors
+    "V": ("n", 6),  # twists, accelerations, momenta and body wrenches
+    "A": ("n", 6),
+    "h": ("n", 6),
+    "F": ("n", 6),
+    "Iw": ("n", 10),  # I_j and İ_j in the frame; the composites accumulate in place
+    "Id": ("n", 10),
+    "Sw": ("nv", 6),  # S_k and the per-coordinate twists u, ψ, w
+    "U": ("nv", 6),
+    "Psi": ("nv", 6),
+    "Wv": ("nv", 6),
+    "P": (6, "nv"),  # P, Q, G, H by coefficient
+    "Q": (6, "nv"),
+    "G": (6, "nv"),
+    "H": (6, "nv"),
+    "g": (6,),  # the base acceleration
+    "t1": (6,),
+    "t2": (6,),
+    "tmp8": (8,),
+    "c": ("nq",),  # the joint motors' scalars (eq. 6)
+    "s": ("nq",),
+}
 
 
 @inline
@@ -70,8 +96,8 @@ def _pair(x, W, k):
 def rnea_derivatives_forward(m, q, v, a, f, k_):
     """The forward pass: motors, axes, inertias and their rates, twists, accelerations,
     momenta and body wrenches, and the per-coordinate twists u, ψ, w; into the workspace
-    arrays of ``k_`` (see ``_workspace``). In the world frame, or a free-flyer root's (D14)."""
-    joint_scalars(q, k_[-2], k_[-1])  # the scalars c, s of the revolute joint motors (eq. 6)
+    arrays of ``k_`` (``WORKSPACE``). In the world frame, or a free-flyer root's (D14)."""
+    joint_scalars(q, k_.c, k_.s)  # the scalars c, s of the revolute joint motors (eq. 6)
     forward_from_scalars(m, q, v, a, f, f.shape[0] > 0, k_)
 
 
@@ -80,7 +106,9 @@ def forward_from_scalars(m, q, v, a, f, forces, k_):
     """``rnea_derivatives_forward`` from the joint scalars c, s of ``k_`` on (``forces``:
     whether ``f`` holds external wrenches). Only arithmetic, so that it runs on ``W``
     samples at once as well (``rnea_derivatives_lanes``)."""
-    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H, g, t1, t2, tmp8, c, s = k_
+    Mw, M, V, A, h, F, Iw, Id = k_.Mw, k_.M, k_.V, k_.A, k_.h, k_.F, k_.Iw, k_.Id
+    Sw, U, Psi, Wv, g, t1, t2, tmp8, c, s = (k_.Sw, k_.U, k_.Psi, k_.Wv, k_.g, k_.t1, k_.t2,
+                                             k_.tmp8, k_.c, k_.s)
     chain_motors(m, q, c, s, tmp8, M, Mw, True)  # M^w_j, a free root at the identity (D14)
     for j in range(m.n):
         r, p = rigid_frame(Mw[j])
@@ -146,7 +174,9 @@ def rnea_derivatives_backward(m, k_, dq, dv, da):
 def composites(m, k_):
     """The backward pass's first half: the composites (D7) and P, Q, G, H (D11). Only
     arithmetic, so that it runs on ``W`` samples at once as well."""
-    Mw, M, V, A, h, F, Ic, Idc, Sw, U, Psi, Wv, P, Q, G, H, g, t1, t2, tmp8, c, s = k_
+    Ic, Idc = k_.Iw, k_.Id  # I_j and İ_j, summed in place into the composites (D7)
+    h, F, Sw, U, Psi, Wv, t1, t2 = k_.h, k_.F, k_.Sw, k_.U, k_.Psi, k_.Wv, k_.t1, k_.t2
+    P, Q, G, H = k_.P, k_.Q, k_.G, k_.H
     for j in range(m.n - 1, -1, -1):  # children come after their parents: I^c_j complete
         for k in range(m.iv[j], m.iv[j + 1]):  # (D11)
             _set_column(rigid_apply(Ic[j], Sw[k]), P, k)  # P_k = I^c[S_k]
@@ -176,7 +206,7 @@ def composites(m, k_):
 def entries(m, k_, dq, dv, da):
     """The backward pass's second half: the entries (D8-D10) from P, Q, G, H and the
     per-coordinate twists S, u, ψ, w."""
-    Mw, M, V, A, h, F, Ic, Idc, Sw, U, Psi, Wv, P, Q, G, H, g, t1, t2, tmp8, c, s = k_
+    Sw, U, Psi, Wv, P, Q, G, H = k_.Sw, k_.U, k_.Psi, k_.Wv, k_.P, k_.Q, k_.G, k_.H
     nv = m.nv
     mass = da.shape[0] > 0
     for i in range(nv):  # entries of coordinates on different branches stay zero
@@ -234,7 +264,7 @@ def rnea_derivatives_core(m, q, v, a, f, dq, dv, da, work):
     status = check_configuration(m, q)
     if status != OK:
         return status
-    k_ = _workspace(ws.data_pointer(work), m)
+    k_ = workspace(ws.data_pointer(work), m)
     rnea_derivatives_forward(m, q, v, a, f, k_)
     rnea_derivatives_backward(m, k_, dq, dv, da)
     status = check_result(dq)
@@ -242,38 +272,3 @@ def rnea_derivatives_core(m, q, v, a, f, dq, dv, da, work):
         status = check_result(dv)
     return status
 
-
-@inline
-def workspace_size(n, nq, nv, nl):
-    return 60 * n + 48 * nv + 2 * nq + 26
-
-
-@inline
-def _workspace(buf, m):
-    """Mw, M (n, 8); V, A, h, F (n, 6); Iw, İ (n, 10) (the composites accumulate in place);
-    Sw, U, Ψ, Wv (nv, 6); P, Q, G, H by coefficient (6, nv); the base acceleration g,
-    t1, t2 (6), tmp8 (8), the joint motors' scalars c, s (nq)."""
-    Mw, o = ws.carve(buf, 0, (m.n, 8))
-    M, o = ws.carve(buf, o, (m.n, 8))
-    V, o = ws.carve(buf, o, (m.n, 6))
-    A, o = ws.carve(buf, o, (m.n, 6))
-    h, o = ws.carve(buf, o, (m.n, 6))
-    F, o = ws.carve(buf, o, (m.n, 6))
-    Iw, o = ws.carve(buf, o, (m.n, 10))
-    Id, o = ws.carve(buf, o, (m.n, 10))
-    Sw, o = ws.carve(buf, o, (m.nv, 6))
-    U, o = ws.carve(buf, o, (m.nv, 6))
-    Psi, o = ws.carve(buf, o, (m.nv, 6))
-    Wv, o = ws.carve(buf, o, (m.nv, 6))
-    P, o = ws.carve(buf, o, (6, m.nv))
-    Q, o = ws.carve(buf, o, (6, m.nv))
-    G, o = ws.carve(buf, o, (6, m.nv))
-    H, o = ws.carve(buf, o, (6, m.nv))
-    g, o = ws.carve(buf, o, (6,))
-    t1, o = ws.carve(buf, o, (6,))
-    t2, o = ws.carve(buf, o, (6,))
-    tmp8, o = ws.carve(buf, o, (8,))
-    c, o = ws.carve(buf, o, (m.nq,))
-    s, o = ws.carve(buf, o, (m.nq,))
-    return (Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H, g, t1, t2,
-            tmp8, c, s)

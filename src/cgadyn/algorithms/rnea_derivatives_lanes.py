@@ -5,7 +5,7 @@ accelerations, momenta, wrenches and the per-coordinate twists u, ψ, w: D2-D6, 
 16) does the same arithmetic on every sample. Here it runs on a group of ``W`` samples
 laid side by side, one vector instruction per operation, by the scalar pass's own
 ``forward_from_scalars`` on arrays of vectors (``kernels.lane_arrays``), in a workspace
-laid out as the scalar one with every number replaced by ``W`` (``lanes_like``). Only the
+laid out as the scalar one with every number replaced by ``W`` (``lane_workspace``). Only the
 joint scalars (eq. 6: the half-angle sines and cosines) are computed one sample at a time.
 The first half of the backward pass, the composites and P, Q, G, H (D7,
 D11, ``composites``), runs on the group too. What the entries read (S, u, ψ, w, P, Q, G,
@@ -25,28 +25,43 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import core, inline
-from ..kernels.lane_arrays import lane_array, lane_matrix, lanes_like, offset_in
+from ..kernels.lane_arrays import lane_array, lane_matrix, offset_in
 from ..kernels.lanes import W, fence, gather, load, store, store_transposed
 from ..multibody.joints import joint_scalars
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from ._stream import STREAM_FLOATS, stream_copy
-from .rnea_derivatives import _workspace as scalar_workspace
 from .rnea_derivatives import (
     composites,
     entries,
     forward_from_scalars,
     rnea_derivatives_core,
 )
-from .rnea_derivatives import workspace_size as scalar_size
 from .status import OK, at_sample
+from .work.rnea_derivatives import lane_workspace
+from .work.rnea_derivatives import workspace as scalar_workspace
+from .work.rnea_derivatives_lanes import workspace
+
+WORKSPACE = {  # a group's arrays, in order (tools/generate_workspaces.py)
+    "samples": ("W", "size(rnea_derivatives)"),  # each sample's scalar workspace
+    "lanes": ("W * size(rnea_derivatives)",),  # the group's: every number W numbers
+    "Ql": ("nq * W",),  # the group's q, v, a side by side
+    "Vl": ("nv * W",),
+    "Al": ("nv * W",),
+    "Fl": ("n * 6 * W",),  # and its external wrenches
+    "r0": ("nv", "nv"),  # a sample's three results before they are streamed
+    "r1": ("nv", "nv"),
+    "r2": ("nv", "nv"),
+}
 
 
 @core
 def rnea_derivatives_group(m, q, v, a, f, o0, o1, o2, start, stop, work):
     """``rnea_derivatives`` of the samples ``start .. stop`` of a batch, ``W`` at a time; a
     status (at the sample of the first fault)."""
-    samples, lanes, Ql, Vl, Al, Fl, r0, r1, r2 = _workspace(ws.data_pointer(work), m)
+    k_ = workspace(ws.data_pointer(work), m)
+    samples, lanes, Ql, Vl, Al, Fl = k_.samples, k_.lanes, k_.Ql, k_.Vl, k_.Al, k_.Fl
+    r0, r1, r2 = k_.r0, k_.r1, k_.r2
     streamed = o0.size + o1.size + o2.size > STREAM_FLOATS
     none = np.empty((0, 6))
     b = start
@@ -112,7 +127,7 @@ def forward_in_lanes(m, q, v, a, f, b, accelerated, samples, o, lanes, Ql, Vl, A
         if check_configuration(m, x) != OK:
             return False
         k_ = scalar_workspace(ws.data_pointer(samples[l, o:]), m)
-        joint_scalars(x, k_[-2], k_[-1])
+        joint_scalars(x, k_.c, k_.s)
         for i in range(nq):
             Ql[i * W + l] = x[i]
         for i in range(nv):
@@ -122,17 +137,17 @@ def forward_in_lanes(m, q, v, a, f, b, accelerated, samples, o, lanes, Ql, Vl, A
             for j in range(m.n):
                 for i in range(6):
                     Fl[(j * 6 + i) * W + l] = f[b + l, j, i]
-    c0 = offset_in(k0[-2], samples[0])
+    c0 = offset_in(k0.c, samples[0])
     for i in range(2 * nq):  # c, s follow one another
         store(lanes, (c0 - o + i) * W, gather(samples, c0 + i, size))
-    kl = _lanes_of(k0, samples[0, o:], lanes)
+    kl = lane_workspace(lanes, m)  # the same arrays for the group
     forward_from_scalars(m, lane_array(Ql, 0), lane_array(Vl, 0), lane_array(Al, 0),
                          lane_matrix(Fl, 0, 6), forces, kl)
     if accelerated:  # S, u, ψ, w, P, Q, G, H follow one another
         composites(m, kl)
-        lo, hi = offset_in(k0[8], samples[0]), offset_in(k0[15], samples[0]) + 6 * nv
+        lo, hi = offset_in(k0.Sw, samples[0]), offset_in(k0.H, samples[0]) + 6 * nv
     else:  # A, h, F, I, İ, S, u, ψ, w follow one another
-        lo, hi = offset_in(k0[3], samples[0]), offset_in(k0[11], samples[0]) + 6 * nv
+        lo, hi = offset_in(k0.A, samples[0]), offset_in(k0.Wv, samples[0]) + 6 * nv
     x = lo
     while x < hi:  # into each sample's workspace, the last W overlapping
         x = min(x, hi - W)
@@ -144,43 +159,3 @@ def forward_in_lanes(m, q, v, a, f, b, accelerated, samples, o, lanes, Ql, Vl, A
         x += W
     return True
 
-
-@inline
-def _lanes_of(k_, template, buf):
-    """The workspace arrays ``k_`` of one sample as arrays of ``Lanes`` in ``buf``."""
-    Mw, M, V, A, h, F, Iw, Id, Sw, U, Psi, Wv, P, Q, G, H, g, t1, t2, tmp8, c, s = k_
-    return (lanes_like(Mw, template, buf), lanes_like(M, template, buf),
-            lanes_like(V, template, buf), lanes_like(A, template, buf),
-            lanes_like(h, template, buf), lanes_like(F, template, buf),
-            lanes_like(Iw, template, buf), lanes_like(Id, template, buf),
-            lanes_like(Sw, template, buf), lanes_like(U, template, buf),
-            lanes_like(Psi, template, buf), lanes_like(Wv, template, buf),
-            lanes_like(P, template, buf), lanes_like(Q, template, buf),
-            lanes_like(G, template, buf), lanes_like(H, template, buf),
-            lanes_like(g, template, buf), lanes_like(t1, template, buf),
-            lanes_like(t2, template, buf), lanes_like(tmp8, template, buf),
-            lanes_like(c, template, buf), lanes_like(s, template, buf))
-
-
-@inline
-def workspace_size(n, nq, nv, nl):
-    return 2 * W * scalar_size(n, nq, nv, nl) + W * (nq + 2 * nv + 6 * n) + 3 * nv * nv
-
-
-@inline
-def _workspace(buf, m):
-    """``W`` one-sample workspaces (the scalar pass's, one after another), the group's
-    workspace (the same, every number ``W`` numbers), the group's q (nq), v, a (nv) and
-    external wrenches (n, 6) side by side, and a sample's three results (nv, nv) before
-    they are streamed."""
-    size = scalar_size(m.n, m.nq, m.nv, m.nl)
-    samples, o = ws.carve(buf, 0, (W, size))
-    lanes, o = ws.carve(buf, o, (W * size,))
-    Ql, o = ws.carve(buf, o, (m.nq * W,))
-    Vl, o = ws.carve(buf, o, (m.nv * W,))
-    Al, o = ws.carve(buf, o, (m.nv * W,))
-    Fl, o = ws.carve(buf, o, (m.n * 6 * W,))
-    r0, o = ws.carve(buf, o, (m.nv, m.nv))
-    r1, o = ws.carve(buf, o, (m.nv, m.nv))
-    r2, o = ws.carve(buf, o, (m.nv, m.nv))
-    return samples, lanes, Ql, Vl, Al, Fl, r0, r1, r2

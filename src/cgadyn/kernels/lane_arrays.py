@@ -111,23 +111,6 @@ def offset_in(typingctx, x, base):
     return types.intp(x, base), codegen
 
 
-def lanes_like(x, template, buf):
-    """The array of ``Lanes`` in ``buf`` laid out as the C-contiguous array ``x`` is within
-    ``template`` (a workspace carved by a core): the same workspace for ``W`` samples, in a
-    buffer ``W`` times as large."""
-    raise NotImplementedError  # compiled: the overload below
-
-
-@overload(lanes_like, inline="always")
-def _lanes_like(x, template, buf):
-    if x.ndim == 1:
-        return lambda x, template, buf: _vector(buf, offset_in(x, template), 0, 0)
-    if x.ndim == 2:
-        return lambda x, template, buf: _matrix(buf, offset_in(x, template), x.shape[1], 0)
-    return lambda x, template, buf: _tensor(buf, offset_in(x, template),
-                                            x.shape[1] * x.shape[2], x.shape[2])
-
-
 @overload(operator.getitem)
 def _getitem(a, i):
     if not isinstance(a, LaneArray):
@@ -253,15 +236,6 @@ if numba.config.DISABLE_JIT:  # pure Python: numpy does the arithmetic of W numb
     def offset_in(x, base):  # noqa: F811
         """How many numbers ``x``'s data lie after ``base``'s."""
         return (x.ctypes.data - base.ctypes.data) // 8
-
-    def lanes_like(x, template, buf):  # noqa: F811
-        """The array of lanes in ``buf`` laid out as ``x`` is within ``template``."""
-        o = (x.ctypes.data - template.ctypes.data) // 8
-        if x.ndim == 1:
-            return _PyLaneArray(buf, o)
-        if x.ndim == 2:
-            return _PyLaneArray(buf, o, x.shape[1], 0, 2)
-        return _PyLaneArray(buf, o, x.shape[1] * x.shape[2], x.shape[2], 3)
 
     def lane_array(array, offset):  # noqa: F811
         """Elements ``offset + i`` of ``array`` in the lanes layout."""

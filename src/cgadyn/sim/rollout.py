@@ -50,19 +50,37 @@ from __future__ import annotations
 import numpy as np
 from numba import prange
 
-from .._jit import inline, parallel
+from .._jit import inline, parallel, serial
 from ..algorithms import _workspace as ws
 from ..algorithms._checks import finite
 from ..algorithms._workspace import chunks
 from ..algorithms.aba import aba_core
-from ..algorithms.aba import workspace_size as aba_workspace
 from ..algorithms.energy import energy_core
-from ..algorithms.energy import workspace_size as energy_workspace
 from ..algorithms.rnea import rnea_core
-from ..algorithms.rnea import workspace_size as rnea_workspace
 from ..algorithms.status import DIVERGED, NONFINITE_RESULT, OK, fault
+from ..algorithms.work.aba import workspace_size as aba_workspace
+from ..algorithms.work.energy import workspace_size as energy_workspace
+from ..algorithms.work.rnea import workspace_size as rnea_workspace
 from ..multibody.joints import joint_difference, joint_integrate
 from ..multibody.packed import unpack
+from .work.rollout import workspace, workspace_size
+
+WORKSPACE = {  # one rollout's scratch, in order (tools/generate_workspaces.py)
+    "K": (4, "nv"),  # the RK4 stages' velocities
+    "Ka": (4, "nv"),  # and accelerations
+    "tau": ("nv",),
+    "g": ("nv",),
+    "dq": ("nv",),
+    "zero": ("nv",),  # zeros
+    "none": (0, 6),  # no wrenches
+    "tmp": (3, 8),
+    "qs": ("nq",),  # the stage configuration
+    "q": ("nq",),  # the loop's state
+    "v": ("nv",),
+    "qn": ("nq",),  # the next one
+    "vn": ("nv",),
+    "a": ("nv",),  # the acceleration
+}
 
 RK4, SEMI_IMPLICIT_EULER, EULER = 0, 1, 2
 """The integrators, by number."""
@@ -97,7 +115,7 @@ def _closed_loop(m, q, v, u, f, ctrl, qdd, sc, work):
     flags, coords, q_ref, v_ref = ctrl
     if flags == 0:  # no feedback: τ = τ_ol
         return aba_core(m, q, v, u, f, qdd, work)
-    tau, g, dq, zero, none, tmp = sc[2], sc[3], sc[4], sc[5], sc[6], sc[7]
+    tau, g, dq, zero, none, tmp = sc.tau, sc.g, sc.dq, sc.zero, sc.none, sc.tmp
     for k in range(m.nv):
         tau[k] = u[k]
     if flags & GRAVITY:
@@ -137,7 +155,7 @@ def _advance(m, q, v, h, tmp, dq, out):
 @inline
 def step(m, method, q, v, u, f, ctrl, dt, qn, vn, a, sc, work):
     """One step of ``method`` from ``(q, v)`` to ``(qn, vn)``; ``a = q̈(q, v)``. A status."""
-    K, Ka, tau, dq, tmp, qs = sc[0], sc[1], sc[2], sc[4], sc[7], sc[8]
+    K, Ka, tau, dq, tmp, qs = sc.K, sc.Ka, sc.tau, sc.dq, sc.tmp, sc.qs
     status = closed_loop_acceleration(m, q, v, u, f, ctrl, a, sc, work)
     if status != OK:
         return status
@@ -182,39 +200,9 @@ def _within_bounds(m, v, coords):
 
 
 @inline
-def workspace_size(n, nq, nv, nl):
-    """The floats of one rollout's scratch (``_scratch``)."""
-    return 15 * nv + 3 * nq + 24
-
-
-@inline
 def core_workspace_size(n, nq, nv, nl):
     """The largest workspace of the cores a step calls, shared by them in turn."""
     return max(aba_workspace(n, nq, nv, nl), rnea_workspace(n, nq, nv, nl))
-
-
-@inline
-def _scratch(buf, m):
-    """K, K̈ (4, nv) the RK4 stages' velocities and accelerations, τ, g, δ, 0 (nv), no
-    wrenches (0, 6), tmp (3, 8), the stage configuration (nq); the loop's state (q, v) and
-    the next one (nq, nv each) and the acceleration (nv)."""
-    K, o = ws.carve(buf, 0, (4, m.nv))
-    Ka, o = ws.carve(buf, o, (4, m.nv))
-    tau, o = ws.carve(buf, o, (m.nv,))
-    g, o = ws.carve(buf, o, (m.nv,))
-    dq, o = ws.carve(buf, o, (m.nv,))
-    zero, o = ws.carve(buf, o, (m.nv,))
-    none, o = ws.carve(buf, o, (0, 6))
-    tmp, o = ws.carve(buf, o, (3, 8))
-    qs, o = ws.carve(buf, o, (m.nq,))
-    q, o = ws.carve(buf, o, (m.nq,))
-    v, o = ws.carve(buf, o, (m.nv,))
-    qn, o = ws.carve(buf, o, (m.nq,))
-    vn, o = ws.carve(buf, o, (m.nv,))
-    a, o = ws.carve(buf, o, (m.nv,))
-    for k in range(m.nv):
-        zero[k] = 0.0
-    return K, Ka, tau, g, dq, zero, none, tmp, qs, q, v, qn, vn, a
 
 
 @parallel
@@ -234,60 +222,72 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, step
     after it.
     """
     m = unpack(packed)
-    B, held = q0.shape[0], u.shape[1]
     size = workspace_size(m.n, m.nq, m.nv, m.nl)
     csize = core_workspace_size(m.n, m.nq, m.nv, m.nl)
-    for b in prange(B):
-        mb = unpack(packed)
-        buf = np.empty(size)
-        heap = np.empty(csize)
-        work = ws.carve(ws.data_pointer(heap), 0, (csize,))[0]  # bare: no reference counts
-        sc = _scratch(ws.data_pointer(buf), mb)
-        q, v, qn, vn, a = sc[9], sc[10], sc[11], sc[12], sc[13]
-        # bare views of this rollout's rows (no reference counts in the loop over steps)
-        rows = Q.shape[1]
-        Qb = _rows(Q[b], rows, mb.nq)
-        Vb = _rows(V[b], rows, mb.nv)
-        Ab = _rows(A[b], rows, mb.nv)
-        ub = _rows(u[0], held, mb.nv)  # shared by all rollouts, or
-        if u.shape[0] > 1:
-            ub = _rows(u[b], held, mb.nv)  # this rollout's own
-        hold = 1 if held == steps else 0  # a row per step, or one for all
-        fb = sc[6]  # no wrenches, or
-        if f.shape[0] == 1:
-            fb = _rows(f[0], mb.n, 6)
-        elif f.shape[0] > 1:
-            fb = _rows(f[b], mb.n, 6)
-        ctrl = (flags, _rows(coords, COORDS, mb.nv), _rows(q_ref[b], 1, mb.nq)[0],
-                _rows(v_ref[b], 1, mb.nv)[0])
+    for b in prange(q0.shape[0]):
+        # the buffers are arguments of the call that carves them: alive while it runs
+        _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, steps,
+                 every, Q, V, A, completed, status, np.empty(size), np.empty(csize))
+
+
+@serial
+def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, steps, every,
+             Q, V, A, completed, status, buf, heap):
+    """Rollout ``b`` of ``rollouts``, in the scratch ``buf`` (``workspace``) and the cores'
+    workspace ``heap`` (``core_workspace_size``). Bare views (``_views.carve``) are valid
+    only while the array they view lives, and compiled code frees a local array after its
+    last use, not at the end of its scope: so the two buffers are this function's
+    arguments, alive until it returns."""
+    mb = unpack(packed)
+    held = u.shape[1]
+    work = ws.carve(ws.data_pointer(heap), 0, (heap.shape[0],))[0]  # bare: no reference counts
+    sc = workspace(ws.data_pointer(buf), mb)
+    for k in range(mb.nv):
+        sc.zero[k] = 0.0
+    q, v, qn, vn, a = sc.q, sc.v, sc.qn, sc.vn, sc.a
+    # bare views of this rollout's rows (no reference counts in the loop over steps)
+    rows = Q.shape[1]
+    Qb = _rows(Q[b], rows, mb.nq)
+    Vb = _rows(V[b], rows, mb.nv)
+    Ab = _rows(A[b], rows, mb.nv)
+    ub = _rows(u[0], held, mb.nv)  # shared by all rollouts, or
+    if u.shape[0] > 1:
+        ub = _rows(u[b], held, mb.nv)  # this rollout's own
+    hold = 1 if held == steps else 0  # a row per step, or one for all
+    fb = sc.none  # no wrenches, or
+    if f.shape[0] == 1:
+        fb = _rows(f[0], mb.n, 6)
+    elif f.shape[0] > 1:
+        fb = _rows(f[b], mb.n, 6)
+    ctrl = (flags, _rows(coords, COORDS, mb.nv), _rows(q_ref[b], 1, mb.nq)[0],
+            _rows(v_ref[b], 1, mb.nv)[0])
+    for k in range(mb.nq):
+        q[k] = q0[b, k]
+    for k in range(mb.nv):
+        v[k] = v0[b, k]
+    s = OK
+    done = 0
+    for i in range(steps):
+        s = step(mb, method, q, v, ub[hold * i], fb, ctrl, dt, qn, vn, a, sc, work)
+        r = kept_row(i, steps, every)
+        if r >= 0:
+            _keep(q, v, a, Qb[r], Vb[r], Ab[r])
+        if s != OK:
+            break
         for k in range(mb.nq):
-            q[k] = q0[b, k]
+            q[k] = qn[k]
         for k in range(mb.nv):
-            v[k] = v0[b, k]
-        s = OK
-        done = 0
-        for i in range(steps):
-            s = step(mb, method, q, v, ub[hold * i], fb, ctrl, dt, qn, vn, a, sc, work)
-            r = kept_row(i, steps, every)
-            if r >= 0:
-                _keep(q, v, a, Qb[r], Vb[r], Ab[r])
-            if s != OK:
-                break
-            for k in range(mb.nq):
-                q[k] = qn[k]
-            for k in range(mb.nv):
-                v[k] = vn[k]
-            done = i + 1
-        if s == OK:
-            s = closed_loop_acceleration(mb, q, v, ub[hold * (steps - 1)], fb, ctrl, a, sc,
-                                         work)
-            r = kept_row(steps, steps, every)
-            _keep(q, v, a, Qb[r], Vb[r], Ab[r])
-        elif kept_row(done, steps, every) < 0:
-            r = stop_row(done, every)
-            _keep(q, v, a, Qb[r], Vb[r], Ab[r])
-        completed[b] = done
-        status[b] = s
+            v[k] = vn[k]
+        done = i + 1
+    if s == OK:
+        s = closed_loop_acceleration(mb, q, v, ub[hold * (steps - 1)], fb, ctrl, a, sc, work)
+        r = kept_row(steps, steps, every)
+        _keep(q, v, a, Qb[r], Vb[r], Ab[r])
+    elif kept_row(done, steps, every) < 0:
+        r = stop_row(done, every)
+        _keep(q, v, a, Qb[r], Vb[r], Ab[r])
+    completed[b] = done
+    status[b] = s
 
 
 @inline
@@ -342,10 +342,17 @@ def energies(packed, Q, V, last, E, threads):
     size = energy_workspace(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(B * rows, threads)
     for c in prange(starts.shape[0]):
-        mc = unpack(packed)
-        heap = np.empty(size)
-        work = ws.carve(ws.data_pointer(heap), 0, (size,))[0]
-        for r in range(starts[c], stops[c]):
-            b, i = r // rows, r % rows
-            if i <= last[b]:
-                energy_core(mc, Q[b, i], V[b, i], E[b, i], work)  # a fault leaves NaN
+        _energies_of(packed, Q, V, last, E, starts[c], stops[c], np.empty(size))
+
+
+@serial
+def _energies_of(packed, Q, V, last, E, start, stop, heap):
+    """Rows ``start`` to ``stop`` of ``energies``, in the workspace ``heap`` (an argument,
+    so alive while its bare view is used: ``_rollout``)."""
+    m = unpack(packed)
+    rows = Q.shape[1]
+    work = ws.carve(ws.data_pointer(heap), 0, (heap.shape[0],))[0]
+    for r in range(start, stop):
+        b, i = r // rows, r % rows
+        if i <= last[b]:
+            energy_core(m, Q[b, i], V[b, i], E[b, i], work)  # a fault leaves NaN

@@ -67,8 +67,9 @@ def _adjoint_add(M, sign, Jin, Jout):
 @serial
 def cooperative(m, Mw, task, Ma, Ja, Mr, Jr, cw):
     """``Ma, Ja`` (8), (6, nv) and ``Mr, Jr`` of the task row's two tool frames, (C1-C4);
-    ``Mw`` the joints' world motors, ``cw`` a ``CoopWork``."""
-    L, F1, F2, H, E, tw, xi, J1, K, K2, K3, t = cw
+    ``Mw`` the joints' world motors, ``cw`` the stack's workspace (``_stack.WORKSPACE``)."""
+    L, F1, F2, H, tw, xi = cw.L, cw.F, cw.F2, cw.H, cw.tw, cw.xi
+    J1, K, K2, K3, t = cw.Jf, cw.J6, cw.K2, cw.K3, cw.t
     link_motor(m, Mw, int(task[LINK]), L)
     motor_mul(L, task[TOOL:TOOL + 8], F1)  # F_1 = M^w_L1 P_1
     link_motor(m, Mw, int(task[SECOND]), L)
@@ -113,7 +114,7 @@ def cooperative_rows(m, Mw, task, kind, r, J, o, cw, Ma, Ja, Mr, Jr):
     w = task[WEIGHT]
     cooperative(m, Mw, task, Ma, Ja, Mr, Jr, cw)
     M, JM = (Mr, Jr) if kind == RELATIVE else (Ma, Ja)
-    L, E, tw, xi, K, t = cw[0], cw[4], cw[5], cw[6], cw[8], cw[11]
+    L, E, tw, xi, K, t = cw.L, cw.E, cw.tw, cw.xi, cw.J6, cw.t
     motor_reverse(task[TARGET:TARGET + 8], L)
     motor_mul(L, M, E)  # ~M_t M
     _log6(E, tw, xi)

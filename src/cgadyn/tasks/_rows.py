@@ -128,11 +128,12 @@ def _point_rate(Jf, k, c0, c1, c2):
 @inline
 def task_rows(m, Mw, task, r, J, o, wk):
     """Rows ``o .. o + dim`` of the residual ``r`` and Jacobian ``J`` (·, nv) of one task
-    row (module docstring); ``Mw`` the joints' world motors. ``wk``: a ``RowsWork``."""
+    row (module docstring); ``Mw`` the joints' world motors; ``wk`` the stack's workspace
+    (``_stack.WORKSPACE``)."""
     kind = int(task[KIND])
     link = int(task[LINK])
     w = task[WEIGHT]
-    L, F, E, tw, xi, Jf, J6, t = wk
+    L, F, E, tw, xi, Jf, J6, t = wk.L, wk.F, wk.E, wk.tw, wk.xi, wk.Jf, wk.J6, wk.t
     link_motor(m, Mw, link, L)
     motor_mul(L, task[TOOL:TOOL + 8], F)  # F = M^w_L P
     R, p = rigid_frame(F)

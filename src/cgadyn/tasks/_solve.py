@@ -22,7 +22,7 @@ keep their start), at most
 
 ``options = [max_iter, tol, restarts, seed, λ0]``; ``info = [converged, |r|, iterations,
 restarts used]``. Nothing is allocated: every array is carved from ``work``
-(``solve_workspace_size``); the batch entry allocates one ``work`` per chunk of targets.
+(``workspace_size``, ``WORKSPACE``); the batch entry allocates one ``work`` per chunk of targets.
 
 The rows (``_stack.stack_rows``, ``_rows.task_rows``) and the step are inlined into
 ``solve_core``: as calls, handing over the model's and the workspace's views cost about as
@@ -37,23 +37,35 @@ import numpy as np
 from numba import prange
 
 from .._jit import core, inline, parallel, serial
-from .._views import carve, data_pointer
+from .._views import data_pointer
 from ..algorithms._workspace import chunks
 from ..multibody.joints import is_additive, joint_integrate
 from ..multibody.packed import unpack
-from ._stack import stack_dim, stack_rows, stack_workspace, stack_workspace_size
+from ._stack import stack_dim, stack_rows
+from .work._solve import workspace, workspace_size
+from .work._stack import workspace as stack_workspace
 
 LAMBDA_MAX = 1e10
 ACTIVE_PASSES = 4
 STALL_WINDOW, STALL_RATIO, STALL_FLOOR = 4, 0.5, 1e-6
+
+WORKSPACE = {  # one target's scratch, in order (tools/generate_workspaces.py); nr: the
+    "stack": ("size(_stack)",),  # stack's rows, window: STALL_WINDOW
+    "r": ("nr",),  # the residual and its Jacobian at the current q
+    "J": ("nr", "nv"),
+    "r2": ("nr",),  # and at a trial q
+    "J2": ("nr", "nv"),
+    "A": ("nv", "nv"),  # the damped normal matrix
+    "g": ("nv",),  # the gradient
+    "d": ("nv",),  # the step
+    "qc": ("nq",),  # the current and trial configurations
+    "qt": ("nq",),
+    "tmp": (3, 8),
+    "free": ("nv",),
+    "ring": ("window + 1",),  # the costs of the last accepted steps
+}
 MAX_ITER, TOL, RESTARTS, SEED, LAMBDA0 = range(5)
 CONVERGED, RESIDUAL, ITERATIONS, RESTARTS_USED = range(4)
-
-
-@inline
-def solve_workspace_size(n, nq, nv, nr):
-    return (stack_workspace_size(n, nq, nv) + 2 * nr * (nv + 1) + nv * nv + 3 * nv + 2 * nq
-            + 24 + STALL_WINDOW + 1)
 
 
 MINSTD_MODULUS = 2147483647
@@ -187,20 +199,10 @@ def solve_core(m, q0, lower, upper, tasks, options, sample, q, res, info, work):
     """Levenberg-Marquardt from q0 with restarts (module docstring); the best q into ``q``,
     its residual into ``res``."""
     nr = stack_dim(tasks)
-    buf = data_pointer(work)
-    sw, o = stack_workspace(buf, m, 0)
-    r, o = carve(buf, o, (nr,))
-    J, o = carve(buf, o, (nr, m.nv))
-    r2, o = carve(buf, o, (nr,))
-    J2, o = carve(buf, o, (nr, m.nv))
-    A, o = carve(buf, o, (m.nv, m.nv))
-    g, o = carve(buf, o, (m.nv,))
-    d, o = carve(buf, o, (m.nv,))
-    qc, o = carve(buf, o, (m.nq,))
-    qt, o = carve(buf, o, (m.nq,))
-    tmp, o = carve(buf, o, (3, 8))
-    free, o = carve(buf, o, (m.nv,))
-    ring, o = carve(buf, o, (STALL_WINDOW + 1,))  # the costs of the last accepted steps
+    k_ = workspace(data_pointer(work), m, nr, STALL_WINDOW)
+    sw = stack_workspace(data_pointer(k_.stack), m)
+    r, J, r2, J2, A, g, d = k_.r, k_.J, k_.r2, k_.J2, k_.A, k_.g, k_.d
+    qc, qt, tmp, free, ring = k_.qc, k_.qt, k_.tmp, k_.free, k_.ring
     max_iter, tol, restarts = int(options[MAX_ITER]), options[TOL], int(options[RESTARTS])
     state = _first_state(int(options[SEED]), sample)
     tol2 = tol * tol
@@ -275,7 +277,7 @@ def solve_single(packed, q0, lower, upper, tasks, options, q, res, info):
     """One target; a status (0, or 2 when no residual was finite)."""
     m = unpack(packed)
     nr = stack_dim(tasks)
-    work = np.empty(solve_workspace_size(m.n, m.nq, m.nv, nr))
+    work = np.empty(workspace_size(m.n, m.nq, m.nv, m.nl, nr, STALL_WINDOW))
     # sample 0 as an int64, not a literal: the batch's signature, so solve_core compiles once
     return solve_core(m, q0, lower, upper, tasks, options, np.int64(0), q, res, info, work)
 
@@ -290,7 +292,7 @@ def solve_batch(packed, q0, lower, upper, tasks, options, q, res, info, threads)
     for c in prange(starts.shape[0]):
         m = unpack(packed)
         nr = stack_dim(tasks[starts[c]]) if stops[c] > starts[c] else 0
-        work = np.empty(solve_workspace_size(m.n, m.nq, m.nv, nr))
+        work = np.empty(workspace_size(m.n, m.nq, m.nv, m.nl, nr, STALL_WINDOW))
         for b in range(starts[c], stops[c]):
             status[b] = solve_core(m, q0[b], lower, upper, tasks[b], options, b, q[b], res[b],
                                    info[b], work)

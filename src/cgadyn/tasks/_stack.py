@@ -3,7 +3,7 @@
 Forward kinematics once (eq. 5, ``algorithms.kinematics.world_motors``), then every task's
 rows (``_rows.task_rows``) one under the other: the residual ``r`` (nr) and its Jacobian
 ``J`` (nr, nv) in the tangent space of q. Nothing is allocated: the arrays are carved out of
-the caller's ``work`` (``stack_workspace_size`` floats).
+the caller's ``work`` (``workspace_size`` floats, ``WORKSPACE``).
 """
 
 from __future__ import annotations
@@ -11,65 +11,38 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import inline, serial
-from .._views import carve, data_pointer
+from .._views import data_pointer
 from ..algorithms.kinematics import world_motors
 from ..multibody.packed import unpack
 from ._cooperative import RELATIVE, cooperative, cooperative_rows
 from ._rows import DIMS, KIND, task_dim, task_rows
+from .work._stack import workspace, workspace_size
 
-__all__ = ["DIMS", "evaluate", "stack_dim", "stack_rows", "stack_workspace_size"]
+__all__ = ["DIMS", "evaluate", "stack_dim", "stack_rows", "workspace", "workspace_size"]
 
-
-@inline
-def stack_workspace_size(n, nq, nv):
-    return 16 * n + 2 * nq + 8 * 4 + 12 + 6 * nv + 36 + 54 + coop_workspace_size(nv)
-
-
-@inline
-def coop_workspace_size(nv):
-    return 8 * 4 + 2 * 6 * nv + 2 * 36
-
-
-@inline
-def stack_workspace(buf, m, o):
-    """The scratch of ``stack_rows`` from offset ``o``: the joint motors M, Mw (n, 8), their
-    scalars c, s (nq), tmp8, and the rows' work (L, F, E (8), tw, xi (6), Jf (6, nv),
-    J6 (6, 6), t (6, 3, 3)), the cooperative rows' (``coop_workspace``); and the next
-    offset."""
-    M, o = carve(buf, o, (m.n, 8))
-    Mw, o = carve(buf, o, (m.n, 8))
-    c, o = carve(buf, o, (m.nq,))
-    s, o = carve(buf, o, (m.nq,))
-    tmp8, o = carve(buf, o, (8,))
-    L, o = carve(buf, o, (8,))
-    F, o = carve(buf, o, (8,))
-    E, o = carve(buf, o, (8,))
-    tw, o = carve(buf, o, (6,))
-    xi, o = carve(buf, o, (6,))
-    Jf, o = carve(buf, o, (6, m.nv))
-    J6, o = carve(buf, o, (6, 6))
-    t, o = carve(buf, o, (6, 3, 3))
-    wk = (L, F, E, tw, xi, Jf, J6, t)
-    cw, o = coop_workspace(buf, m, o, wk)
-    return (M, Mw, c, s, tmp8, wk, cw), o
-
-
-@inline
-def coop_workspace(buf, m, o, wk):
-    """The scratch of the cooperative rows, ``CoopWork`` (L, F1, F2, H, E (8), tw, xi (6),
-    J1 (6, nv), K, K2, K3 (6, 6), t (6, 3, 3)), and the outputs Ma, Mr (8), Ja, Jr (6, nv):
-    what a one-link task's rows use (``wk``, never at the same time) and F2, H, K2, K3 and
-    the outputs carved from offset ``o``."""
-    L, F, E, tw, xi, Jf, J6, t = wk
-    F2, o = carve(buf, o, (8,))
-    H, o = carve(buf, o, (8,))
-    K2, o = carve(buf, o, (6, 6))
-    K3, o = carve(buf, o, (6, 6))
-    Ma, o = carve(buf, o, (8,))
-    Mr, o = carve(buf, o, (8,))
-    Ja, o = carve(buf, o, (6, m.nv))
-    Jr, o = carve(buf, o, (6, m.nv))
-    return ((L, F, F2, H, E, tw, xi, Jf, J6, K2, K3, t), Ma, Ja, Mr, Jr), o
+WORKSPACE = {  # the scratch of ``stack_rows``, in order (tools/generate_workspaces.py)
+    "M": ("n", 8),  # the joint motors
+    "Mw": ("n", 8),  # the world motors
+    "c": ("nq",),  # the joint motors' scalars (eq. 6)
+    "s": ("nq",),
+    "tmp8": (8,),
+    "L": (8,),  # the rows' work: a link's motor, the tool frame, an error motor
+    "F": (8,),
+    "E": (8,),
+    "tw": (6,),
+    "xi": (6,),
+    "Jf": (6, "nv"),  # a frame's Jacobian
+    "J6": (6, 6),
+    "t": (6, 3, 3),
+    "F2": (8,),  # the cooperative rows' own (C1-C4): the second tool frame, its
+    "H": (8,),  # half-way motor, two 6 x 6 blocks
+    "K2": (6, 6),
+    "K3": (6, 6),
+    "Ma": (8,),  # the absolute and relative motors and their Jacobians
+    "Mr": (8,),
+    "Ja": (6, "nv"),
+    "Jr": (6, "nv"),
+}
 
 
 @inline
@@ -83,16 +56,16 @@ def stack_dim(tasks):
 
 @inline
 def stack_rows(m, q, tasks, r, J, sw):
-    """``r`` (nr) and ``J`` (nr, nv) of the stack at q; ``sw`` from ``stack_workspace``."""
-    M, Mw, c, s, tmp8, wk, (cw, Ma, Ja, Mr, Jr) = sw
+    """``r`` (nr) and ``J`` (nr, nv) of the stack at q; ``sw`` from ``workspace``."""
+    M, Mw, c, s, tmp8 = sw.M, sw.Mw, sw.c, sw.s, sw.tmp8
     world_motors(m, q, c, s, tmp8, M, Mw)
     o = 0
     for i in range(tasks.shape[0]):
         kind = int(tasks[i, KIND])
         if kind >= RELATIVE:
-            cooperative_rows(m, Mw, tasks[i], kind, r, J, o, cw, Ma, Ja, Mr, Jr)
+            cooperative_rows(m, Mw, tasks[i], kind, r, J, o, sw, sw.Ma, sw.Ja, sw.Mr, sw.Jr)
         else:
-            task_rows(m, Mw, tasks[i], r, J, o, wk)
+            task_rows(m, Mw, tasks[i], r, J, o, sw)
         o += task_dim(kind)
 
 
@@ -101,18 +74,28 @@ def cooperative_space(packed, q, task, Ma, Ja, Mr, Jr):
     """The absolute and relative motors and their Jacobians of a cooperative task row's two
     links at q (``_cooperative``, C1-C4), for Python."""
     m = unpack(packed)
-    work = np.empty(stack_workspace_size(m.n, m.nq, m.nv))
-    sw, _ = stack_workspace(data_pointer(work), m, 0)
-    M, Mw, c, s, tmp8, _, (cw, _, _, _, _) = sw
-    world_motors(m, q, c, s, tmp8, M, Mw)
-    cooperative(m, Mw, task, Ma, Ja, Mr, Jr, cw)
+    _cooperative_space(m, q, task, Ma, Ja, Mr, Jr, np.empty(workspace_size(m.n, m.nq, m.nv,
+                                                                           m.nl)))
+
+
+@serial
+def _cooperative_space(m, q, task, Ma, Ja, Mr, Jr, work):
+    """``cooperative_space`` in ``work``, an argument: the bare views carved from it are
+    valid while it lives (``_views.data_pointer``)."""
+    sw = workspace(data_pointer(work), m)
+    world_motors(m, q, sw.c, sw.s, sw.tmp8, sw.M, sw.Mw)
+    cooperative(m, sw.Mw, task, Ma, Ja, Mr, Jr, sw)
 
 
 @serial
 def evaluate(packed, q, tasks, r, J):
     """``r, J`` of a stack at one configuration (for Python: tests, the task objects)."""
     m = unpack(packed)
-    work = np.empty(stack_workspace_size(m.n, m.nq, m.nv))
-    sw, _ = stack_workspace(data_pointer(work), m, 0)
-    stack_rows(m, q, tasks, r, J, sw)
+    _evaluate(m, q, tasks, r, J, np.empty(workspace_size(m.n, m.nq, m.nv, m.nl)))
+
+
+@serial
+def _evaluate(m, q, tasks, r, J, work):
+    """``evaluate`` in ``work``, an argument (``_cooperative_space``)."""
+    stack_rows(m, q, tasks, r, J, workspace(data_pointer(work), m))
 

@@ -10,8 +10,9 @@ from ..._jit import native, parallel, serial
 from ...multibody.packed import unpack
 from .._pointers import SIGNATURE, packed_array
 from .._workspace import STACK_FLOATS, chunks, stack_buffer
-from ..aba import aba_core, workspace_size
+from ..aba import aba_core
 from ..status import OK, WRONG_SHAPE, at_sample
+from ..work.aba import workspace_size
 
 
 @serial

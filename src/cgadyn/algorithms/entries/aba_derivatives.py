@@ -10,10 +10,11 @@ from ..._jit import native, parallel, serial
 from ...multibody.packed import unpack
 from .._pointers import SIGNATURE, packed_array
 from .._workspace import STACK_FLOATS, chunks, stack_buffer
-from ..aba_derivatives import aba_derivatives_core, workspace_size
+from ..aba_derivatives import aba_derivatives_core
 from ..aba_derivatives_lanes import aba_derivatives_group
-from ..aba_derivatives_lanes import workspace_size as group_workspace_size
 from ..status import OK, WRONG_SHAPE
+from ..work.aba_derivatives import workspace_size
+from ..work.aba_derivatives_lanes import workspace_size as group_workspace_size
 
 
 @serial

@@ -10,8 +10,9 @@ from ..._jit import native, parallel, serial
 from ...multibody.packed import unpack
 from .._pointers import SIGNATURE, packed_array
 from .._workspace import STACK_FLOATS, chunks, stack_buffer
-from ..centroidal import centroidal_core, workspace_size
+from ..centroidal import centroidal_core
 from ..status import OK, WRONG_SHAPE, at_sample
+from ..work.centroidal import workspace_size
 
 
 @serial

@@ -10,10 +10,11 @@ from ..._jit import native, parallel, serial
 from ...multibody.packed import unpack
 from .._pointers import SIGNATURE, packed_array
 from .._workspace import STACK_FLOATS, chunks, stack_buffer
-from ..minverse import minverse_core, workspace_size
+from ..minverse import minverse_core
 from ..minverse_lanes import minverse_group
-from ..minverse_lanes import workspace_size as group_workspace_size
 from ..status import OK, WRONG_SHAPE
+from ..work.minverse import workspace_size
+from ..work.minverse_lanes import workspace_size as group_workspace_size
 
 
 @serial

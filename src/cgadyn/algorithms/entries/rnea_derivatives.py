@@ -10,10 +10,11 @@ from ..._jit import native, parallel, serial
 from ...multibody.packed import unpack
 from .._pointers import SIGNATURE, packed_array
 from .._workspace import STACK_FLOATS, chunks, stack_buffer
-from ..rnea_derivatives import rnea_derivatives_core, workspace_size
+from ..rnea_derivatives import rnea_derivatives_core
 from ..rnea_derivatives_lanes import rnea_derivatives_group
-from ..rnea_derivatives_lanes import workspace_size as group_workspace_size
 from ..status import OK, WRONG_SHAPE
+from ..work.rnea_derivatives import workspace_size
+from ..work.rnea_derivatives_lanes import workspace_size as group_workspace_size
 
 
 @serial

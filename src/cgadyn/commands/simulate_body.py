@@ -40,7 +40,7 @@ def _add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run the simulation; returns the exit code. Bad arguments raise ``ValueError`` or
     ``UsageError``, which ``cgadyn.cli.main`` reports (exit status 2)."""
-    from .simulate import hypercube_on_spring
+    from ..pga.simulate import hypercube_on_spring
 
     check_plot_path(args.plot)  # before the work: a bad path is a usage error
     result = hypercube_on_spring(
