@@ -76,6 +76,7 @@ _LAZY = {
     "constrained_dynamics": "cgadyn.constraints",
     "impulse_dynamics": "cgadyn.constraints",
     "contact_inverse_dynamics": "cgadyn.constraints",
+    "mujoco_constraints": "cgadyn.constraints",
     "simulate": "cgadyn.sim",
     "Trajectory": "cgadyn.sim",
     "PD": "cgadyn.sim",

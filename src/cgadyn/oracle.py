@@ -282,9 +282,10 @@ def finite_or_none(x: float):
 
 def pin_constraints(model, pm, constraints):
     """Pinocchio's ``(StdVec_RigidConstraintModel, StdVec_RigidConstraintData)`` of cgadyn
-    ``Constraint``s: each end on the joint that carries its link (joint 0, the world, for a
-    world anchor or a link fixed to the world), its placement in that joint's frame, the
-    same reference frame and Baumgarte gains."""
+    ``Constraint``s: each end on the joint that carries its link's ``BODY`` frame in ``pm``
+    (joint 0, the world, for a world anchor or a link fixed to the world), its placement in
+    that joint's frame (through the frame's, which holds any turn between the libraries'
+    joint frames: ``pinocchio_of``), the same reference frame and Baumgarte gains."""
     pin = _pin()
     kinds = {"point": pin.ContactType.CONTACT_3D, "frame": pin.ContactType.CONTACT_6D}
     frames = {"local": pin.LOCAL, "local_world_aligned": pin.LOCAL_WORLD_ALIGNED}
@@ -292,8 +293,8 @@ def pin_constraints(model, pm, constraints):
     def end(link, placement):
         if link is None:
             return 0, pin.SE3(placement)
-        joint = int(model.link_joint[link])
-        return joint + 1, pin.SE3(model.link_placement_matrices[link] @ placement)
+        frame = pm.frames[pm.getFrameId(model.link_names[link], pin.BODY)]  # the link's
+        return int(frame.parentJoint), frame.placement * pin.SE3(placement)  # Pinocchio frame
 
     models, datas = pin.StdVec_RigidConstraintModel(), pin.StdVec_RigidConstraintData()
     for c in constraints:

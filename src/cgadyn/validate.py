@@ -32,8 +32,15 @@ DEFAULT_TOLERANCE = 1e-10
 #: The paper's Table 1, gafro (CGA) against Pinocchio on the Franka Emika Panda.
 PAPER_PANDA = {"rnea": 1.28015e-14, "aba": 6.73759e-14}
 
-__all__ = ["DEFAULT_SAMPLES", "DEFAULT_SEED", "DEFAULT_TOLERANCE", "PAPER_PANDA",
-           "PAPER_SAMPLES", "leaf_links", "validate_robot", "versions"]
+FOOT_BAND = 0.02
+"""Leaf links within this height (m) of the lowest at the neutral configuration are feet."""
+
+CONSTRAINED = "constrained"
+"""The key of the constrained-dynamics check (``constrained_row``)."""
+
+__all__ = ["CONSTRAINED", "DEFAULT_SAMPLES", "DEFAULT_SEED", "DEFAULT_TOLERANCE",
+           "FOOT_BAND", "PAPER_PANDA", "PAPER_SAMPLES", "held_feet", "leaf_links",
+           "validate_robot", "versions"]
 
 
 def versions() -> dict[str, str]:
@@ -57,6 +64,76 @@ def leaf_links(model) -> list[str]:
         if not model.children(j) and attached.size:
             leaves.append(model.link_names[attached[-1]])
     return leaves or [model.link_names[-1]]
+
+
+def held_feet(model) -> list:
+    """Point constraints holding a floating robot's feet where they stand at its neutral
+    configuration: the leaf links (``leaf_links``) within ``FOOT_BAND`` of the lowest."""
+    import cgadyn
+
+    q0 = cgadyn.neutral(model)
+    T = cgadyn.link_placements(model, q0)
+    leaves = [model.link_names.index(name) for name in leaf_links(model)]
+    low = min(T[i][2, 3] for i in leaves)
+    return [cgadyn.Constraint(model, "point", i, q=q0) for i in leaves
+            if T[i][2, 3] <= low + FOOT_BAND]
+
+
+def _constraints_of(robot, model) -> tuple[list, str, float]:
+    """The constraints the constrained check holds, what they are, and the proximal damping
+    it solves with: an MJCF model's equalities (``mujoco_constraints``; damped, as a planar
+    loop closed by a point has a row no joint moves), else a floating robot's feet."""
+    import cgadyn
+
+    if mujoco_oracle.applies(robot):
+        mj = mujoco_oracle.compiled(robot)
+        if mj.neq:
+            return cgadyn.mujoco_constraints(model, mj), "MJCF equalities", 1e-10
+    if model.floating_base:
+        return held_feet(model), "feet held", 0.0
+    return [], "", 0.0
+
+
+def constrained_row(robot, model, pm, states, limit: np.ndarray) -> tuple[str, dict] | None:
+    """q̈ and the constraint forces of ``constrained_dynamics`` against Pinocchio's
+    ``constraintDynamics`` (``ProximalSettings(1e-12, damping, 1 or 100)``), with the
+    constraints of ``_constraints_of``; None where the robot has none (a fixed base without
+    equalities). Returns the check's label and row. With damping (a set that may be
+    redundant, such as a planar loop closed by a point) the forces are compared as the
+    joint torques ``Jᵀλ`` they exert: the split of λ along a row no joint moves is
+    Pinocchio's rounding of that row divided by the damping, where cgadyn's row is 0."""
+    import pinocchio as pin
+
+    import cgadyn
+
+    constraints, what, damping = _constraints_of(robot, model)
+    if not constraints:
+        return None
+    label = f"constrained, {what} (q̈, {'Jᵀλ' if damping else 'λ'})"
+    models, datas = oracle.pin_constraints(model, pm, constraints)
+    data = pm.createData()
+    pin.initConstraintDynamics(pm, data, models, datas)
+    prox = pin.ProximalSettings(1e-12, damping, 100 if damping else 1)
+    qp = oracle.pin_configuration(model, states.q)
+    J = cgadyn.constraint_jacobian(model, states.q, constraints)
+
+    def force(i, lam):  # λ, or Jᵀλ where the set may be redundant (the docstring)
+        return J[i].T @ lam if damping else lam
+
+    ref = []
+    for i in range(states.q.shape[0]):
+        a = pin.constraintDynamics(pm, data, qp[i], states.v[i], states.tau[i], models, datas,
+                                   prox)
+        ref.append(np.concatenate([a, force(i, data.lambda_c)]))
+    ref = np.array(ref)
+    try:
+        qdd, forces = cgadyn.constrained_dynamics(model, states.q, states.v, states.tau,
+                                                  constraints, damping=damping)
+        mine = [np.concatenate([a, force(i, f)]) for i, (a, f) in enumerate(zip(qdd, forces,
+                                                                               strict=True))]
+        return label, _row(np.array(mine), ref, limit)
+    except ValueError as exc:
+        return label, _failed(exc, undefined=not np.all(np.isfinite(ref)))
 
 
 def _row(mine: np.ndarray, reference: np.ndarray, limit: np.ndarray) -> dict:
@@ -120,6 +197,10 @@ def validate_robot(robot, samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SE
             rows[check.key] = _row(check.mine(model, states, leaves), ref, limit)
         except ValueError as exc:  # reported in the table with its reason, not hidden
             rows[check.key] = _failed(exc, undefined=not np.all(np.isfinite(ref)))
+    constrained = constrained_row(robot, model, pm, states, tolerance * cond)
+    labels = {}
+    if constrained is not None:
+        labels[CONSTRAINED], rows[CONSTRAINED] = constrained
     if mujoco_oracle.applies(robot):  # an MJCF model: MuJoCo, the second engine, too
         mj = mujoco_oracle.compiled(robot)
         refs = mujoco_oracle.references(model, mj, states)
@@ -131,5 +212,6 @@ def validate_robot(robot, samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SE
             "samples": samples, "seed": seed, "tolerance": tolerance, "versions": versions(),
             "relative_error": oracle.RELATIVE, "scaled": oracle.SCALED,
             "jacobian_links": leaves, "conditioning": float(cond.max()), "checks": rows,
+            "labels": labels,
             "pass": all(row["pass"] for row in rows.values()),
             "seconds": round(time.perf_counter() - start, 3)}

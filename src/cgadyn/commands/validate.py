@@ -87,8 +87,9 @@ def format_result(result: dict) -> str:
         f"Jacobians at: {', '.join(result['jacobian_links'])}", "",
         f"{'check':<42}{'mean norm':>11}{'max |diff|':>11}{'max rel':>11}{'limit':>10}  result",
         "-" * 93]
-    labels = [(c.key, c.label) for c in oracle.CHECKS] + [
-        (key, label) for key, label in mujoco_oracle.CHECKS.items() if key in result["checks"]]
+    labels = [(c.key, c.label) for c in oracle.CHECKS] + list(result.get("labels", {}).items()) \
+        + [(key, label) for key, label in mujoco_oracle.CHECKS.items()
+           if key in result["checks"]]
     for key, label in labels:
         row = result["checks"][key]
         lines.append(f"{label:<42}{_fmt(row['mean_norm']):>11}{_fmt(row['max_abs']):>11}"
@@ -138,8 +139,9 @@ def _validate_all(args: argparse.Namespace) -> int:
 SHORT = {"rnea": "rnea", "aba": "aba", "crba": "crba", "gravity": "g(q)",
          "jacobian_world": "J world", "jacobian_local": "J local", "fk": "fk",
          "rnea_derivatives": "d rnea", "aba_derivatives": "d aba", "minverse": "M⁻¹",
-         "centroidal": "Ag", "com": "com", "manifold": "q ⊕ v"}
-"""Column titles of the ``--all`` table, one per check of ``oracle.CHECKS``."""
+         "centroidal": "Ag", "com": "com", "manifold": "q ⊕ v", "constrained": "held"}
+"""Column titles of the ``--all`` table, one per check of ``oracle.CHECKS`` and the
+constrained check (``validate.CONSTRAINED``: empty for a robot without constraints)."""
 
 
 def _cell(row: dict) -> str:
@@ -151,11 +153,12 @@ def format_summary(results: list[dict], args: argparse.Namespace) -> str:
     from ..validate import versions
 
     v = versions()
-    keys = [c.key for c in oracle.CHECKS]
+    keys = [c.key for c in oracle.CHECKS] + ["constrained"]
     lines = [f"cgadyn validate --all: {len(results)} robots, {args.samples} samples each, seed "
              f"{args.seed} | cgadyn {v['cgadyn']}, pinocchio {v['pinocchio']}",
              f"worst relative error per check; {oracle.RELATIVE}; tolerance "
-             f"{args.tolerance:.0e} (× cond(M) for aba, d aba, M⁻¹)", ""]
+             f"{args.tolerance:.0e} (× cond(M) for aba, d aba, M⁻¹, held); held: constrained "
+             f"dynamics, a floating robot's feet or an MJCF model's equalities held", ""]
     head = f"{'robot':<27}{'nv':>4} {'base':<6}" + "".join(f"{SHORT[k]:>9}" for k in keys)
     lines += [head + "  result", "-" * (len(head) + 8)]
     for r in results:
@@ -164,7 +167,8 @@ def format_summary(results: list[dict], args: argparse.Namespace) -> str:
             lines.append(f"{r['robot']:<27}{'':>4} {'':<6}  {status}: "
                          f"{r.get('refused') or r.get('error')}")
             continue
-        cells = "".join(f"{_cell(r['checks'][k]):>9}" for k in keys)
+        cells = "".join(f"{_cell(r['checks'][k]) if k in r['checks'] else '':>9}"
+                        for k in keys)
         base = "free" if r["base"] == "free flyer" else "fixed"
         lines.append(f"{r['robot']:<27}{r['nv']:>4} {base:<6}{cells}  "
                      f"{'pass' if r['pass'] else 'FAIL'}")

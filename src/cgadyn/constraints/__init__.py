@@ -1,6 +1,6 @@
 """Bilateral constraints in CGA: point and frame contacts, loop closures, their Jacobian,
 drift and Delassus matrix, constrained forward, impulse and contact inverse dynamics
-(``docs/constraints.md``, C1-C10; Pinocchio's ``RigidConstraintModel`` family).
+(``docs/constraints.md``, C1-C11; Pinocchio's ``RigidConstraintModel`` family).
 
 - ``model``: ``Constraint``, a point (conformal point) or frame (motor) of a link held to
   another link or to the world;
@@ -14,8 +14,10 @@ drift and Delassus matrix, constrained forward, impulse and contact inverse dyna
 
 from .dynamics import constrained_dynamics, contact_inverse_dynamics, impulse_dynamics
 from .model import Constraint
+from .mujoco_equality import mujoco_constraints
 from .operators import constraint_drift, constraint_jacobian, delassus
 from .solve import SolveInfo
 
 __all__ = ["Constraint", "SolveInfo", "constrained_dynamics", "constraint_drift",
-           "constraint_jacobian", "contact_inverse_dynamics", "delassus", "impulse_dynamics"]
+           "constraint_jacobian", "contact_inverse_dynamics", "delassus", "impulse_dynamics",
+           "mujoco_constraints"]

@@ -315,22 +315,7 @@ def load_mujoco(source, name: str | None = None, floating_base: bool | None = No
     ``floating_base`` True or False must agree with it (a ``ValueError`` says what to change
     in the file). A ``ValueError`` carries MuJoCo's own message when it cannot compile
     the file."""
-    import os
-    from pathlib import Path
-
-    import mujoco
-
-    try:
-        if isinstance(source, os.PathLike) or (isinstance(source, str) and "<" not in source):
-            path = Path(source)
-            if not path.is_file():
-                raise FileNotFoundError(f"MJCF file not found: {str(path)!r}")
-            mj = mujoco.MjModel.from_xml_path(str(path))
-        else:
-            text = source.decode() if isinstance(source, bytes) else source
-            mj = mujoco.MjModel.from_xml_string(text)
-    except ValueError as exc:
-        raise ValueError(f"MuJoCo could not compile the MJCF: {exc}") from None
+    mj = mujoco_model(source)
     model = from_mujoco(mj, name=name, check_inertia=check_inertia)
     if floating_base is not None and bool(floating_base) != model.floating_base:
         has = "has a free joint" if model.floating_base else "has no free joint"
@@ -343,16 +328,29 @@ def load_mujoco(source, name: str | None = None, floating_base: bool | None = No
 
 
 def mujoco_model(source):
-    """The compiled ``mujoco.MjModel`` of an MJCF path or text (the oracle's side)."""
+    """The compiled ``mujoco.MjModel`` of an MJCF path or MJCF text (a compiled model is
+    returned as it is). A ``ValueError`` carries MuJoCo's own message when it cannot compile
+    the file, a ``FileNotFoundError`` names a missing path."""
     import os
     from pathlib import Path
 
     import mujoco
 
-    if isinstance(source, os.PathLike) or (isinstance(source, str) and "<" not in source):
-        return mujoco.MjModel.from_xml_path(str(Path(source)))
-    return mujoco.MjModel.from_xml_string(source.decode() if isinstance(source, bytes)
-                                         else source)
+    if isinstance(source, mujoco.MjModel):
+        return source
+    try:
+        if isinstance(source, os.PathLike) or (isinstance(source, str) and "<" not in source):
+            path = Path(source)
+            if not path.is_file():
+                raise FileNotFoundError(f"MJCF file not found: {str(path)!r}")
+            return mujoco.MjModel.from_xml_path(str(path))
+        text = source.decode() if isinstance(source, bytes) else source
+        if not isinstance(text, str):
+            raise ValueError(f"expected an MJCF path, MJCF text or a mujoco.MjModel, got "
+                             f"{type(source).__name__}")
+        return mujoco.MjModel.from_xml_string(text)
+    except ValueError as exc:
+        raise ValueError(f"MuJoCo could not compile the MJCF: {exc}") from None
 
 
 def from_mujoco_state(model: Model, qpos, qvel) -> tuple[np.ndarray, np.ndarray]:
