@@ -47,7 +47,8 @@ def test_validate_json_floating_base(capsys):
     result = strict_json(out)
     assert (result["robot"], result["base"], result["nq"], result["nv"]) == \
         ("solo12", "free flyer", 19, 18)
-    assert set(result["checks"]) == {c.key for c in oracle.CHECKS}
+    assert set(result["checks"]) == {c.key for c in oracle.CHECKS} | {"constrained"}
+    assert result["labels"] == {"constrained": "constrained, feet held (q̈, λ)"}
     for row in result["checks"].values():
         assert row["pass"] and row["max_rel"] < 1e-10
 
@@ -197,7 +198,7 @@ def test_all_reports_a_robot_that_fails_to_run(capsys, monkeypatch):
     result = strict_json(out)
     assert code == 1 and not result["pass"]
     assert "unknown robot" in result["results"][1]["error"]
-    assert validate_command.SHORT.keys() == {c.key for c in oracle.CHECKS}
+    assert validate_command.SHORT.keys() == {c.key for c in oracle.CHECKS} | {"constrained"}
 
 
 def test_validate_robot_api_and_leaves():
