@@ -15,7 +15,8 @@ from setuptools.command.build_py import build_py
 
 
 class BuildWithRobots(build_py):
-    """``build_py`` that also copies ``robots/*.urdf`` and ``robots/*.xml`` (MJCF) into the
+    """``build_py`` that also copies ``robots/*.urdf``, ``robots/*.xml`` (MJCF) and the
+    MuJoCo suites under ``robots/mujoco/`` (their files, included ones and licence) into the
     built package."""
 
     def run(self):
@@ -25,6 +26,11 @@ class BuildWithRobots(build_py):
         robots = Path(__file__).parent.joinpath("robots")
         for robot in sorted([*robots.glob("*.urdf"), *robots.glob("*.xml")]):
             self.copy_file(str(robot), str(target / robot.name))
+        for path in sorted((robots / "mujoco").rglob("*")):
+            if path.is_file():
+                out = target / path.relative_to(robots)
+                out.parent.mkdir(parents=True, exist_ok=True)
+                self.copy_file(str(path), str(out))
 
 
 setup(

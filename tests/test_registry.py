@@ -183,3 +183,19 @@ def test_own_robots_cover_the_cases():
     assert fixed_rot >= 2 and inertial_rot >= 3 and massless >= 2
     branching = [n for n in OWN if len(set(load(n).parents)) < load(n).nq]
     assert len(branching) >= 2
+
+
+def test_mujoco_suites_load_by_name():
+    """Gymnasium's and dm_control's MJCF models (copies shipped in robots/mujoco/) load as
+    ``<suite>:<model>``, through MuJoCo's compiler, named so, with their own base."""
+    from cgadyn.multibody import registry
+
+    names = robots()
+    for name in ("gymnasium:ant", "gymnasium:humanoid", "dm_control:cheetah"):
+        assert name in names and registry.source(name) == name.split(":")[0]
+    ant = load("gymnasium:ant")
+    assert (ant.name, ant.floating_base, ant.nv, len(ant.actuator_names)) == \
+        ("gymnasium:ant", True, 14, 8)
+    assert not load("dm_control:cheetah").floating_base
+    with pytest.raises(ValueError, match="unknown robot 'gymnasium:nope'"):
+        load("gymnasium:nope")

@@ -1,5 +1,5 @@
-"""Robots by name: the project's own URDFs and the fixed-base arms and hands of
-example-robot-data.
+"""Robots by name: the project's own URDFs and MJCF files, Gymnasium's and dm_control's
+MuJoCo models (``gymnasium:ant``), and the robots of example-robot-data.
 
 ``load("panda")`` returns a cached, immutable :class:`~cgadyn.multibody.model.Model`;
 ``load`` also takes a URDF path or URDF text. ``robots()`` lists the names.
@@ -158,10 +158,21 @@ def example_robot_data_dir() -> Path | None:
     return None
 
 
+MUJOCO_SUITES = {"gymnasium": "Gymnasium's MuJoCo environments",
+                 "dm_control": "dm_control's suite"}
+"""The MJCF model collections shipped under ``robots/mujoco/<suite>/`` (copies, with their
+licence), named ``<suite>:<model>`` (``gymnasium:ant``, ``dm_control:cheetah``)."""
+
+
 def _own_robots() -> dict:
-    """name -> file of the project's own robots: its URDFs and MJCF files (``*.xml``)."""
+    """name -> file of the project's own robots: its URDFs and MJCF files (``*.xml``), and
+    the MJCF models of ``MUJOCO_SUITES`` as ``<suite>:<model>``."""
     files = [*OWN_ROBOTS_DIR.glob("*.urdf"), *OWN_ROBOTS_DIR.glob("*.xml")]
-    return {p.stem: p for p in sorted(files)}
+    table = {p.stem: p for p in sorted(files)}
+    for suite in MUJOCO_SUITES:
+        table.update({f"{suite}:{p.stem}": p
+                      for p in sorted((OWN_ROBOTS_DIR / "mujoco" / suite).glob("*.xml"))})
+    return table
 
 
 @functools.lru_cache(maxsize=1)
@@ -193,8 +204,12 @@ def refused() -> dict[str, str]:
 
 
 def source(name: str) -> str:
-    """Where robot ``name`` comes from: ``"cgadyn"`` (the project's robots/) or
-    ``"example-robot-data"``."""
+    """Where robot ``name`` comes from: ``"cgadyn"`` (the project's robots/), a suite of
+    ``MUJOCO_SUITES`` (``"gymnasium"``, ``"dm_control"``: their MJCF files, shipped in
+    robots/mujoco/) or ``"example-robot-data"``."""
+    suite = name.split(":", 1)[0]
+    if suite in MUJOCO_SUITES and name in _own_robots():
+        return suite
     return "cgadyn" if name in _own_robots() else "example-robot-data"
 
 
@@ -298,8 +313,9 @@ def load(robot: str | os.PathLike = DEFAULT_ROBOT, floating_base: bool | None = 
         floating = base == FREE if floating_base is None else bool(floating_base)
         return _load_named(value, floating, bool(check_inertia))
     if kind == "mjcf":
+        name = robot if isinstance(robot, str) and robot in _table() else None
         if mujoco_model.available():  # MuJoCo's compiler: the reference for MJCF
-            return mujoco_model.load_mujoco(value, floating_base=floating_base,
+            return mujoco_model.load_mujoco(value, name=name, floating_base=floating_base,
                                             check_inertia=check_inertia)
         return load_mjcf(value, floating_base=floating_base, check_inertia=check_inertia)
     return load_urdf(value, floating_base=bool(floating_base), check_inertia=check_inertia)
