@@ -14,9 +14,10 @@ are apart by ``sqrt(-2 X · Y)`` (K3), evaluated in the frame of one of them (a 
 which keeps inner products); a sphere or capsule is its core (a point, a segment) swept by
 its radius, so its distance is its core's less the radius (K4). Closed forms: every shape
 against a plane by its support point (K5, K6), sphere and capsule pairs by the closest
-points of two segments (K7), sphere-box by the closest point of the box (K8). Any other
-pair of convex shapes: GJK on the cores (K9); where the cores overlap its penetration depth
-is not computed yet (no EPA): ``PENETRATION_UNSUPPORTED``, which Python words.
+points of two segments (K7), sphere-box by the closest point of the box and capsule-box,
+where the segment enters the box, by separating axes (K8). Any other pair of convex shapes:
+GJK on the cores, and EPA where they overlap (K9); EPA is not used on a cylinder, whose
+overlapping pairs get ``PENETRATION_UNSUPPORTED``, which Python words.
 """
 
 from __future__ import annotations
@@ -29,9 +30,6 @@ from .shapes import BOX, CAPSULE, CYLINDER, MESH, PLANE, SPHERE
 OK, PENETRATION_UNSUPPORTED, TWO_PLANES, UNKNOWN_KIND = 0, 1, 2, 3
 OUT = 10
 """``out``: ``[d, p_a (3), p_b (3), n (3)]``."""
-WORK = 80
-"""The scratch of GJK: four simplex vertices, each ``w = a - b, a, b`` (9 floats) and its
-weight, and a copy of them."""
 GJK_ITERATIONS = 128
 GJK_TOLERANCE = 1e-14
 """GJK stops when ``|v|² - v · w <= GJK_TOLERANCE |v|²``: the distance is then exact to
@@ -186,12 +184,10 @@ def _clamp01(x):
 
 
 @serial
-def swept(ka, sa, Ta, kb, sb, Tb, out):
-    """Spheres and capsules: the closest points ``c_a``, ``c_b`` of their cores (two
-    segments, Ericson's clamped solution), apart by ``sqrt(-2 C_a · C_b)`` (K3), less both
-    radii (K4, K7)."""
-    p0, p1, p2, q0, q1, q2 = segment(ka, sa, Ta)
-    r0, r1, r2, t0, t1, t2 = segment(kb, sb, Tb)
+def closest_on_segments(p0, p1, p2, q0, q1, q2, r0, r1, r2, t0, t1, t2):
+    """The parameters ``(s, t)`` in [0, 1] of the closest points ``p + s (q - p)`` and
+    ``r + t (t - r)`` of two segments, either of which may be a point (Ericson's clamped
+    solution, Real-Time Collision Detection 5.1.9)."""
     d10, d11, d12 = q0 - p0, q1 - p1, q2 - p2
     d20, d21, d22 = t0 - r0, t1 - r1, t2 - r2
     w0, w1, w2 = p0 - r0, p1 - r1, p2 - r2
@@ -217,6 +213,19 @@ def swept(ka, sa, Ta, kb, sb, Tb, out):
                 elif t > 1.0:
                     t = 1.0
                     s = _clamp01((b - c) / a)
+    return s, t
+
+
+@serial
+def swept(ka, sa, Ta, kb, sb, Tb, out):
+    """Spheres and capsules: the closest points ``c_a``, ``c_b`` of their cores (two
+    segments, Ericson's clamped solution), apart by ``sqrt(-2 C_a · C_b)`` (K3), less both
+    radii (K4, K7)."""
+    p0, p1, p2, q0, q1, q2 = segment(ka, sa, Ta)
+    r0, r1, r2, t0, t1, t2 = segment(kb, sb, Tb)
+    s, t = closest_on_segments(p0, p1, p2, q0, q1, q2, r0, r1, r2, t0, t1, t2)
+    d10, d11, d12 = q0 - p0, q1 - p1, q2 - p2
+    d20, d21, d22 = t0 - r0, t1 - r1, t2 - r2
     c0, c1, c2 = p0 + s * d10, p1 + s * d11, p2 + s * d12
     k0, k1, k2 = r0 + t * d20, r1 + t * d21, r2 + t * d22
     dist = point_distance(k0, k1, k2, c0, c1, c2)
@@ -264,6 +273,74 @@ def sphere_box(sa, Ta, sb, Tb, out):
         b0, b1, b2 = to_world(Tb, y0, y1, y2)
     write(out, dist, c0, c1, c2, b0, b1, b2, n0, n1, n2)
     inflate(out, sa[0], 0.0)
+    return OK
+
+
+# --- a capsule against a box, overlapping (K8) ----------------------------------------------
+
+
+@serial
+def _axis_depth(m0, m1, m2, p0, p1, p2, q0, q1, q2, Tb, sb):
+    """How far the box must move along ``+m`` (first) or ``-m`` (second) to clear the
+    segment ``p q``: the overlap of their projections on the unit axis ``m``."""
+    cb = m0 * Tb[0, 3] + m1 * Tb[1, 3] + m2 * Tb[2, 3]
+    rb = 0.0
+    for i in range(3):
+        rb += sb[i] * abs(m0 * Tb[0, i] + m1 * Tb[1, i] + m2 * Tb[2, i])
+    s0 = m0 * p0 + m1 * p1 + m2 * p2
+    s1 = m0 * q0 + m1 * q1 + m2 * q2
+    return max(s0, s1) - (cb - rb), (cb + rb) - min(s0, s1)
+
+
+@serial
+def capsule_box_overlap(sa, Ta, sb, Tb, out):
+    """A capsule whose segment ``p q`` enters the box: the separating axes of a segment and
+    a box are the box's three face normals and the three crossings of the segment with the
+    box's edges; the least overlap of the projections on them is the cores' penetration
+    depth and its axis the normal (K8). The capsule's deepest point is its segment's support
+    along the normal, or, on an edge axis, the segment's point closest to that box edge."""
+    p0, p1, p2, q0, q1, q2 = segment(CAPSULE, sa, Ta)
+    e0, e1, e2 = q0 - p0, q1 - p1, q2 - p2
+    depth, n0, n1, n2, edge = math.inf, 0.0, 0.0, 1.0, -1
+    for k in range(6):
+        i = k % 3
+        u0, u1, u2 = Tb[0, i], Tb[1, i], Tb[2, i]
+        if k >= 3:  # the segment crossed with edge direction i
+            u0, u1, u2 = e1 * u2 - e2 * u1, e2 * u0 - e0 * u2, e0 * u1 - e1 * u0
+            norm = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+            if norm <= 1e-9 * math.sqrt(e0 * e0 + e1 * e1 + e2 * e2):
+                continue
+            u0, u1, u2 = u0 / norm, u1 / norm, u2 / norm
+        plus, minus = _axis_depth(u0, u1, u2, p0, p1, p2, q0, q1, q2, Tb, sb)
+        if plus < depth:
+            depth, n0, n1, n2, edge = plus, u0, u1, u2, (i if k >= 3 else -1)
+        if minus < depth:
+            depth, n0, n1, n2, edge = minus, -u0, -u1, -u2, (i if k >= 3 else -1)
+    if edge < 0:  # a face: the segment's end deepest along n
+        if n0 * e0 + n1 * e1 + n2 * e2 >= 0.0:
+            c0, c1, c2 = q0, q1, q2
+        else:
+            c0, c1, c2 = p0, p1, p2
+    else:  # an edge of the box, parallel to its axis ``edge``, deepest along -n
+        l0, l1, l2 = rotate_back(Tb, -n0, -n1, -n2)
+        y0 = sb[0] if l0 >= 0.0 else -sb[0]
+        y1 = sb[1] if l1 >= 0.0 else -sb[1]
+        y2 = sb[2] if l2 >= 0.0 else -sb[2]
+        if edge == 0:
+            a0, a1, a2 = to_world(Tb, -sb[0], y1, y2)
+            b0, b1, b2 = to_world(Tb, sb[0], y1, y2)
+        elif edge == 1:
+            a0, a1, a2 = to_world(Tb, y0, -sb[1], y2)
+            b0, b1, b2 = to_world(Tb, y0, sb[1], y2)
+        else:
+            a0, a1, a2 = to_world(Tb, y0, y1, -sb[2])
+            b0, b1, b2 = to_world(Tb, y0, y1, sb[2])
+        s, _ = closest_on_segments(p0, p1, p2, q0, q1, q2, a0, a1, a2, b0, b1, b2)
+        c0, c1, c2 = p0 + s * e0, p1 + s * e1, p2 + s * e2
+    r = sa[0]
+    d = -depth - r
+    a0, a1, a2 = c0 + r * n0, c1 + r * n1, c2 + r * n2
+    write(out, d, a0, a1, a2, a0 + d * n0, a1 + d * n1, a2 + d * n2, n0, n1, n2)
     return OK
 
 
@@ -407,8 +484,9 @@ def gjk(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
     """The distance of the cores of two convex shapes by GJK (Gilbert, Johnson and Keerthi
     1988; K9): ``v``, the point of the Minkowski difference ``A - B`` closest to the
     origin, is approached by simplices of support points; then ``p_a``, ``p_b`` are the
-    same weights of the vertices' points of ``A`` and ``B``. Returns False where the cores
-    overlap (``out`` untouched)."""
+    same weights of the vertices' points of ``A`` and ``B``. Returns 0 when it wrote the
+    distance into ``out``; where the cores overlap, the size of the simplex left in
+    ``work`` (4: a tetrahedron around the origin; fewer: the origin on it), for EPA."""
     W = work[:40].reshape((4, 10))
     previous = work[40:80]
     _add(W, 0, ka, sa, va, Ta, kb, sb, vb, Tb,
@@ -419,7 +497,7 @@ def gjk(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
     for _ in range(GJK_ITERATIONS):
         vv = v0 * v0 + v1 * v1 + v2 * v2
         if vv <= 1e-28:
-            return False
+            return n
         _add(W, n, ka, sa, va, Ta, kb, sb, vb, Tb, -v0, -v1, -v2)
         vw = v0 * W[n, 0] + v1 * W[n, 1] + v2 * W[n, 2]
         if vv - vw <= GJK_TOLERANCE * vv:
@@ -434,7 +512,7 @@ def gjk(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
             previous[i] = work[i]
         m = _closest(W, n + 1)
         if m == 0:
-            return False
+            return 4
         u0, u1, u2 = _point(W, m, 0)
         if u0 * u0 + u1 * u1 + u2 * u2 >= vv:  # no progress (rounding): keep the last v
             for i in range(40):
@@ -446,8 +524,172 @@ def gjk(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
     b0, b1, b2 = _point(W, n, 6)
     dist = math.sqrt(v0 * v0 + v1 * v1 + v2 * v2)
     if dist <= 1e-14:
-        return False
+        return n
     write(out, dist, a0, a1, a2, b0, b1, b2, -v0 / dist, -v1 / dist, -v2 / dist)
+    return 0
+
+
+
+# --- EPA: the depth of overlapping cores (K9) ------------------------------------------------
+
+EPA_VERTICES = 128
+EPA_FACES = 256
+EPA_EDGES = 128
+EPA_TOLERANCE = 1e-12
+_V0 = 80
+_F0 = _V0 + 9 * EPA_VERTICES
+_E0 = _F0 + 8 * EPA_FACES
+WORK = _E0 + 2 * EPA_EDGES
+"""The scratch ``work`` of ``pair_distance``: GJK's simplex (four vertices, each ``w = a - b,
+a, b`` and its weight) and its copy, then EPA's vertices, faces (three vertices, the unit
+normal, the distance, alive) and horizon edges."""
+
+
+@serial
+def _face(V, F, f, i, j, k):
+    """Face ``f`` of the polytope on vertices ``i j k`` (counter-clockwise seen from
+    outside): its unit normal and its distance from the origin. False if degenerate."""
+    ab0, ab1, ab2 = V[j, 0] - V[i, 0], V[j, 1] - V[i, 1], V[j, 2] - V[i, 2]
+    ac0, ac1, ac2 = V[k, 0] - V[i, 0], V[k, 1] - V[i, 1], V[k, 2] - V[i, 2]
+    n0 = ab1 * ac2 - ab2 * ac1
+    n1 = ab2 * ac0 - ab0 * ac2
+    n2 = ab0 * ac1 - ab1 * ac0
+    norm = math.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+    if norm <= 0.0:
+        return False
+    F[f, 0], F[f, 1], F[f, 2] = i, j, k
+    F[f, 3], F[f, 4], F[f, 5] = n0 / norm, n1 / norm, n2 / norm
+    F[f, 6] = (n0 * V[i, 0] + n1 * V[i, 1] + n2 * V[i, 2]) / norm
+    F[f, 7] = 1.0
+    return True
+
+
+@serial
+def _edge(E, ne, a, b):
+    """Add the horizon edge ``a b``, or remove ``b a`` where a visible face had it."""
+    for e in range(ne):
+        if E[e, 0] == b and E[e, 1] == a:
+            E[e, 0], E[e, 1] = E[ne - 1, 0], E[ne - 1, 1]
+            return ne - 1
+    if ne < EPA_EDGES:
+        E[ne, 0], E[ne, 1] = a, b
+        return ne + 1
+    return -1
+
+
+@serial
+def epa(ka, sa, va, Ta, kb, sb, vb, Tb, n, work, out):
+    """The penetration depth of overlapping cores: the expanding polytope algorithm (van
+    den Bergen 2001). From GJK's simplex around the origin (blown up to a tetrahedron by
+    support points along the axes where GJK stopped on it), the face of the Minkowski
+    difference nearest the origin is pushed out by the support point along its normal until
+    it no longer moves: its normal ``n`` is the direction that separates the cores fastest,
+    its distance ``δ`` the depth, ``p_a - p_b = δ n``. Exact on polytopes (points, segments,
+    boxes, convex meshes); not used on a cylinder, whose curved side it approaches too
+    slowly. Returns False where it cannot build or grow the polytope."""
+    W = work[:40].reshape((4, 10))
+    V = work[_V0:_F0].reshape((EPA_VERTICES, 9))
+    F = work[_F0:_E0].reshape((EPA_FACES, 8))
+    E = work[_E0:WORK].reshape((EPA_EDGES, 2))
+    for i in range(n):
+        for c in range(9):
+            V[i, c] = W[i, c]
+    axis = 0
+    while n < 4 and axis < 6:  # blow the simplex up to a tetrahedron
+        d = 1.0 if axis < 3 else -1.0
+        _add(W, 0, ka, sa, va, Ta, kb, sb, vb, Tb, d if axis % 3 == 0 else 0.0,
+             d if axis % 3 == 1 else 0.0, d if axis % 3 == 2 else 0.0)
+        axis += 1
+        x0, x1, x2 = W[0, 0] - V[0, 0], W[0, 1] - V[0, 1], W[0, 2] - V[0, 2]
+        if n == 1:
+            grows = x0 * x0 + x1 * x1 + x2 * x2 > 1e-20
+        else:
+            e0, e1, e2 = V[1, 0] - V[0, 0], V[1, 1] - V[0, 1], V[1, 2] - V[0, 2]
+            c0, c1, c2 = e1 * x2 - e2 * x1, e2 * x0 - e0 * x2, e0 * x1 - e1 * x0
+            if n == 2:
+                grows = c0 * c0 + c1 * c1 + c2 * c2 > 1e-20
+            else:
+                f0, f1, f2 = V[2, 0] - V[0, 0], V[2, 1] - V[0, 1], V[2, 2] - V[0, 2]
+                grows = abs(c0 * f0 + c1 * f1 + c2 * f2) > 1e-15
+        if grows:
+            for c in range(9):
+                V[n, c] = W[0, c]
+            n += 1
+    if n < 4:
+        return False
+    nf = 0
+    for f in range(4):  # the tetrahedron's faces, turned outwards
+        i, j, k, m = (0, 1, 2, 3) if f == 0 else (0, 3, 1, 2) if f == 1 else \
+            (0, 2, 3, 1) if f == 2 else (1, 3, 2, 0)
+        if not _face(V, F, nf, i, j, k):
+            return False
+        side = F[nf, 3] * (V[m, 0] - V[i, 0]) + F[nf, 4] * (V[m, 1] - V[i, 1]) + \
+            F[nf, 5] * (V[m, 2] - V[i, 2])
+        if side > 0.0:
+            _face(V, F, nf, i, k, j)
+        nf += 1
+    nv = 4
+    best = 0
+    for _ in range(EPA_VERTICES):
+        best = -1
+        for f in range(nf):
+            if F[f, 7] > 0.0 and (best < 0 or F[f, 6] < F[best, 6]):
+                best = f
+        if best < 0:
+            return False
+        m0, m1, m2, depth = F[best, 3], F[best, 4], F[best, 5], F[best, 6]
+        if nv == EPA_VERTICES:
+            break
+        _add(W, 0, ka, sa, va, Ta, kb, sb, vb, Tb, m0, m1, m2)
+        reach = m0 * W[0, 0] + m1 * W[0, 1] + m2 * W[0, 2]
+        if reach - depth <= EPA_TOLERANCE * max(1.0, abs(depth)):
+            break
+        for c in range(9):
+            V[nv, c] = W[0, c]
+        ne = 0
+        for f in range(nf):  # the faces that see the new vertex go; their rim stays
+            if F[f, 7] > 0.0:
+                i, j, k = int(F[f, 0]), int(F[f, 1]), int(F[f, 2])
+                if F[f, 3] * (V[nv, 0] - V[i, 0]) + F[f, 4] * (V[nv, 1] - V[i, 1]) + \
+                        F[f, 5] * (V[nv, 2] - V[i, 2]) > 0.0:
+                    F[f, 7] = 0.0
+                    ne = _edge(E, ne, i, j)
+                    if ne >= 0:
+                        ne = _edge(E, ne, j, k)
+                    if ne >= 0:
+                        ne = _edge(E, ne, k, i)
+                    if ne < 0:
+                        return False
+        if ne == 0 or nf + ne > EPA_FACES:
+            break
+        for e in range(ne):
+            if _face(V, F, nf, int(E[e, 0]), int(E[e, 1]), nv):
+                nf += 1
+        nv += 1
+    m0, m1, m2, depth = F[best, 3], F[best, 4], F[best, 5], F[best, 6]
+    if not depth >= 0.0:  # the origin outside the polytope: it was not grown right
+        return False
+    i, j, k = int(F[best, 0]), int(F[best, 1]), int(F[best, 2])
+    # barycentric weights of δ n, the face's point nearest the origin
+    x0, x1, x2 = depth * m0 - V[i, 0], depth * m1 - V[i, 1], depth * m2 - V[i, 2]
+    ab0, ab1, ab2 = V[j, 0] - V[i, 0], V[j, 1] - V[i, 1], V[j, 2] - V[i, 2]
+    ac0, ac1, ac2 = V[k, 0] - V[i, 0], V[k, 1] - V[i, 1], V[k, 2] - V[i, 2]
+    d00 = ab0 * ab0 + ab1 * ab1 + ab2 * ab2
+    d01 = ab0 * ac0 + ab1 * ac1 + ab2 * ac2
+    d11 = ac0 * ac0 + ac1 * ac1 + ac2 * ac2
+    d20 = x0 * ab0 + x1 * ab1 + x2 * ab2
+    d21 = x0 * ac0 + x1 * ac1 + x2 * ac2
+    det = d00 * d11 - d01 * d01
+    v = (d11 * d20 - d01 * d21) / det
+    w = (d00 * d21 - d01 * d20) / det
+    u = 1.0 - v - w
+    a0 = u * V[i, 3] + v * V[j, 3] + w * V[k, 3]
+    a1 = u * V[i, 4] + v * V[j, 4] + w * V[k, 4]
+    a2 = u * V[i, 5] + v * V[j, 5] + w * V[k, 5]
+    b0 = u * V[i, 6] + v * V[j, 6] + w * V[k, 6]
+    b1 = u * V[i, 7] + v * V[j, 7] + w * V[k, 7]
+    b2 = u * V[i, 8] + v * V[j, 8] + w * V[k, 8]
+    write(out, -depth, a0, a1, a2, b0, b1, b2, m0, m1, m2)
     return True
 
 
@@ -456,8 +698,8 @@ def gjk(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
 
 @serial
 def ordered_distance(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
-    """``pair_distance`` for ``kb`` not a plane unless ``ka`` is none, and ``ka <= kb`` among
-    spheres, capsules and boxes."""
+    """``pair_distance`` for ``kb`` not a plane unless ``ka`` is one, and a box second
+    against a sphere or capsule."""
     if ka > MESH or kb > MESH or ka < 0 or kb < 0:
         return UNKNOWN_KIND
     if ka == PLANE:
@@ -468,8 +710,13 @@ def ordered_distance(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
         return swept(ka, sa, Ta, kb, sb, Tb, out)
     if ka == SPHERE and kb == BOX:
         return sphere_box(sa, Ta, sb, Tb, out)
-    if not gjk(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
-        return PENETRATION_UNSUPPORTED
+    overlap = gjk(ka, sa, va, Ta, kb, sb, vb, Tb, work, out)
+    if overlap:
+        if ka == CAPSULE and kb == BOX:
+            return capsule_box_overlap(sa, Ta, sb, Tb, out)
+        if ka == CYLINDER or kb == CYLINDER or not epa(ka, sa, va, Ta, kb, sb, vb, Tb,
+                                                       overlap, work, out):
+            return PENETRATION_UNSUPPORTED
     ra = sa[0] if (ka == SPHERE or ka == CAPSULE) else 0.0
     rb = sb[0] if (kb == SPHERE or kb == CAPSULE) else 0.0
     inflate(out, ra, rb)
@@ -480,7 +727,7 @@ def ordered_distance(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
 def pair_distance(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
     """The signed distance, witness points and normal of shapes ``a`` and ``b`` into
     ``out`` (see the module's docstring); returns a status."""
-    swap = ka == PLANE and kb != PLANE or (kb == SPHERE and ka == BOX)
+    swap = ka == PLANE and kb != PLANE or ka == BOX and (kb == SPHERE or kb == CAPSULE)
     if not swap:
         return ordered_distance(ka, sa, va, Ta, kb, sb, vb, Tb, work, out)
     status = ordered_distance(kb, sb, vb, Tb, ka, sa, va, Ta, work, out)

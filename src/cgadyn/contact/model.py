@@ -43,13 +43,19 @@ class Collision:
 
 
 class CollisionModel(tuple):
-    """The collisions of a model, a tuple of :class:`Collision` with the arrays compiled
-    code reads: ``kinds`` (K,), ``sizes`` (K, 4), ``vertices`` (every mesh's hull, stacked)
-    and ``offsets`` (K + 1,), ``links`` (K,), ``placements`` (K, 4, 4)."""
+    """The collisions of a model (``model``, whose links they name), a tuple of
+    :class:`Collision` with the arrays compiled code reads: ``kinds`` (K,), ``sizes``
+    (K, 4), ``vertices`` (every mesh's hull, stacked) and ``offsets`` (K + 1,), ``links``
+    (K,), ``placements`` (K, 4, 4); ``bodies`` (K,), the joint moving each shape."""
 
-    def __new__(cls, collisions=(), link_names=()):
+    def __new__(cls, collisions=(), model=None):
         self = super().__new__(cls, collisions)
-        self.link_names = tuple(link_names)
+        self.model = model
+        self.link_names = () if model is None else tuple(model.link_names)
+        # the joint moving each shape's link (-1: the world), and each joint's parent
+        self.bodies = np.array([-1 if model is None or c.link < 0 else
+                                int(model.link_joint[c.link]) for c in self], dtype=np.int64)
+        self.parents = np.array([] if model is None else model.parents, dtype=np.int64)
         for c in self:
             if not isinstance(c, Collision):
                 raise TypeError(f"a CollisionModel holds Collision records, not "
@@ -71,7 +77,16 @@ class CollisionModel(tuple):
     def on(self, link: str | int) -> CollisionModel:
         """The collisions of one link (by name or index)."""
         li = self.link_names.index(link) if isinstance(link, str) else int(link)
-        return CollisionModel([c for c in self if c.link == li], self.link_names)
+        return CollisionModel([c for c in self if c.link == li], self.model)
+
+    def adjacent(self, i: int, j: int) -> bool:
+        """Whether shapes ``i`` and ``j`` move with the same body or with a parent and its
+        child (MuJoCo leaves such pairs out of its contacts; a world body is adjacent to
+        nothing, as in MuJoCo)."""
+        a, b = int(self.bodies[i]), int(self.bodies[j])
+        if a == b:
+            return True
+        return (a >= 0 and b >= 0 and (self.parents[a] == b or self.parents[b] == a))
 
     def can_touch(self, i: int, j: int) -> bool:
         """MuJoCo's filter: ``contype_i & conaffinity_j or contype_j & conaffinity_i``."""
@@ -121,7 +136,7 @@ def _meshes(max_vertices: int):
                 warnings.simplefilter("always", MeshSimplified)
                 cache[key] = make()
             if caught:
-                simplified.append(str(key[0]))
+                simplified.append(getattr(key[0], "name", str(key[0])))
         return cache[key]
 
     return hull, simplified
@@ -132,7 +147,7 @@ def _warn_simplified(simplified: list[str], max_vertices: int) -> None:
         warnings.warn(f"{len(simplified)} collision meshes have convex hulls of more than "
                       f"{max_vertices} vertices and were simplified to {max_vertices}: "
                       f"{', '.join(simplified[:4])}{' ...' if len(simplified) > 4 else ''}",
-                      MeshSimplified, stacklevel=3)
+                      MeshSimplified, stacklevel=4)
 
 
 def _from_urdf(model, xml: bytes, path, max_vertices: int) -> CollisionModel:
@@ -170,7 +185,7 @@ def _from_urdf(model, xml: bytes, path, max_vertices: int) -> CollisionModel:
                 raise ValueError(f"{where}: {exc}") from None
             out.append(Collision(name, shape, li, origin))
     _warn_simplified(simplified, max_vertices)
-    return CollisionModel(out, model.link_names)
+    return CollisionModel(out, model)
 
 
 _MJ_GEOMS = {0: "plane", 2: "sphere", 3: "capsule", 5: "cylinder", 6: "box", 7: "mesh"}
@@ -225,21 +240,21 @@ def _from_mujoco(model, mj, max_vertices: int) -> CollisionModel:
         out.append(Collision(name, shape, li, placement, int(mj.geom_contype[g]),
                              int(mj.geom_conaffinity[g])))
     _warn_simplified(simplified, max_vertices)
-    return CollisionModel(out, model.link_names)
+    return CollisionModel(out, model)
 
 
-def _collisions(collisions) -> CollisionModel:
+def _collisions(collisions, model=None) -> CollisionModel:
     if isinstance(collisions, CollisionModel):
         return collisions
-    return CollisionModel(list(collisions))
+    return CollisionModel(list(collisions), model)
 
 
 def collision_poses(model, collisions, q) -> np.ndarray:
     """World 4x4 poses of every shape at ``q`` (..., K, 4, 4): ``link_placements(model,
-    q)`` of each shape's link (the identity for the world) times its placement."""
+    q)`` of each shape's link (the identity for the world) times its placement (K10)."""
     from ..algorithms.api import link_placements
 
-    cm = _collisions(collisions)
+    cm = _collisions(collisions, model)
     if np.any(cm.links >= model.nlinks):
         raise ValueError("collisions refer to links the model does not have; read them "
                          "with collision_model(model, ...)")
@@ -249,12 +264,17 @@ def collision_poses(model, collisions, q) -> np.ndarray:
     return frames[..., cm.links, :, :] @ cm.placements  # link -1: the identity appended
 
 
-def collision_distances(collisions, poses, pairs=None):
-    """The signed distances of ``pairs`` ((P, 2) indices; by default every pair the
-    contype/conaffinity filter allows, on different links) at ``poses`` (K, 4, 4) from
+def collision_distances(collisions, poses, pairs=None, overlap: str = "raise"):
+    """The signed distances of ``pairs`` ((P, 2) indices; by default every pair that
+    MuJoCo would test: allowed by contype/conaffinity, not on one body nor on a parent and
+    its child (``CollisionModel.adjacent``), not two planes) at ``poses`` (K, 4, 4) from
     :func:`collision_poses`: ``(pairs, distance (P,), point_a (P, 3), point_b (P, 3),
-    normal (P, 3))`` in one compiled call. A pair whose distance cannot be computed
-    (overlapping shapes without a closed form, two planes) raises ``ValueError``."""
+    normal (P, 3))`` in one compiled call. Overlapping shapes whose penetration depth is
+    not computed (a cylinder and a shape other than a plane) raise ``ValueError`` naming
+    them, or with
+    ``overlap="nan"`` get NaN (distance, points and normal); two planes always raise."""
+    if overlap not in ("raise", "nan"):
+        raise ValueError(f"overlap must be 'raise' or 'nan', got {overlap!r}")
     cm = _collisions(collisions)
     poses = np.ascontiguousarray(np.asarray(poses, dtype=float))
     if poses.shape != (len(cm), 4, 4):
@@ -263,7 +283,7 @@ def collision_distances(collisions, poses, pairs=None):
         pose_matrix(poses[k], f"poses[{k}]")
     if pairs is None:
         pairs = [(i, j) for i in range(len(cm)) for j in range(i + 1, len(cm))
-                 if cm.links[i] != cm.links[j] and cm.can_touch(i, j)
+                 if not cm.adjacent(i, j) and cm.can_touch(i, j)
                  and not (cm.kinds[i] == cm.kinds[j] == PLANE)]
     pairs = np.asarray(pairs, dtype=np.int64).reshape(-1, 2)
     if pairs.size and (pairs.min() < 0 or pairs.max() >= len(cm)):
@@ -272,10 +292,15 @@ def collision_distances(collisions, poses, pairs=None):
     status = np.zeros(len(pairs), dtype=np.int64)
     D.distances(cm.kinds, cm.sizes, cm.vertices, cm.offsets, poses, pairs, np.empty(D.WORK),
                 out, status)
+    if overlap == "nan":
+        out[status == D.PENETRATION_UNSUPPORTED] = np.nan
+        status[status == D.PENETRATION_UNSUPPORTED] = D.OK
     bad = np.flatnonzero(status)
     if bad.size:
         k = int(bad[0])
         i, j = pairs[k]
+        hint = " (overlap='nan' gives NaN for such pairs)" \
+            if status[k] == D.PENETRATION_UNSUPPORTED else ""
         raise ValueError(f"collisions {cm[i].name!r} and {cm[j].name!r}: "
-                         f"{explain(int(status[k]), cm[i].shape, cm[j].shape)}")
+                         f"{explain(int(status[k]), cm[i].shape, cm[j].shape)}{hint}")
     return pairs, out[:, 0].copy(), out[:, 1:4].copy(), out[:, 4:7].copy(), out[:, 7:10].copy()
