@@ -252,6 +252,15 @@ def test_urdf_collisions_are_placed_as_pinocchio_places_them():
         pin.updateGeometryPlacements(pm, pd, gm, gd, oracle.pin_configuration(model, q))
         for k in range(len(cm)):
             np.testing.assert_allclose(poses[k], gd.oMg[k].homogeneous, atol=1e-12)
+    # every pair MuJoCo would test (no parent and child) in one call, as shape_distance
+    pairs, d, pa, pb, n = cgadyn.collision_distances(cm, poses)
+    assert len(pairs) and np.all(np.isfinite(d))
+    assert not any(cm.adjacent(i, j) for i, j in pairs)
+    assert cm.adjacent(cm.names.index("FL_LOWER_LEG_0"), cm.names.index("FL_FOOT_0"))
+    for k in range(0, len(pairs), 17):
+        i, j = pairs[k]
+        one = cgadyn.shape_distance(cm[i].shape, poses[i], cm[j].shape, poses[j])
+        assert one[0] == d[k] and np.array_equal(one[1], pa[k])
     # the hull holds the mesh's own vertices (those kept) and reaches as far in every
     # direction as the simplification allows
     foot = feet[0].shape
@@ -314,3 +323,36 @@ def test_unknown_geom_types_are_refused():
     model = cgadyn.load_urdf(urdf)
     with pytest.raises(ValueError, match="collision 'a_0' of link 'a'.*radius"):
         cgadyn.collision_model(model, urdf)
+
+
+def test_the_python_path_computes_the_same(tmp_path):
+    """Under NUMBA_DISABLE_JIT=1 the kernels run as Python and give the compiled numbers:
+    GJK, EPA, separating axes and a support point against a plane."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    script = """
+import json, numpy as np, cgadyn
+rng = np.random.default_rng(7)
+shapes = [cgadyn.Box([0.2, 0.3, 0.4]), cgadyn.Capsule(0.1, 0.5),
+          cgadyn.ConvexMesh(rng.normal(size=(20, 3)) * 0.3), cgadyn.Cylinder(0.2, 0.4),
+          cgadyn.Plane((0, 0, 1), 0.0)]
+out = []
+for a, b in [(0, 0), (1, 0), (2, 0), (3, 2), (2, 4), (1, 1)]:
+    T = np.eye(4)
+    T[:3, 3] = rng.uniform(-0.2, 0.2, 3) if a != 3 else [1.0, 0.0, 0.0]
+    d, pa, pb, n = cgadyn.shape_distance(shapes[a], T, shapes[b], None)
+    out.append([d, *pa, *pb, *n])
+print(json.dumps(out))
+"""
+    results = []
+    for jit in ("0", "1"):
+        env = dict(os.environ, NUMBA_DISABLE_JIT=jit)
+        done = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True,
+                              text=True, timeout=600)
+        assert done.returncode == 0, done.stderr
+        results.append(np.array(json.loads(done.stdout.strip().splitlines()[-1])))
+    assert (results[0][:, 0] < 0).sum() >= 3  # EPA and separating axes ran
+    np.testing.assert_allclose(results[0], results[1], atol=1e-12)
