@@ -270,30 +270,41 @@ def test_urdf_collisions_are_placed_as_pinocchio_places_them():
         assert (foot.vertices @ d).max() <= (verts @ d).max() + 1e-12
 
 
-def test_mjcf_geoms_are_placed_as_mujoco_places_them():
+def test_mjcf_geoms_are_read_as_mujoco_compiled_them():
     """Gymnasium's ant: its floor (a plane on the world), its torso sphere and leg capsules
-    (MuJoCo's (radius, half-length) sizes), contype and conaffinity kept; at random states
-    the poses match MuJoCo's geom_xpos/geom_xmat after mj_kinematics, and the legs' and the
-    floor's distances match MuJoCo's mj_geomDistance."""
+    (MuJoCo's (radius, half-length) sizes), contype and conaffinity kept."""
     mujoco = pytest.importorskip("mujoco")
     path = ROOT / "robots" / "mujoco" / "gymnasium" / "ant.xml"
     mj = mujoco.MjModel.from_xml_path(str(path))
-    model = cgadyn.load(path)
-    cm = cgadyn.collision_model(model, path)
+    cm = cgadyn.collision_model(cgadyn.load(path), path)
     assert len(cm) == mj.ngeom
     floor = cm[cm.names.index("floor")]
     assert isinstance(floor.shape, cgadyn.Plane) and floor.link == -1
     assert (floor.contype, floor.conaffinity) == (1, 1)
+    assert isinstance(cm[cm.names.index("torso_geom")].shape, cgadyn.Sphere)
     leg = cm[cm.names.index("left_leg_geom")]
     assert isinstance(leg.shape, cgadyn.Capsule) and leg.conaffinity == 0
     assert leg.shape.radius == pytest.approx(0.08)
     assert leg.shape.length == pytest.approx(2 * mj.geom_size[mj.geom("left_leg_geom").id][1])
+
+
+@pytest.mark.parametrize("name", ["ant", "humanoid", "walker2d", "hopper", "half_cheetah"])
+def test_mjcf_geoms_are_placed_and_measured_as_mujoco_does(name):
+    """At random states, every geom's pose is MuJoCo's geom_xpos/geom_xmat after
+    mj_kinematics, and every pair's distance and witness points (separated or penetrating:
+    planes, spheres, capsules, boxes) MuJoCo's mj_geomDistance, to 1e-12."""
+    mujoco = pytest.importorskip("mujoco")
+    path = ROOT / "robots" / "mujoco" / "gymnasium" / f"{name}.xml"
+    mj = mujoco.MjModel.from_xml_path(str(path))
+    model = cgadyn.load(path)
+    cm = cgadyn.collision_model(model, path)
     data = mujoco.MjData(mj)
     rng = np.random.default_rng(4)
+    penetrating = 0
     for _ in range(5):
-        data.qpos[:] = mj.qpos0 + rng.normal(scale=0.5, size=mj.nq)
-        data.qpos[2] = rng.uniform(0.1, 1.0)
-        data.qpos[3:7] /= np.linalg.norm(data.qpos[3:7])
+        data.qpos[:] = mj.qpos0 + rng.normal(scale=0.3, size=mj.nq)
+        if model.floating_base:
+            data.qpos[3:7] /= np.linalg.norm(data.qpos[3:7])
         mujoco.mj_kinematics(mj, data)
         q, _ = cgadyn.from_mujoco_state(model, data.qpos, data.qvel)
         poses = cgadyn.collision_poses(model, cm, q)
@@ -301,14 +312,14 @@ def test_mjcf_geoms_are_placed_as_mujoco_places_them():
         np.testing.assert_allclose(poses[:, :3, :3], data.geom_xmat.reshape(-1, 3, 3),
                                    atol=1e-12)
         pairs, d, pa, pb, n = cgadyn.collision_distances(cm, poses)
-        assert all(cm.can_touch(i, j) for i, j in pairs)
+        assert len(pairs) and all(cm.can_touch(i, j) for i, j in pairs)
         fromto = np.zeros(6)
         for (i, j), dk, a, b in zip(pairs, d, pa, pb, strict=True):
-            if "floor" not in (cm[i].name, cm[j].name):
-                continue
             ref = mujoco.mj_geomDistance(mj, data, int(i), int(j), 10.0, fromto)
-            assert dk == pytest.approx(ref, abs=1e-9)
-            np.testing.assert_allclose(np.concatenate([a, b]), fromto, atol=1e-9)
+            assert dk == pytest.approx(ref, abs=1e-12)
+            np.testing.assert_allclose(np.concatenate([a, b]), fromto, atol=1e-12)
+            penetrating += dk < 0
+    assert penetrating >= 1
 
 
 def test_unknown_geom_types_are_refused():
