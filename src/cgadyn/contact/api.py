@@ -45,8 +45,8 @@ def explain(status: int, a: Shape, b: Shape) -> str:
     names = f"a {KIND_NAMES[a.kind]} and a {KIND_NAMES[b.kind]}"
     if status == D.PENETRATION_UNSUPPORTED:
         return (f"{names} overlap: their penetration depth is not computed (EPA, which gives "
-                f"it for polytopes, is not used on a cylinder's curved side; every shape "
-                f"against a plane has it in closed form)")
+                f"it for polytopes, is not used on a cylinder's curved side; a cylinder "
+                f"against a plane or a sphere has it in closed form)")
     if status == D.TWO_PLANES:
         return "the distance of two planes is not defined (both are unbounded half-spaces)"
     return f"unknown shape kind in {names}"
@@ -60,7 +60,8 @@ def shape_distance(shape_a: Shape, pose_a, shape_b: Shape, pose_b):
     ``b``, ``normal`` the unit vector from ``a`` to ``b`` with ``point_b - point_a =
     distance * normal``; a negative distance is a penetration (coal's convention;
     docs/contact.md, K0-K9). Raises ``ValueError`` for two planes, and for a cylinder
-    overlapping a shape other than a plane (no penetration depth for those yet).
+    overlapping a shape other than a plane or a sphere (no penetration depth for those
+    yet).
     """
     a, b = _shape(shape_a, "shape_a"), _shape(shape_b, "shape_b")
     Ta, Tb = pose_matrix(pose_a, "pose_a"), pose_matrix(pose_b, "pose_b")

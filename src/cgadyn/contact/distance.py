@@ -14,10 +14,11 @@ are apart by ``sqrt(-2 X · Y)`` (K3), evaluated in the frame of one of them (a 
 which keeps inner products); a sphere or capsule is its core (a point, a segment) swept by
 its radius, so its distance is its core's less the radius (K4). Closed forms: every shape
 against a plane by its support point (K5, K6), sphere and capsule pairs by the closest
-points of two segments (K7), sphere-box by the closest point of the box and capsule-box,
-where the segment enters the box, by separating axes (K8). Any other pair of convex shapes:
-GJK on the cores, and EPA where they overlap (K9); EPA is not used on a cylinder, whose
-overlapping pairs get ``PENETRATION_UNSUPPORTED``, which Python words.
+points of two segments (K7), sphere-box and sphere-cylinder by the closest point of the
+box or cylinder, capsule-box, where the segment enters the box, by separating axes (K8).
+Any other pair of convex shapes: GJK on the cores, and EPA where they overlap (K9); EPA is
+not used on a cylinder, whose other overlapping pairs get ``PENETRATION_UNSUPPORTED``,
+which Python words.
 """
 
 from __future__ import annotations
@@ -271,6 +272,38 @@ def sphere_box(sa, Ta, sb, Tb, out):
             y2 = h2 if x2 >= 0.0 else -h2
         n0, n1, n2 = rotate(Tb, m0, m1, m2)
         b0, b1, b2 = to_world(Tb, y0, y1, y2)
+    write(out, dist, c0, c1, c2, b0, b1, b2, n0, n1, n2)
+    inflate(out, sa[0], 0.0)
+    return OK
+
+
+@serial
+def sphere_cylinder(sa, Ta, sb, Tb, out):
+    """The sphere's centre ``c`` in the cylinder's frame: outside, the cylinder's closest
+    point (its radial part clamped to the radius, its height to the caps); inside, the
+    nearer of the side and the cap, whose outward normal is the normal (K8), less the
+    radius (K4)."""
+    c0, c1, c2 = Ta[0, 3], Ta[1, 3], Ta[2, 3]
+    x0, x1, x2 = to_local(Tb, c0, c1, c2)
+    r, h = sb[0], sb[1]
+    rho = math.sqrt(x0 * x0 + x1 * x1)
+    u0, u1 = (x0 / rho, x1 / rho) if rho > 0.0 else (1.0, 0.0)
+    if rho > r or abs(x2) > h:
+        k = min(rho, r)
+        b0, b1, b2 = to_world(Tb, k * u0, k * u1, min(max(x2, -h), h))
+        dist = point_distance(b0, b1, b2, c0, c1, c2)
+        n0, n1, n2 = (b0 - c0) / dist, (b1 - c1) / dist, (b2 - c2) / dist
+    else:
+        side, cap = r - rho, h - abs(x2)
+        top = h if x2 >= 0.0 else -h
+        if cap <= side:
+            dist = -cap
+            n0, n1, n2 = rotate(Tb, 0.0, 0.0, -top / h)
+            b0, b1, b2 = to_world(Tb, x0, x1, top)
+        else:
+            dist = -side
+            n0, n1, n2 = rotate(Tb, -u0, -u1, 0.0)
+            b0, b1, b2 = to_world(Tb, r * u0, r * u1, x2)
     write(out, dist, c0, c1, c2, b0, b1, b2, n0, n1, n2)
     inflate(out, sa[0], 0.0)
     return OK
@@ -698,8 +731,8 @@ def epa(ka, sa, va, Ta, kb, sb, vb, Tb, n, work, out):
 
 @serial
 def ordered_distance(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
-    """``pair_distance`` for ``kb`` not a plane unless ``ka`` is one, and a box second
-    against a sphere or capsule."""
+    """``pair_distance`` for ``kb`` not a plane unless ``ka`` is one, a box second against
+    a sphere or capsule, a cylinder second against a sphere."""
     if ka > MESH or kb > MESH or ka < 0 or kb < 0:
         return UNKNOWN_KIND
     if ka == PLANE:
@@ -710,6 +743,8 @@ def ordered_distance(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
         return swept(ka, sa, Ta, kb, sb, Tb, out)
     if ka == SPHERE and kb == BOX:
         return sphere_box(sa, Ta, sb, Tb, out)
+    if ka == SPHERE and kb == CYLINDER:
+        return sphere_cylinder(sa, Ta, sb, Tb, out)
     overlap = gjk(ka, sa, va, Ta, kb, sb, vb, Tb, work, out)
     if overlap:
         if ka == CAPSULE and kb == BOX:
@@ -727,7 +762,8 @@ def ordered_distance(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
 def pair_distance(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
     """The signed distance, witness points and normal of shapes ``a`` and ``b`` into
     ``out`` (see the module's docstring); returns a status."""
-    swap = ka == PLANE and kb != PLANE or ka == BOX and (kb == SPHERE or kb == CAPSULE)
+    swap = ka == PLANE and kb != PLANE or ka == BOX and (kb == SPHERE or kb == CAPSULE) or \
+        ka == CYLINDER and kb == SPHERE
     if not swap:
         return ordered_distance(ka, sa, va, Ta, kb, sb, vb, Tb, work, out)
     status = ordered_distance(kb, sb, vb, Tb, ka, sa, va, Ta, work, out)

@@ -270,8 +270,8 @@ def collision_distances(collisions, poses, pairs=None, overlap: str = "raise"):
     its child (``CollisionModel.adjacent``), not two planes) at ``poses`` (K, 4, 4) from
     :func:`collision_poses`: ``(pairs, distance (P,), point_a (P, 3), point_b (P, 3),
     normal (P, 3))`` in one compiled call. Overlapping shapes whose penetration depth is
-    not computed (a cylinder and a shape other than a plane) raise ``ValueError`` naming
-    them, or with
+    not computed (a cylinder and a shape other than a plane or a sphere) raise
+    ``ValueError`` naming them, or with
     ``overlap="nan"`` get NaN (distance, points and normal); two planes always raise."""
     if overlap not in ("raise", "nan"):
         raise ValueError(f"overlap must be 'raise' or 'nan', got {overlap!r}")
