@@ -8,7 +8,7 @@ import numpy as np
 from . import distance as D
 from .shapes import KIND_NAMES, Shape
 
-__all__ = ["pose_matrix", "shape_distance"]
+__all__ = ["check_rigid", "pose_matrix", "shape_distance"]
 
 
 def pose_matrix(pose, what: str = "pose") -> np.ndarray:
@@ -25,13 +25,21 @@ def pose_matrix(pose, what: str = "pose") -> np.ndarray:
     if T.shape != (4, 4):
         raise ValueError(f"{what}: expected a Motor, 8 motor coefficients or a 4x4 matrix, "
                          f"got shape {T.shape}")
+    check_rigid(T, what)
+    return np.ascontiguousarray(T)
+
+
+def check_rigid(T: np.ndarray, what: str) -> None:
+    """``ValueError`` unless every 4x4 matrix of ``T`` (..., 4, 4) is finite and rigid: an
+    orthonormal rotation of determinant +1 (to 1e-9), a translation, ``[0, 0, 0, 1]``."""
     if not np.all(np.isfinite(T)):
         raise ValueError(f"{what} contains NaN or inf")
-    R = T[:3, :3]
-    if (np.abs(R.T @ R - np.eye(3)).max() > 1e-9 or np.linalg.det(R) < 0
-            or np.abs(T[3] - [0, 0, 0, 1]).max() > 0):
-        raise ValueError(f"{what} is not a rigid transform (rotation and translation)")
-    return np.ascontiguousarray(T)
+    R = T[..., :3, :3]
+    off = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3)).max(axis=(-1, -2))
+    bad = (off > 1e-9) | (np.linalg.det(R) < 0) | np.any(T[..., 3, :] != [0, 0, 0, 1], -1)
+    if np.any(bad):
+        where = f"{what}[{int(np.flatnonzero(bad)[0])}]" if np.ndim(bad) else what
+        raise ValueError(f"{where} is not a rigid transform (rotation and translation)")
 
 
 def _shape(shape, what: str) -> Shape:

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import distance as D
-from .api import explain, pose_matrix
+from .api import check_rigid, explain
 from .shapes import PLANE, Box, Capsule, ConvexMesh, Cylinder, MeshSimplified, Plane, Shape, Sphere
 
 __all__ = ["Collision", "CollisionModel", "collision_distances", "collision_model",
@@ -279,8 +279,7 @@ def collision_distances(collisions, poses, pairs=None, overlap: str = "raise"):
     poses = np.ascontiguousarray(np.asarray(poses, dtype=float))
     if poses.shape != (len(cm), 4, 4):
         raise ValueError(f"poses: expected shape ({len(cm)}, 4, 4), got {poses.shape}")
-    for k in range(len(cm)):
-        pose_matrix(poses[k], f"poses[{k}]")
+    check_rigid(poses, "poses")
     if pairs is None:
         pairs = [(i, j) for i in range(len(cm)) for j in range(i + 1, len(cm))
                  if not cm.adjacent(i, j) and cm.can_touch(i, j)
