@@ -29,6 +29,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("algorithms",),
     ("tasks",),
     ("constraints",),
+    ("contact",),
     ("sim",),
     ("distributed",),
     ("oracle", "mujoco_oracle"),

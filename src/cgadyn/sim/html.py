@@ -24,6 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
+from ..multibody.meshes import model_source, resolve_mesh
+
 __all__ = ["MissingViewer", "animation_frames", "require_viewer", "resolve_mesh", "visuals",
            "skeleton",
            "write_html"]
@@ -68,62 +70,8 @@ def _viewer_js() -> str:
 def _urdf_source(model, urdf) -> tuple[bytes | None, Path | None]:
     """The URDF XML and its file (None for text) of ``model``: ``urdf`` if given, else
     the registry's file for the model's name; ``(None, None)`` for an MJCF model."""
-    from ..multibody import registry
-
-    if urdf is None:
-        try:
-            urdf = registry.robot_path(model.name)
-        except ValueError:
-            raise ValueError(f"robot {model.name!r} is not a registered robot: give the URDF "
-                             f"it was loaded from (urdf=path) to find its meshes") from None
-    kind, value, _ = registry.resolve(urdf if isinstance(urdf, os.PathLike | str) else str(urdf))
-    if kind == "mjcf":
-        return None, None
-    if kind == "text":
-        return value.encode("utf-8"), None
-    if kind == "name":
-        value = registry.robot_path(value)
-    return Path(value).read_bytes(), Path(value)
-
-
-def _package_roots(urdf_path: Path | None) -> list[Path]:
-    """Directories under which ``package://PKG/...`` may live: example-robot-data's share
-    directory and every ancestor of the URDF's directory."""
-    from ..multibody import registry
-
-    roots = []
-    erd = registry.example_robot_data_dir()
-    if erd is not None:
-        roots += [erd.parent.parent, erd.parent, erd]  # share/, share/example-robot-data/
-    if urdf_path is not None:
-        roots += list(urdf_path.resolve().parents)
-    return roots
-
-
-def resolve_mesh(filename: str, urdf_path: Path | None) -> Path:
-    """The file a URDF mesh ``filename`` names: ``package://PKG/REST`` is looked up as
-    ``ROOT/PKG/REST`` (or ``ROOT/REST`` for the root of package PKG) under
-    :func:`_package_roots`; ``file://`` and plain paths are taken relative to the URDF."""
-    tried = []
-    if filename.startswith("package://"):
-        pkg, _, rest = filename[len("package://"):].partition("/")
-        for root in _package_roots(urdf_path):
-            for cand in (root / pkg / rest, root / rest if root.name == pkg else None):
-                if cand is not None:
-                    tried.append(cand)
-                    if cand.is_file():
-                        return cand
-    else:
-        name = filename[len("file://"):] if filename.startswith("file://") else filename
-        cand = Path(name)
-        if not cand.is_absolute() and urdf_path is not None:
-            cand = urdf_path.parent / cand
-        tried.append(cand)
-        if cand.is_file():
-            return cand
-    raise FileNotFoundError(f"mesh {filename!r} of the URDF not found (looked in "
-                            f"{', '.join(str(p) for p in tried[:4]) or 'no place'}"
-                            f"{' ...' if len(tried) > 4 else ''})")
+    kind, xml, path = model_source(model, urdf)
+    return (None, None) if kind == "mjcf" else (xml, path)
 
 
 def _rgba(visual, materials: dict) -> tuple:

@@ -1,0 +1,403 @@
+"""Collision shapes and their signed distances (docs/contact.md, K1-K9): every pair against
+coal at random poses, separated and penetrating; analytic cases; a URDF robot's collisions
+placed as Pinocchio's GeometryModel places them; an MJCF model's geoms as MuJoCo places
+them; bad input refused."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cgadyn
+from cgadyn.contact import shapes as S
+
+coal = pytest.importorskip("coal")
+
+ROOT = Path(__file__).resolve().parents[1]
+RNG_SEED = 35
+
+
+def _rotation(rng) -> np.ndarray:
+    q = rng.normal(size=4)
+    w, x, y, z = q / np.linalg.norm(q)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+def _pose(rng, spread: float) -> np.ndarray:
+    T = np.eye(4)
+    T[:3, :3] = _rotation(rng)
+    T[:3, 3] = rng.uniform(-spread, spread, 3)
+    return T
+
+
+def _coal(shape):
+    if shape.kind == S.SPHERE:
+        return coal.Sphere(shape.size[0])
+    if shape.kind == S.CAPSULE:
+        return coal.Capsule(shape.size[0], shape.length)
+    if shape.kind == S.BOX:
+        return coal.Box(*(2.0 * shape.half_extents))
+    if shape.kind == S.CYLINDER:
+        return coal.Cylinder(shape.size[0], shape.length)
+    if shape.kind == S.PLANE:
+        return coal.Halfspace(shape.normal, shape.offset)
+    points = coal.StdVec_Vec3s()
+    for v in shape.vertices:
+        points.append(v)
+    return coal.Convex.convexHull(points, False, None)
+
+
+def _coal_distance(a, Ta, b, Tb):
+    req, res = coal.DistanceRequest(), coal.DistanceResult()
+    req.gjk_tolerance = req.epa_tolerance = 1e-12
+    req.gjk_max_iterations = req.epa_max_iterations = 1000
+    d = coal.distance(_coal(a), coal.Transform3s(Ta[:3, :3], Ta[:3, 3]), _coal(b),
+                      coal.Transform3s(Tb[:3, :3], Tb[:3, 3]), req, res)
+    return d, res.getNearestPoint1(), res.getNearestPoint2(), np.asarray(res.normal)
+
+
+SHAPES = {
+    "sphere": S.Sphere(0.3),
+    "capsule": S.Capsule(0.2, 0.6),
+    "box": S.Box([0.2, 0.3, 0.4]),
+    "cylinder": S.Cylinder(0.25, 0.5),
+    "plane": S.Plane([0.0, 0.3, 1.0], 0.1),
+    "mesh": S.ConvexMesh(np.random.default_rng(0).normal(size=(30, 3)) * 0.3),
+}
+CLOSED = {("sphere", "sphere"), ("sphere", "capsule"), ("capsule", "capsule"),
+          ("sphere", "box"), ("capsule", "box"), ("sphere", "cylinder")}
+"""Pairs in closed form besides every pair with a plane (K5, K7, K8); the others go to
+GJK, and EPA where they overlap (K9)."""
+PAIRS = [(a, b) for a in SHAPES for b in SHAPES if (a, b) != ("plane", "plane")]
+
+
+def _centre_in_cylinder(Ta, Tb, sphere_first: bool) -> bool:
+    Ts, Tc = (Ta, Tb) if sphere_first else (Tb, Ta)
+    x = Tc[:3, :3].T @ (Ts[:3, 3] - Tc[:3, 3])
+    cyl = SHAPES["cylinder"]
+    return bool(np.hypot(x[0], x[1]) < cyl.size[0] and abs(x[2]) < cyl.length / 2)
+
+
+def _sphere_in_cylinder(sa, Ta, sb, Tb, sphere_first: bool):
+    """A sphere whose centre lies inside a cylinder leaves it fastest through the nearer of
+    the side and the cap. coal 3.0 only looks at the side (its normal is always radial), so
+    where the cap is nearer its depth is not the least: this is the reference there."""
+    (sph, Ts), (cyl, Tc) = ((sa, Ta), (sb, Tb)) if sphere_first else ((sb, Tb), (sa, Ta))
+    x = Tc[:3, :3].T @ (Ts[:3, 3] - Tc[:3, 3])
+    r, h, rho = cyl.size[0], cyl.size[1], np.hypot(x[0], x[1])
+    if h - abs(x[2]) <= r - rho:
+        depth, m, y = h - abs(x[2]), np.array([0, 0, -np.sign(x[2])]), [x[0], x[1],
+                                                                      np.sign(x[2]) * h]
+    else:
+        u = np.array([x[0], x[1], 0.0]) / rho
+        depth, m, y = r - rho, -u, r * u + [0, 0, x[2]]
+    n = Tc[:3, :3] @ m
+    p_sphere, p_cyl = Ts[:3, 3] + sph.radius * n, Tc[:3, :3] @ y + Tc[:3, 3]
+    d = -depth - sph.radius
+    return (d, p_sphere, p_cyl, n) if sphere_first else (d, p_cyl, p_sphere, -n)
+
+
+def _deep(a: str, b: str) -> bool:
+    """Whether the pair's penetration depth is computed: all but a cylinder's overlaps with
+    anything but a plane or a sphere."""
+    return "plane" in (a, b) or "cylinder" not in (a, b) or "sphere" in (a, b)
+
+
+@pytest.mark.parametrize("a,b", PAIRS, ids=[f"{a}-{b}" for a, b in PAIRS])
+def test_distance_agrees_with_coal(a, b):
+    """Distance, witness points and normal at random poses, near (many penetrate) and far:
+    closed forms, GJK and EPA on polytopes to 1e-9; GJK with a cylinder's curved side, where
+    both libraries iterate to a tolerance and GJK converges slowly (its support points jump
+    around the rim): the distance to 1e-6, the points to 1e-4 (the distance is stationary
+    along the surface: its error is about the square of theirs).
+    A cylinder overlapping anything but a plane is refused, never answered wrongly."""
+    rng = np.random.default_rng(RNG_SEED + PAIRS.index((a, b)))
+    sa, sb = SHAPES[a], SHAPES[b]
+    closed = "plane" in (a, b) or (a, b) in CLOSED or (b, a) in CLOSED
+    point_tol = 1e-4 if "cylinder" in (a, b) and not closed else 1e-9
+    distance_tol = 1e-6 if "cylinder" in (a, b) and not closed else 1e-9
+    compared = penetrating = refused = 0
+    for k in range(60):
+        Ta, Tb = _pose(rng, 1.0), _pose(rng, 0.3 if k % 2 else 1.0)
+        try:
+            d, pa, pb, n = cgadyn.shape_distance(sa, Ta, sb, Tb)
+        except ValueError as exc:
+            assert not _deep(a, b) and "penetration depth is not computed" in str(exc)
+            assert _coal_distance(sa, Ta, sb, Tb)[0] < 1e-9  # they do overlap
+            refused += 1
+            continue
+        dc, pac, pbc, nc = _coal_distance(sa, Ta, sb, Tb)
+        if {a, b} == {"sphere", "cylinder"} and _centre_in_cylinder(Ta, Tb, a == "sphere"):
+            dc, pac, pbc, nc = _sphere_in_cylinder(sa, Ta, sb, Tb, a == "sphere")
+        assert d == pytest.approx(dc, abs=distance_tol)
+        np.testing.assert_allclose(pa, pac, atol=point_tol)
+        np.testing.assert_allclose(pb, pbc, atol=point_tol)
+        np.testing.assert_allclose(pb - pa, d * n, atol=1e-12)
+        assert np.linalg.norm(n) == pytest.approx(1.0, abs=1e-12)
+        if abs(d) > 1e-3:
+            np.testing.assert_allclose(n, nc, atol=point_tol / abs(d) + 1e-9)
+        compared += 1
+        penetrating += d < 0
+    assert compared >= 30
+    if _deep(a, b):
+        assert penetrating >= 3 and refused == 0
+
+
+def test_the_distances_are_inner_products():
+    """K1: a point's distance to a plane is ``X · π``; K3: ``|x - y|² = -2 X · Y``; both
+    against the dense reference algebra."""
+    from cgadyn.cga.basis import NULL
+    from cgadyn.cga.objects import Point
+    from cgadyn.contact import distance as D
+
+    rng = np.random.default_rng(1)
+    for _ in range(5):
+        x, y, n = rng.normal(size=3), rng.normal(size=3), rng.normal(size=3)
+        n /= np.linalg.norm(n)
+        delta = float(rng.normal())
+        plane = NULL.multivector([*n, delta], ["e1", "e2", "e3", "e∞"])
+        X, Y = Point(x).mv, Point(y).mv
+        assert D.plane_distance(*x, *n, delta) == pytest.approx(
+            float((X | plane).scalar_part()), abs=1e-12)
+        assert D.plane_distance(*x, *n, delta) == pytest.approx(n @ x - delta, abs=1e-12)
+        assert D.point_distance(*x, *y) ** 2 == pytest.approx(
+            -2.0 * float((X | Y).scalar_part()), abs=1e-12)
+
+
+def _at(t, R=None):
+    T = np.eye(4)
+    T[:3, 3] = t
+    if R is not None:
+        T[:3, :3] = R
+    return T
+
+
+def test_analytic_cases():
+    ground = cgadyn.Plane((0, 0, 1), 0.0)
+    d, pa, pb, n = cgadyn.shape_distance(cgadyn.Sphere(0.1), _at([1, 2, 0.5]), ground, None)
+    assert d == pytest.approx(0.4, abs=1e-15)
+    np.testing.assert_allclose(pa, [1, 2, 0.4], atol=1e-15)
+    np.testing.assert_allclose(pb, [1, 2, 0.0], atol=1e-15)
+    np.testing.assert_allclose(n, [0, 0, -1])
+    # a capsule lying 1 cm deep in the ground, a box standing on a corner
+    lying = _at([0, 0, 0.09], np.array([[0, 0, 1], [0, 1, 0], [-1, 0, 0]]))
+    d = cgadyn.shape_distance(cgadyn.Capsule(0.1, 1.0), lying, ground, None)[0]
+    assert d == pytest.approx(-0.01, abs=1e-15)
+    r1, r3 = np.array([1.0, -1.0, 0.0]) / np.sqrt(2), np.ones(3) / np.sqrt(3)
+    tilt = np.array([r1, np.cross(r3, r1), r3])  # the diagonal (1, 1, 1) upright
+    d = cgadyn.shape_distance(cgadyn.Box([1, 1, 1]), _at([0, 0, 2.0], tilt), ground, None)[0]
+    assert d == pytest.approx(2.0 - np.sqrt(3.0), abs=1e-12)
+    # a cylinder upright on the ground; two spheres 1 m apart; a sphere deep in a box
+    d = cgadyn.shape_distance(ground, None, cgadyn.Cylinder(0.2, 1.0), _at([0, 0, 0.6]))[0]
+    assert d == pytest.approx(0.1, abs=1e-15)
+    d, pa, pb, n = cgadyn.shape_distance(cgadyn.Sphere(0.2), _at([0, 0, 0]), cgadyn.Sphere(0.3),
+                                         _at([1, 0, 0]))
+    assert (d, *pa, *pb, *n) == pytest.approx((0.5, 0.2, 0, 0, 0.7, 0, 0, 1, 0, 0))
+    d, pa, pb, n = cgadyn.shape_distance(cgadyn.Sphere(0.1), _at([0.05, 0, 0]),
+                                         cgadyn.Box([0.2, 0.5, 0.5]), None)
+    assert d == pytest.approx(-0.25, abs=1e-15)
+    np.testing.assert_allclose(n, [-1, 0, 0])
+    # a sphere whose centre is inside a cylinder, nearer its cap than its side
+    d, pa, pb, n = cgadyn.shape_distance(cgadyn.Sphere(0.1), _at([0.1, 0, 0.2]),
+                                         cgadyn.Cylinder(0.25, 0.5), None)
+    assert d == pytest.approx(-0.15, abs=1e-15)
+    np.testing.assert_allclose(n, [0, 0, -1])
+    np.testing.assert_allclose(pb, [0.1, 0, 0.25], atol=1e-15)
+    # two boxes side by side (GJK), then one 0.25 into the other (EPA); a pose as a Motor
+    from cgadyn.cga import Motor
+
+    motor = Motor.from_matrix(_at([0.0, 3.0, 0.0]))
+    d = cgadyn.shape_distance(cgadyn.Box([1, 1, 1]), None, cgadyn.Box([1, 1, 1]), motor)[0]
+    assert d == pytest.approx(1.0, abs=1e-12)
+    d, pa, pb, n = cgadyn.shape_distance(cgadyn.Box([1, 1, 1]), None, cgadyn.Box([1, 2, 3]),
+                                         _at([0.0, 0.0, 3.75]))
+    assert d == pytest.approx(-0.25, abs=1e-12)
+    np.testing.assert_allclose(n, [0, 0, 1], atol=1e-12)
+
+
+def test_bad_input_is_refused():
+    for make, words in [
+        (lambda: cgadyn.Sphere(-1.0), "radius must be finite and > 0"),
+        (lambda: cgadyn.Sphere(float("nan")), "radius"),
+        (lambda: cgadyn.Capsule(0.1, 0.0), "length must be finite and > 0"),
+        (lambda: cgadyn.Box([1, 2]), "three numbers"),
+        (lambda: cgadyn.Box([1, -2, 1]), "half extent"),
+        (lambda: cgadyn.Cylinder("a", 1.0), "must be a number"),
+        (lambda: cgadyn.Plane((0, 0, 0)), "must not be zero"),
+        (lambda: cgadyn.ConvexMesh(np.eye(3)), "V >= 4"),
+        (lambda: cgadyn.ConvexMesh([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]]), "one plane"),
+        (lambda: cgadyn.shape_distance(cgadyn.Plane(), None, cgadyn.Plane(), None),
+         "two planes"),
+        (lambda: cgadyn.shape_distance(cgadyn.Sphere(1), np.ones((4, 4)), cgadyn.Sphere(1),
+                                       None), "not a rigid transform"),
+        (lambda: cgadyn.shape_distance(cgadyn.Box([1, 1, 1]), None, cgadyn.Cylinder(1, 1),
+                                       _at([0.5, 0, 0])), "penetration depth is not computed"),
+    ]:
+        with pytest.raises(ValueError, match=words):
+            make()
+    with pytest.raises(TypeError, match="cgadyn shape"):
+        cgadyn.shape_distance("sphere", None, cgadyn.Sphere(1.0), None)
+
+
+def test_a_large_hull_is_simplified_with_a_warning():
+    points = np.random.default_rng(3).normal(size=(500, 3))
+    points /= np.linalg.norm(points, axis=1)[:, None]
+    with pytest.warns(cgadyn.MeshSimplified, match="simplified to 64"):
+        mesh = cgadyn.ConvexMesh(points)
+    assert len(mesh.vertices) <= 64
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert len(cgadyn.ConvexMesh(points[:20]).vertices) <= 20
+
+
+# --- a robot's collisions -----------------------------------------------------------------
+
+
+def test_urdf_collisions_are_placed_as_pinocchio_places_them():
+    """solo12 collides through meshes: every ``<collision>`` is read (its hull), on its link;
+    at random q each shape's world pose is Pinocchio's ``oMg`` of the same object, from
+    ``buildGeomFromUrdf``."""
+    pin = pytest.importorskip("pinocchio")
+    from cgadyn import oracle
+    from cgadyn.multibody import registry
+
+    model, pm = oracle.models("solo12")
+    urdf = str(registry.robot_path("solo12"))
+    erd = registry.example_robot_data_dir()
+    with pytest.warns(cgadyn.MeshSimplified):
+        cm = cgadyn.collision_model(model)
+    gm = pin.buildGeomFromUrdf(pm, urdf, pin.GeometryType.COLLISION,
+                               package_dirs=[str(erd.parent.parent), str(erd.parent)])
+    assert cm.names == tuple(g.name for g in gm.geometryObjects)
+    feet = [c for c in cm if "FOOT" in c.name]
+    assert len(feet) == 4 and all(isinstance(c.shape, cgadyn.ConvexMesh) for c in feet)
+    pd, gd = pm.createData(), gm.createData()
+    rng = np.random.default_rng(12)
+    for _ in range(5):
+        q = oracle.cgadyn_configuration(model, pin.randomConfiguration(pm, -np.ones(pm.nq),
+                                                                     np.ones(pm.nq)))
+        q[:3] = rng.uniform(-1, 1, 3)
+        poses = cgadyn.collision_poses(model, cm, q)
+        pin.updateGeometryPlacements(pm, pd, gm, gd, oracle.pin_configuration(model, q))
+        for k in range(len(cm)):
+            np.testing.assert_allclose(poses[k], gd.oMg[k].homogeneous, atol=1e-12)
+    # every pair MuJoCo would test (no parent and child) in one call, as shape_distance
+    pairs, d, pa, pb, n = cgadyn.collision_distances(cm, poses)
+    assert len(pairs) and np.all(np.isfinite(d))
+    assert not any(cm.adjacent(i, j) for i, j in pairs)
+    assert cm.adjacent(cm.names.index("FL_LOWER_LEG_0"), cm.names.index("FL_FOOT_0"))
+    for k in range(0, len(pairs), 17):
+        i, j = pairs[k]
+        one = cgadyn.shape_distance(cm[i].shape, poses[i], cm[j].shape, poses[j])
+        assert one[0] == d[k] and np.array_equal(one[1], pa[k])
+    # the hull holds the mesh's own vertices (those kept) and reaches as far in every
+    # direction as the simplification allows
+    foot = feet[0].shape
+    mesh = gm.geometryObjects[cm.names.index(feet[0].name)].geometry
+    verts = np.array(mesh.vertices())
+    for d in np.random.default_rng(1).normal(size=(20, 3)):
+        assert (foot.vertices @ d).max() <= (verts @ d).max() + 1e-12
+
+
+def test_mjcf_geoms_are_read_as_mujoco_compiled_them():
+    """Gymnasium's ant: its floor (a plane on the world), its torso sphere and leg capsules
+    (MuJoCo's (radius, half-length) sizes), contype and conaffinity kept."""
+    mujoco = pytest.importorskip("mujoco")
+    path = ROOT / "robots" / "mujoco" / "gymnasium" / "ant.xml"
+    mj = mujoco.MjModel.from_xml_path(str(path))
+    cm = cgadyn.collision_model(cgadyn.load(path), path)
+    assert len(cm) == mj.ngeom
+    floor = cm[cm.names.index("floor")]
+    assert isinstance(floor.shape, cgadyn.Plane) and floor.link == -1
+    assert (floor.contype, floor.conaffinity) == (1, 1)
+    assert isinstance(cm[cm.names.index("torso_geom")].shape, cgadyn.Sphere)
+    leg = cm[cm.names.index("left_leg_geom")]
+    assert isinstance(leg.shape, cgadyn.Capsule) and leg.conaffinity == 0
+    assert leg.shape.radius == pytest.approx(0.08)
+    assert leg.shape.length == pytest.approx(2 * mj.geom_size[mj.geom("left_leg_geom").id][1])
+
+
+@pytest.mark.parametrize("name", ["ant", "humanoid", "walker2d", "hopper", "half_cheetah"])
+def test_mjcf_geoms_are_placed_and_measured_as_mujoco_does(name):
+    """At random states, every geom's pose is MuJoCo's geom_xpos/geom_xmat after
+    mj_kinematics, and every pair's distance and witness points (separated or penetrating:
+    planes, spheres, capsules, boxes) MuJoCo's mj_geomDistance, to 1e-12."""
+    mujoco = pytest.importorskip("mujoco")
+    path = ROOT / "robots" / "mujoco" / "gymnasium" / f"{name}.xml"
+    mj = mujoco.MjModel.from_xml_path(str(path))
+    model = cgadyn.load(path)
+    cm = cgadyn.collision_model(model, path)
+    data = mujoco.MjData(mj)
+    rng = np.random.default_rng(4)
+    penetrating = 0
+    for _ in range(5):
+        data.qpos[:] = mj.qpos0 + rng.normal(scale=0.3, size=mj.nq)
+        if model.floating_base:
+            data.qpos[3:7] /= np.linalg.norm(data.qpos[3:7])
+        mujoco.mj_kinematics(mj, data)
+        q, _ = cgadyn.from_mujoco_state(model, data.qpos, data.qvel)
+        poses = cgadyn.collision_poses(model, cm, q)
+        np.testing.assert_allclose(poses[:, :3, 3], data.geom_xpos, atol=1e-12)
+        np.testing.assert_allclose(poses[:, :3, :3], data.geom_xmat.reshape(-1, 3, 3),
+                                   atol=1e-12)
+        pairs, d, pa, pb, n = cgadyn.collision_distances(cm, poses)
+        assert len(pairs) and all(cm.can_touch(i, j) for i, j in pairs)
+        fromto = np.zeros(6)
+        for (i, j), dk, a, b in zip(pairs, d, pa, pb, strict=True):
+            ref = mujoco.mj_geomDistance(mj, data, int(i), int(j), 10.0, fromto)
+            assert dk == pytest.approx(ref, abs=1e-12)
+            np.testing.assert_allclose(np.concatenate([a, b]), fromto, atol=1e-12)
+            penetrating += dk < 0
+    assert penetrating >= 1
+
+
+def test_unknown_geom_types_are_refused():
+    mujoco = pytest.importorskip("mujoco")
+    xml = """<mujoco><worldbody><body name="b"><freejoint/>
+             <geom name="egg" type="ellipsoid" size="0.1 0.2 0.3"/></body></worldbody></mujoco>"""
+    model = cgadyn.from_mujoco(mujoco.MjModel.from_xml_string(xml))
+    with pytest.raises(ValueError, match="geom 'egg' of body 'b': geom type 'ellipsoid'"):
+        cgadyn.collision_model(model, mujoco.MjModel.from_xml_string(xml))
+    urdf = """<robot name="r"><link name="a"><collision><geometry><sphere radius="-1"/>
+              </geometry></collision></link></robot>"""
+    model = cgadyn.load_urdf(urdf)
+    with pytest.raises(ValueError, match="collision 'a_0' of link 'a'.*radius"):
+        cgadyn.collision_model(model, urdf)
+
+
+def test_the_python_path_computes_the_same(tmp_path):
+    """Under NUMBA_DISABLE_JIT=1 the kernels run as Python and give the compiled numbers:
+    GJK, EPA, separating axes and a support point against a plane."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    script = """
+import json, numpy as np, cgadyn
+rng = np.random.default_rng(7)
+shapes = [cgadyn.Box([0.2, 0.3, 0.4]), cgadyn.Capsule(0.1, 0.5),
+          cgadyn.ConvexMesh(rng.normal(size=(20, 3)) * 0.3), cgadyn.Cylinder(0.2, 0.4),
+          cgadyn.Plane((0, 0, 1), 0.0)]
+out = []
+for a, b in [(0, 0), (1, 0), (2, 0), (3, 2), (2, 4), (1, 1)]:
+    T = np.eye(4)
+    T[:3, 3] = rng.uniform(-0.2, 0.2, 3) if a != 3 else [1.0, 0.0, 0.0]
+    d, pa, pb, n = cgadyn.shape_distance(shapes[a], T, shapes[b], None)
+    out.append([d, *pa, *pb, *n])
+print(json.dumps(out))
+"""
+    results = []
+    for jit in ("0", "1"):
+        env = dict(os.environ, NUMBA_DISABLE_JIT=jit)
+        done = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True,
+                              text=True, timeout=600)
+        assert done.returncode == 0, done.stderr
+        results.append(np.array(json.loads(done.stdout.strip().splitlines()[-1])))
+    assert (results[0][:, 0] < 0).sum() >= 3  # EPA and separating axes ran
+    np.testing.assert_allclose(results[0], results[1], atol=1e-12)
