@@ -26,13 +26,14 @@ from numba import carray, prange
 from .._jit import core, inline, native, parallel, serial
 from .._views import data_pointer
 from ..algorithms._pointers import SIGNATURE, packed_array
-from ..algorithms._workspace import chunks
+from ..algorithms._workspace import STACK_FLOATS, chunks, stack_buffer
 from ..algorithms.aba import aba_core
+from ..algorithms.crba import crba_core
 from ..algorithms.kinematics import link_motor, world_motors
-from ..algorithms.minverse import minverse_core
-from ..algorithms.status import DELASSUS_SINGULAR, NONFINITE_RESULT, OK, at_sample, fault
+from ..algorithms.ltdl import ltdl, ltdl_solve_rows
+from ..algorithms.status import DELASSUS_SINGULAR, NONFINITE_RESULT, OK, SINGULAR, at_sample, fault
 from ..algorithms.work.aba import workspace_size as aba_size
-from ..algorithms.work.minverse import workspace_size as minverse_size
+from ..algorithms.work.crba import workspace_size as crba_size
 from ..kernels import motor_mul, motor_reverse, twist_sandwich
 from ..kernels.layout import physical
 from ..kernels.motors import motor_log, motor_normalize
@@ -70,7 +71,7 @@ WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py); n
     "x": (6, 6),  # small vectors of an end
     "J": ("nr", "nv"),
     "g": ("nr",),
-    "Minv": ("nv", "nv"),
+    "H": ("nv", "nv"),  # M, then its factors Lᵀ D L
     "MJt": ("nv", "nr"),  # M⁻¹ Jᵀ
     "C": ("nr", "nr"),  # the Cholesky factor
     "b": ("nr",),
@@ -285,40 +286,21 @@ def constraint_system(m, cons, q, v, drift, J, g, k_):
 
 
 @inline
-def _delassus(m, J, k_, G, full):
-    """``G = J M⁻¹ Jᵀ`` (C7) over the coordinates that move a constraint; with ``full``
-    also every row of ``M⁻¹ Jᵀ`` (for q̈), else only those rows."""
+def _delassus(m, J, k_, G):
+    """``M⁻¹ Jᵀ`` by the two sweeps of M's factors along the tree (L5, L6; ``H = Lᵀ D L``)
+    and ``G = J M⁻¹ Jᵀ`` (C7) over the coordinates that move a constraint."""
     nr, nv = J.shape[0], m.nv
-    Minv, MJt, cols = k_.Minv, k_.MJt, k_.cols
+    MJt, cols = k_.MJt, k_.cols
     nk = 0
     for k in range(nv):
+        for r in range(nr):
+            MJt[k, r] = J[r, k]
         for r in range(nr):
             if J[r, k] != 0.0:
                 cols[nk] = k
                 nk += 1
                 break
-    for i in range(nv):
-        if not full:
-            break
-        for r in range(nr):
-            MJt[i, r] = 0.0
-    for a in range(nk):
-        i = int(cols[a])
-        for r in range(nr):
-            MJt[i, r] = 0.0
-    for b in range(nk):
-        k = int(cols[b])
-        for r in range(nr):
-            x = J[r, k]
-            if x == 0.0:
-                continue
-            if full:
-                for i in range(nv):
-                    MJt[i, r] += Minv[i, k] * x
-            else:
-                for a in range(nk):
-                    i = int(cols[a])
-                    MJt[i, r] += Minv[i, k] * x
+    ltdl_solve_rows(m, k_.H, MJt, 1.0)  # M⁻¹ Jᵀ (L5, L6)
     for r in range(nr):
         for s in range(r + 1):
             acc = 0.0
@@ -464,10 +446,13 @@ def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, w
                 if not math.isfinite(J[r, k]):
                     return fault(NONFINITE_RESULT, -1)
         return OK
-    status = minverse_core(m, q, k_.Minv, mwork)
+    status = crba_core(m, q, k_.H, mwork)
     if status != OK:
         return status
-    _delassus(m, J, k_, G, mode != DELASSUS)
+    k = ltdl(m, k_.H)  # M = Lᵀ D L (L1, L2)
+    if k >= 0:
+        return fault(SINGULAR, m.dof_joint[k])
+    _delassus(m, J, k_, G)
     if mode == DELASSUS:
         for r in range(nr):
             G[r, r] += settings[MU]
@@ -511,15 +496,17 @@ def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, w
 
 @serial
 def constraint_single(packed, cons, q, v, tau, settings, mode, J, g, G, a, lam, info):
-    """One sample of ``constraint_core``, its workspaces on the heap."""
+    """One sample of ``constraint_core``, its workspaces on this call's stack (on the heap
+    above ``STACK_FLOATS``)."""
     m = unpack(packed)
     nr = int(cons[1])
-    work = np.empty(workspace_size(m.n, m.nq, m.nv, m.nl, nr))
-    mwork = np.empty(minverse_size(m.n, m.nq, m.nv, m.nl))
-    awork = np.empty(aba_size(m.n, m.nq, m.nv, m.nl))
-    f0 = np.empty((0, 6))
-    return constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, work,
-                           mwork, awork, f0)
+    size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
+    msize = crba_size(m.n, m.nq, m.nv, m.nl)
+    total = size + msize + aba_size(m.n, m.nq, m.nv, m.nl)
+    buf = stack_buffer(total) if total <= STACK_FLOATS else np.empty(total)
+    return constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info,
+                           buf[:size], buf[size:size + msize], buf[size + msize:],
+                           buf[:0].reshape((0, 6)))
 
 
 @native(SIGNATURE)
@@ -561,7 +548,7 @@ def constraint_batch(packed, cons, q, v, tau, settings, mode, J, g, G, a, lam, i
     batch = q.shape[0]
     nr = int(cons[1])
     size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
-    msize = minverse_size(m.n, m.nq, m.nv, m.nl)
+    msize = crba_size(m.n, m.nq, m.nv, m.nl)
     asize = aba_size(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)

@@ -13,8 +13,8 @@ from ..._views import carve
 from ...kernels.lane_arrays import lane_array, lane_matrix, lane_tensor
 
 CoreWorkspace = namedtuple("CoreWorkspace", ("M", "Mw", "tmp8", "c", "s", "Sw", "Vb", "Ab", "E",
-                                             "T", "tw", "x", "J", "g", "Minv", "MJt", "C", "b",
-                                             "y", "d", "af", "cols"))
+                                             "T", "tw", "x", "J", "g", "H", "MJt", "C", "b", "y",
+                                             "d", "af", "cols"))
 
 
 @inline
@@ -62,7 +62,7 @@ def workspace(buf, m, nr):
     _x, o = carve(buf, o, (6, 6))
     _J, o = carve(buf, o, (nr, m.nv))
     _g, o = carve(buf, o, (nr,))
-    _Minv, o = carve(buf, o, (m.nv, m.nv))
+    _H, o = carve(buf, o, (m.nv, m.nv))
     _MJt, o = carve(buf, o, (m.nv, nr))
     _C, o = carve(buf, o, (nr, nr))
     _b, o = carve(buf, o, (nr,))
@@ -70,8 +70,8 @@ def workspace(buf, m, nr):
     _d, o = carve(buf, o, (nr,))
     _af, o = carve(buf, o, (m.nv,))
     _cols, o = carve(buf, o, (m.nv,))
-    return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _J, _g, _Minv,
-                         _MJt, _C, _b, _y, _d, _af, _cols)
+    return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _J, _g, _H, _MJt,
+                         _C, _b, _y, _d, _af, _cols)
 
 
 @inline
@@ -107,7 +107,7 @@ def lane_workspace(buf, m, nr):
     o += nr * m.nv
     _g = lane_array(buf, o)
     o += nr
-    _Minv = lane_matrix(buf, o, m.nv)
+    _H = lane_matrix(buf, o, m.nv)
     o += m.nv * m.nv
     _MJt = lane_matrix(buf, o, nr)
     o += m.nv * nr
@@ -123,5 +123,5 @@ def lane_workspace(buf, m, nr):
     o += m.nv
     _cols = lane_array(buf, o)
     o += m.nv
-    return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _J, _g, _Minv,
-                         _MJt, _C, _b, _y, _d, _af, _cols)
+    return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _J, _g, _H, _MJt,
+                         _C, _b, _y, _d, _af, _cols)
