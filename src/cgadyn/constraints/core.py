@@ -27,13 +27,13 @@ from .._jit import core, inline, native, parallel, serial
 from .._views import data_pointer
 from ..algorithms._pointers import SIGNATURE, packed_array
 from ..algorithms._workspace import STACK_FLOATS, chunks, stack_buffer
-from ..algorithms.aba import aba_core
 from ..algorithms.crba import crba_core
 from ..algorithms.kinematics import link_motor, world_motors
-from ..algorithms.ltdl import ltdl, ltdl_solve_rows
+from ..algorithms.ltdl import ltdl, ltdl_solve, ltdl_solve_rows
+from ..algorithms.rnea import rnea_core
 from ..algorithms.status import DELASSUS_SINGULAR, NONFINITE_RESULT, OK, SINGULAR, at_sample, fault
-from ..algorithms.work.aba import workspace_size as aba_size
 from ..algorithms.work.crba import workspace_size as crba_size
+from ..algorithms.work.rnea import workspace_size as rnea_size
 from ..kernels import motor_mul, motor_reverse, twist_sandwich
 from ..kernels.layout import physical
 from ..kernels.motors import motor_log, motor_normalize
@@ -78,6 +78,7 @@ WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py); n
     "y": ("nr",),
     "d": ("nr",),
     "af": ("nv",),  # the free acceleration
+    "h": ("nv",),  # the bias forces h = C(q, v) v + g(q)
     "cols": ("nv",),  # the coordinates that move a constraint
 }
 
@@ -463,9 +464,14 @@ def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, w
         return OK
     b = k_.b
     if mode == FORWARD:
-        status = aba_core(m, q, v, tau, f0, k_.af, awork)
+        for k in range(m.nv):
+            k_.af[k] = 0.0
+        status = rnea_core(m, q, v, k_.af, f0, k_.h, awork)  # h = rnea(q, v, 0)
         if status != OK:
             return status
+        for k in range(m.nv):
+            k_.af[k] = tau[k] - k_.h[k]
+        ltdl_solve(m, k_.H, k_.af)  # q̈_f = M⁻¹ (τ - h) (C7; L5, L6)
         for r in range(nr):  # b = -γ - J q̈_f (C7)
             acc = -g[r]
             for k in range(m.nv):
@@ -502,7 +508,7 @@ def constraint_single(packed, cons, q, v, tau, settings, mode, J, g, G, a, lam, 
     nr = int(cons[1])
     size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
     msize = crba_size(m.n, m.nq, m.nv, m.nl)
-    total = size + msize + aba_size(m.n, m.nq, m.nv, m.nl)
+    total = size + msize + rnea_size(m.n, m.nq, m.nv, m.nl)
     buf = stack_buffer(total) if total <= STACK_FLOATS else np.empty(total)
     return constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info,
                            buf[:size], buf[size:size + msize], buf[size + msize:],
@@ -549,7 +555,7 @@ def constraint_batch(packed, cons, q, v, tau, settings, mode, J, g, G, a, lam, i
     nr = int(cons[1])
     size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
     msize = crba_size(m.n, m.nq, m.nv, m.nl)
-    asize = aba_size(m.n, m.nq, m.nv, m.nl)
+    asize = rnea_size(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):

@@ -183,22 +183,36 @@ class Pack:
         self.array = np.concatenate([[self.nc, self.nr]] + [c.row for c in constraints])
         self.zero = np.zeros(model.nv)
         self.slots: dict[int, int] = {}
+        self.given, self.items = None, None
+
+    def remember(self, given) -> None:
+        """Make this the pack of the last list asked for, ``given`` (a list or tuple)."""
+        self.given, self.items = given, type(given)(given)
+        _LAST[0] = self
 
 
 _PACKS: dict[tuple, Pack] = {}
+_LAST: list = [None]
+"""The pack of the last list asked for, with that list and a copy of its items."""
 PACKS_KEPT = 64
 
 
 def pack(model, constraints) -> Pack:
     """The ``Pack`` of ``constraints`` (checked by ``check_constraints``) for ``model``, made
     once per list of constraint objects and kept (the last ``PACKS_KEPT`` lists)."""
+    last = _LAST[0]
+    if last is not None and model is last.model and constraints is last.given \
+            and constraints == last.items:  # the same list, unchanged (compared by identity)
+        return last
     key = (id(model), *map(id, constraints)) if type(constraints) in (list, tuple) else None
     found = _PACKS.get(key)
     if found is not None:  # the pack holds the objects, so their ids are still theirs
+        found.remember(constraints)
         return found
     p = Pack(model, check_constraints(model, constraints))
     if key is not None:
         if len(_PACKS) >= PACKS_KEPT:
             _PACKS.clear()
         _PACKS[key] = p
+        p.remember(constraints)
     return p

@@ -14,7 +14,7 @@ from ...kernels.lane_arrays import lane_array, lane_matrix, lane_tensor
 
 CoreWorkspace = namedtuple("CoreWorkspace", ("M", "Mw", "tmp8", "c", "s", "Sw", "Vb", "Ab", "E",
                                              "T", "tw", "x", "J", "g", "H", "MJt", "C", "b", "y",
-                                             "d", "af", "cols"))
+                                             "d", "af", "h", "cols"))
 
 
 @inline
@@ -40,6 +40,7 @@ def workspace_size(n, nq, nv, nl, nr):
         + nr
         + nr
         + nr
+        + nv
         + nv
         + nv)
 
@@ -69,9 +70,10 @@ def workspace(buf, m, nr):
     _y, o = carve(buf, o, (nr,))
     _d, o = carve(buf, o, (nr,))
     _af, o = carve(buf, o, (m.nv,))
+    _h, o = carve(buf, o, (m.nv,))
     _cols, o = carve(buf, o, (m.nv,))
     return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _J, _g, _H, _MJt,
-                         _C, _b, _y, _d, _af, _cols)
+                         _C, _b, _y, _d, _af, _h, _cols)
 
 
 @inline
@@ -121,7 +123,9 @@ def lane_workspace(buf, m, nr):
     o += nr
     _af = lane_array(buf, o)
     o += m.nv
+    _h = lane_array(buf, o)
+    o += m.nv
     _cols = lane_array(buf, o)
     o += m.nv
     return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _J, _g, _H, _MJt,
-                         _C, _b, _y, _d, _af, _cols)
+                         _C, _b, _y, _d, _af, _h, _cols)
