@@ -3,7 +3,9 @@
 ``computeDelassusMatrix``, ``constraintDynamics`` and ``impulseDynamics``, on solo12 on its
 four feet (point contacts) and talos_reduced on both soles (frame contacts), at a random
 state. Writes validation/results/constraints.md with the times and ratios. Timing on a
-shared machine is noisy: the libraries alternate and each figure is the best of the repeats.
+shared machine is noisy: the libraries alternate, each figure is the best of the repeats,
+and the clock is this process's CPU time (``time.process_time``), so that the time other
+jobs take the cores from it is not counted.
 
     python validation/constraints_benchmark.py [--repeats R] [--number N]
 """
@@ -13,6 +15,7 @@ from __future__ import annotations
 import argparse
 import platform
 import subprocess
+import time
 import timeit
 from pathlib import Path
 
@@ -57,7 +60,8 @@ def case(robot: str, kind: str, links: tuple[str, ...]) -> dict:
 
 
 def best_us(fn, number: int, repeats: int) -> list[float]:
-    return [t / number * 1e6 for t in timeit.repeat(fn, number=number, repeat=repeats)]
+    return [t / number * 1e6 for t in timeit.repeat(fn, number=number, repeat=repeats,
+                                                     timer=time.process_time)]
 
 
 def main() -> int:
@@ -84,7 +88,8 @@ def main() -> int:
         "# Constraints: cgadyn against Pinocchio 4.1",
         "",
         "One call from Python each, at one random state (`validation/constraints_benchmark.py`"
-        f", best of {args.repeats} repeats of {args.number} calls, the libraries alternating).",
+        f", best of {args.repeats} repeats of {args.number} calls, the libraries alternating, "
+        "CPU time of the process).",
         "solo12: four point contacts on the feet; talos_reduced: two frame contacts on the "
         "soles; both in the `local` frame. Ratio: cgadyn's time over Pinocchio's (below 1: "
         "cgadyn is faster).",
