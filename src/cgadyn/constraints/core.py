@@ -302,14 +302,17 @@ def _delassus(m, J, k_, G):
                 nk += 1
                 break
     ltdl_solve_rows(m, k_.H, MJt, 1.0)  # M⁻¹ Jᵀ (L5, L6)
-    for r in range(nr):
+    for r in range(nr):  # G = J (M⁻¹ Jᵀ): row r from J's nonzeros, in loops over G's row
         for s in range(r + 1):
-            acc = 0.0
-            for a in range(nk):
-                i = int(cols[a])
-                acc += J[r, i] * MJt[i, s]
-            G[r, s] = acc
-            G[s, r] = acc
+            G[r, s] = 0.0
+        for c in range(nk):
+            k = int(cols[c])
+            x = J[r, k]
+            if x != 0.0:
+                for s in range(r + 1):
+                    G[r, s] += x * MJt[k, s]
+        for s in range(r):
+            G[s, r] = G[r, s]
 
 
 @inline
