@@ -26,6 +26,10 @@ WRONG_SHAPE = 5
 DIVERGED = 6
 """A rollout: a velocity past the bound one step can resolve (``sim.rollout``)."""
 
+DELASSUS_SINGULAR = 7
+"""Constraints: the Delassus matrix is singular at a row (reported in the joint's place);
+Python names the constraint (``constraints.solve``)."""
+
 JOINT_UNIT = 256
 SAMPLE_UNIT = 1 << 24
 

@@ -1,9 +1,10 @@
-"""Constrained forward dynamics (C6-C8), impulse dynamics (C9) and contact inverse dynamics
-(C10), built on the compiled ``aba``, ``minverse`` and ``rnea``.
+"""Constrained forward dynamics (C6-C8) and impulse dynamics (C9), each one compiled call
+(``constraints/core.py``: J, γ, M⁻¹, G and the forces), and contact inverse dynamics (C10) on
+the compiled J and ``rnea``.
 
 Forces come in Pinocchio's ``lambda_c`` layout: ``[f]`` per point constraint and ``[f, τ]``
 per frame constraint, each in its constraint's frame, in constraint order. A batch of states
-runs the compiled calls once for all samples and assembles each sample in a Python loop.
+is one parallel compiled call.
 """
 
 from __future__ import annotations
@@ -11,29 +12,26 @@ from __future__ import annotations
 import numpy as np
 
 from ..algorithms import _inputs
-from ..algorithms.api import aba, rnea
-from ..algorithms.derivatives_api import minverse
-from .model import check_constraints
-from .operators import damping_value, delassus_matrix, each, kinematics, states, system
-from .solve import solve
+from ..algorithms.api import rnea
+from .calls import DYNAMICS_GROUP, fast, run
+from .core import FORWARD, IMPULSE, SYSTEM
+from .model import pack
+from .operators import checked_settings, states, zeros_like_v
+from .solve import solve_info
 
 G0 = _inputs.DEFAULT_GRAVITY
 
-
-def _settings(damping, iterations, accuracy) -> tuple[float, int, float]:
-    mu = damping_value(damping)
-    if iterations is None:
-        iterations = 1 if mu == 0.0 else 100
-    if isinstance(iterations, bool) or not isinstance(iterations, int | np.integer) \
-            or iterations < 1:
-        raise ValueError(f"iterations must be an integer >= 1, got {iterations!r}")
-    try:
-        acc = float(accuracy)
-    except (TypeError, ValueError):
-        acc = float("nan")
-    if not np.isfinite(acc) or acc < 0.0:
-        raise ValueError(f"accuracy must be a finite number >= 0, got {accuracy!r}")
-    return mu, int(iterations), acc
+def _finish(p, out, return_info):
+    """``(x, λ)`` or ``(x, λ, info)`` from the core's outputs; a set with no solution is an
+    error (``solve.solve_info``)."""
+    x, lam, info = out
+    if info.ndim == 1 and not return_info and info[4] < 0.0:
+        return x, lam
+    if info.ndim == 1:
+        i = solve_info(p.constraints, p.starts, info)
+    else:
+        i = [solve_info(p.constraints, p.starts, row) for row in info]
+    return (x, lam, i) if return_info else (x, lam)
 
 
 def constrained_dynamics(model, q, v, tau, constraints, damping=0.0, iterations=None,
@@ -50,19 +48,14 @@ def constrained_dynamics(model, q, v, tau, constraints, damping=0.0, iterations=
     (``iterations``, ``residual``, ``change``, ``converged``; a list for a batch).
     ``q`` (nq,) or (B, nq), ``v``, ``tau`` (nv,) or (B, nv).
     """
-    constraints = check_constraints(model, constraints)
-    mu, n, acc = _settings(damping, iterations, accuracy)
+    p = pack(model, constraints)
+    s = checked_settings(damping, iterations, accuracy)
+    if DYNAMICS_GROUP in p.slots and gravity is G0:  # the fast path: one canonical sample
+        r = fast(p.slots[DYNAMICS_GROUP], model.packed, p.array, q, v, tau, s, FORWARD)
+        if type(r) is tuple:
+            return _finish(p, r, return_info)
     q, v, tau = states(model, (q, v, tau), ("q", "v", "tau"))
-
-    def one(k, y, a_free, Minv):
-        J, g = system(model, k, y, constraints)
-        G, MinvJt = delassus_matrix(Minv, J)
-        lam, info = solve(G, -g - J @ a_free, constraints, mu, n, acc)  # C6, C8
-        return a_free + MinvJt @ lam, lam, info
-
-    out = each(one, kinematics(model, q, constraints),
-               (v, aba(model, q, v, tau, gravity), minverse(model, q)))
-    return out if return_info else out[:2]
+    return _finish(p, run(model, p, FORWARD, q, v, tau, s, gravity), return_info)
 
 
 def impulse_dynamics(model, q, v, constraints, restitution=0.0, damping=0.0, iterations=None,
@@ -70,24 +63,14 @@ def impulse_dynamics(model, q, v, constraints, restitution=0.0, damping=0.0, ite
     """``v⁺, impulses`` of an impact (C9): ``M (v⁺ - v) = Jᵀ Λ`` with ``J v⁺ = -e J v``;
     Pinocchio's ``impulseDynamics``. ``restitution`` e in [0, 1]; ``damping``,
     ``iterations``, ``accuracy`` and ``return_info`` as in ``constrained_dynamics``."""
-    constraints = check_constraints(model, constraints)
-    mu, n, acc = _settings(damping, iterations, accuracy)
-    try:
-        e = float(restitution)
-    except (TypeError, ValueError):
-        e = float("nan")
-    if not 0.0 <= e <= 1.0:
-        raise ValueError(f"restitution must be a number in [0, 1], got {restitution!r}")
+    p = pack(model, constraints)
+    s = checked_settings(damping, iterations, accuracy, restitution)
+    if DYNAMICS_GROUP in p.slots:  # the fast path: one canonical sample
+        r = fast(p.slots[DYNAMICS_GROUP], model.packed, p.array, q, v, v, s, IMPULSE)
+        if type(r) is tuple:
+            return _finish(p, r, return_info)
     q, v = states(model, (q, v), ("q", "v"))
-
-    def one(k, y, Minv):
-        J, _ = system(model, k, None, constraints)
-        G, MinvJt = delassus_matrix(Minv, J)
-        lam, info = solve(G, -(1.0 + e) * (J @ y), constraints, mu, n, acc)  # C9
-        return y + MinvJt @ lam, lam, info
-
-    out = each(one, kinematics(model, q, constraints), (v, minverse(model, q)))
-    return out if return_info else out[:2]
+    return _finish(p, run(model, p, IMPULSE, q, v, v, s), return_info)
 
 
 def contact_inverse_dynamics(model, q, v, a, constraints, gravity=G0):
@@ -96,12 +79,14 @@ def contact_inverse_dynamics(model, q, v, a, constraints, gravity=G0):
     least-norm forces that balance them (zero where every coordinate is actuated). An
     unactuated part the constraints cannot balance is an error. ``a`` should satisfy
     ``J a + γ = 0`` for ``constrained_dynamics(τ)`` to give it back."""
-    constraints = check_constraints(model, constraints)
+    p = pack(model, constraints)
     q, v, a = states(model, (q, v, a), ("q", "v", "a"))
     free = ~np.asarray(model.actuated, dtype=bool)
+    z = zeros_like_v(model, q)
+    Js = run(model, p, SYSTEM, q, z, z, checked_settings(0.0))[0]
+    taus = rnea(model, q, v, a, gravity)
 
-    def one(k, tau):
-        J, _ = system(model, k, None, constraints)
+    def one(J, tau):
         if not free.any() or len(J) == 0:
             lam = np.zeros(len(J))
         else:
@@ -115,4 +100,9 @@ def contact_inverse_dynamics(model, q, v, a, constraints, gravity=G0):
         tau[free] = 0.0
         return tau, lam
 
-    return each(one, kinematics(model, q, constraints), (rnea(model, q, v, a, gravity),))
+    if q.ndim == 1:
+        return one(Js, taus)
+    if len(q) == 0:
+        return np.empty((0, model.nv)), np.empty((0, p.nr))
+    out = [one(J, t) for J, t in zip(Js, taus, strict=True)]
+    return np.stack([o[0] for o in out]), np.stack([o[1] for o in out])

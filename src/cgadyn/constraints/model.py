@@ -20,6 +20,7 @@ import numpy as np
 from ..algorithms import _inputs
 from ..algorithms.api import link_placements
 from ..algorithms.configuration import neutral
+from ..cga.conventions import motor_from_matrix
 from ..cga.objects import Motor
 
 KINDS = {"point": 3, "frame": 6}
@@ -95,6 +96,7 @@ class Constraint:
     frame: str
     corrector: tuple[float, float]
     name: str
+    row: np.ndarray
 
     def __init__(self, model, kind: str, link, placement=None, other=None,
                  other_placement=None, frame: str = "local_world_aligned",
@@ -134,6 +136,11 @@ class Constraint:
             object.__setattr__(self, name, value)
         P1.flags.writeable = False
         P2.flags.writeable = False
+        row = np.concatenate([[0.0 if kind == "point" else 1.0, i, -1 if j is None else j,
+                               FRAMES.index(frame), *self.corrector],
+                              motor_from_matrix(P1), motor_from_matrix(P2)])
+        row.flags.writeable = False
+        object.__setattr__(self, "row", row)  # its floats in a pack (constraints/core.py)
 
     @property
     def size(self) -> int:
@@ -162,3 +169,50 @@ def check_constraints(model, constraints) -> tuple[Constraint, ...]:
             raise ValueError(f"constraints[{k}] ({c.name}) was made for the model "
                              f"{c.model.name!r}, not for this one ({model.name!r})")
     return out
+
+
+class Pack:
+    """A list of constraints as compiled code reads it (``constraints/core.py``): ``array``
+    (the header ``[nc, nr]``, then each constraint's ``row``), the first row of each
+    constraint (``starts``, the total last) and the native slots it was registered in."""
+
+    def __init__(self, model, constraints: tuple[Constraint, ...]):
+        self.model, self.constraints = model, constraints
+        self.starts = np.cumsum([0] + [c.size for c in constraints])
+        self.nc, self.nr = len(constraints), int(self.starts[-1])
+        self.array = np.concatenate([[self.nc, self.nr]] + [c.row for c in constraints])
+        self.zero = np.zeros(model.nv)
+        self.slots: dict[int, int] = {}
+        self.given, self.items = None, None
+
+    def remember(self, given) -> None:
+        """Make this the pack of the last list asked for, ``given`` (a list or tuple)."""
+        self.given, self.items = given, type(given)(given)
+        _LAST[0] = self
+
+
+_PACKS: dict[tuple, Pack] = {}
+_LAST: list = [None]
+"""The pack of the last list asked for, with that list and a copy of its items."""
+PACKS_KEPT = 64
+
+
+def pack(model, constraints) -> Pack:
+    """The ``Pack`` of ``constraints`` (checked by ``check_constraints``) for ``model``, made
+    once per list of constraint objects and kept (the last ``PACKS_KEPT`` lists)."""
+    last = _LAST[0]
+    if last is not None and model is last.model and constraints is last.given \
+            and constraints == last.items:  # the same list, unchanged (compared by identity)
+        return last
+    key = (id(model), *map(id, constraints)) if type(constraints) in (list, tuple) else None
+    found = _PACKS.get(key)
+    if found is not None:  # the pack holds the objects, so their ids are still theirs
+        found.remember(constraints)
+        return found
+    p = Pack(model, check_constraints(model, constraints))
+    if key is not None:
+        if len(_PACKS) >= PACKS_KEPT:
+            _PACKS.clear()
+        _PACKS[key] = p
+        p.remember(constraints)
+    return p

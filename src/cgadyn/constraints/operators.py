@@ -2,21 +2,18 @@
 Delassus matrix G = J M⁻¹ Jᵀ (C7), for one state or a batch.
 
 Rows follow the constraints in their order, each in its own frame (``Constraint.frame``), as
-Pinocchio's ``getConstraintsJacobian`` gives them. A batch ``(B, nq)`` runs the compiled
-calls (placements, Jacobians, M⁻¹) once for all samples and assembles each sample's
-matrices in a Python loop.
+Pinocchio's ``getConstraintsJacobian`` gives them. Each is one compiled call
+(``constraints/core.py``), a batch one parallel call.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 import numpy as np
 
 from ..algorithms import _inputs
-from ..algorithms.derivatives_api import minverse
-from .kinematics import drift, ends, placements, rows
-from .model import check_constraints
+from .calls import DELASSUS_GROUP, fast, run
+from .core import DELASSUS, DRIFT, SYSTEM
+from .model import pack
 
 
 def states(model, arrays: tuple, names: tuple[str, ...]) -> tuple[np.ndarray, ...]:
@@ -31,59 +28,67 @@ def states(model, arrays: tuple, names: tuple[str, ...]) -> tuple[np.ndarray, ..
     return out
 
 
-def each(function: Callable, kinematics: list, arrays: tuple[np.ndarray, ...]):
-    """``function(kinematics, *sample)`` on one sample, or on each sample of a batch with its
-    results stacked (each array of a tuple of results stacked; other results listed)."""
-    if arrays[0].ndim == 1:
-        return function(kinematics[0], *arrays)
-    results = [function(k, *x) for k, x in zip(kinematics, zip(*arrays, strict=True),
-                                                strict=True)]
-    if not results:
-        return np.empty((0,))
-    if not isinstance(results[0], tuple):
-        return np.stack(results)
-    return tuple(np.stack(r) if isinstance(r[0], np.ndarray) else list(r)
-                 for r in zip(*results, strict=True))
+def zeros_like_v(model, q: np.ndarray) -> np.ndarray:
+    """A velocity-sized zero array for the modes that read none, shaped like q's batch."""
+    return np.zeros(q.shape[:-1] + (model.nv,))
 
 
-def kinematics(model, q: np.ndarray, constraints) -> list:
-    """The compiled part of the rows, one call for all samples (``placements``), split into
-    one ``(T, {link: J})`` per sample."""
-    T, jacobians = placements(model, q, constraints)
-    if q.ndim == 1:
-        return [(T, jacobians)]
-    return [(T[b], {i: J[b] for i, J in jacobians.items()}) for b in range(len(q))]
+_SETTINGS: dict = {}
 
 
-def system(model, kinematics: tuple, v: np.ndarray | None, constraints) -> tuple:
-    """``J`` (m, nv) and, with v, ``γ`` (m,) at one state."""
-    pairs = ends(model, *kinematics, constraints, v)
-    J = np.concatenate([rows(c, *e) for c, e in zip(constraints, pairs, strict=True)]
-                       or [np.zeros((0, model.nv))])
-    if v is None:
-        return J, None
-    g = np.concatenate([drift(c, *e) for c, e in zip(constraints, pairs, strict=True)]
-                       or [np.zeros(0)])
-    return J, g
+def checked_settings(damping, iterations=1, accuracy=0.0, restitution=0.0) -> np.ndarray:
+    """The core's settings ``[μ, iterations, accuracy, restitution]`` of these arguments,
+    checked, as one array made once per set of values (``iterations`` None: 1 without damping,
+    else 100)."""
+    try:
+        key = (damping, iterations, type(iterations), accuracy, restitution)
+        found = _SETTINGS.get(key)
+    except TypeError:  # an unhashable argument
+        key = found = None
+    if found is not None:
+        return found
+    mu = damping_value(damping)
+    if iterations is None:
+        iterations = 1 if mu == 0.0 else 100
+    if isinstance(iterations, bool) or not isinstance(iterations, int | np.integer) \
+            or iterations < 1:
+        raise ValueError(f"iterations must be an integer >= 1, got {iterations!r}")
+    try:
+        acc = float(accuracy)
+    except (TypeError, ValueError):
+        acc = float("nan")
+    if not np.isfinite(acc) or acc < 0.0:
+        raise ValueError(f"accuracy must be a finite number >= 0, got {accuracy!r}")
+    try:
+        e = float(restitution)
+    except (TypeError, ValueError):
+        e = float("nan")
+    if not 0.0 <= e <= 1.0:
+        raise ValueError(f"restitution must be a number in [0, 1], got {restitution!r}")
+    found = np.array([mu, int(iterations), acc, e], dtype=float)
+    if key is not None:
+        if len(_SETTINGS) > 256:
+            _SETTINGS.clear()
+        _SETTINGS[key] = found
+    return found
 
 
 def constraint_jacobian(model, q, constraints) -> np.ndarray:
     """The constraint Jacobian ``J`` (m, nv), or (B, m, nv): C1 rows for a point, C2 for a
     frame, in constraint order; Pinocchio's ``getConstraintsJacobian``."""
-    constraints = check_constraints(model, constraints)
+    p = pack(model, constraints)
     (q,) = states(model, (q,), ("q",))
-    return each(lambda k, x: system(model, k, None, constraints)[0],
-                kinematics(model, q, constraints), (q,))
+    z = zeros_like_v(model, q)
+    return run(model, p, SYSTEM, q, z, z, checked_settings(0.0))[0]
 
 
 def constraint_drift(model, q, v, constraints) -> np.ndarray:
     """``γ`` (m,) or (B, m): the acceleration of the constraint rows at ``q̈ = 0`` (C3, C4)
     with the Baumgarte terms of each constraint's corrector (C5), so that the constrained
     motion has ``J q̈ + γ = 0`` (C6), Pinocchio's convention."""
-    constraints = check_constraints(model, constraints)
+    p = pack(model, constraints)
     q, v = states(model, (q, v), ("q", "v"))
-    return each(lambda k, x, y: system(model, k, y, constraints)[1],
-                kinematics(model, q, constraints), (q, v))
+    return run(model, p, DRIFT, q, v, v, checked_settings(0.0))[1]
 
 
 def damping_value(damping) -> float:
@@ -96,24 +101,18 @@ def damping_value(damping) -> float:
     return mu
 
 
-def delassus_matrix(Minv: np.ndarray, J: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``G = J M⁻¹ Jᵀ`` (C7) and ``M⁻¹ Jᵀ`` at one configuration, M⁻¹ from the
-    articulated-body recursion (``cgadyn.minverse``)."""
-    MinvJt = Minv @ J.T
-    return J @ MinvJt, MinvJt
-
-
 def delassus(model, q, constraints, damping=0.0) -> np.ndarray:
     """The Delassus matrix ``G + damping·I`` (m, m) or (B, m, m), ``G = J M⁻¹ Jᵀ`` (C7), in
     the constraints' frames. Pinocchio 4.1's ``computeDelassusMatrix`` at ``mu = 0`` gives G
     for constraints anchored to the world, in their local frames (docs/constraints.md); its
     ``mu`` is not a shift of the diagonal."""
-    constraints = check_constraints(model, constraints)
-    mu = damping_value(damping)
+    p = pack(model, constraints)
+    s = checked_settings(damping)
+    if DELASSUS_GROUP in p.slots:  # the fast path: the C entry takes one canonical sample
+        G = fast(p.slots[DELASSUS_GROUP], model.packed, p.array, q, p.zero, p.zero, s,
+                 DELASSUS)
+        if type(G) is np.ndarray:
+            return G
     (q,) = states(model, (q,), ("q",))
-
-    def one(k, x, Minv):
-        G = delassus_matrix(Minv, system(model, k, None, constraints)[0])[0]
-        return G + mu * np.eye(len(G))
-
-    return each(one, kinematics(model, q, constraints), (q, minverse(model, q)))
+    z = zeros_like_v(model, q)
+    return run(model, p, DELASSUS, q, z, z, s)

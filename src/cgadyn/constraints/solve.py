@@ -1,12 +1,11 @@
-"""The constraint forces of a KKT system through its Delassus matrix (C6-C8), by one
-factorisation or by proximal iterations, and the errors that name a constraint.
+"""What the solve of the constraint forces reports, and the errors that name a constraint.
 
 Both dynamics reduce to ``G λ = b`` with ``G = J M⁻¹ Jᵀ`` (C7): forward dynamics with
-``b = -γ - J q̈_free`` (C6), an impact with ``b = -(1 + e) J v⁻`` (C9). Without damping the
-system is solved once (Cholesky of G), after a check that G is not singular. With damping
-``μ > 0`` the proximal iterations of Pinocchio's ``ProximalSettings`` run (C8):
-``(G + μ I) λ_{k+1} = b + μ λ_k`` from ``λ_0 = 0``, stopped when ``|G λ - b|∞`` or
-``|λ_{k+1} - λ_k|∞`` is at most ``accuracy``.
+``b = -γ - J q̈_free`` (C6), an impact with ``b = -(1 + e) J v⁻`` (C9). The solve itself,
+once by Cholesky or by the proximal iterations of Pinocchio's ``ProximalSettings`` (C8), is
+compiled (``constraints/core.py``, ``solve_forces``); here are its ``SolveInfo`` and the
+words of its faults: a singular G (which constraint makes it so) and a set with no
+solution.
 """
 
 from __future__ import annotations
@@ -20,9 +19,6 @@ from .model import Constraint
 SINGULAR = 1e-12
 """G is taken as singular when the smallest eigenvalue of its diagonal-scaled form, over the
 rows of the constraints up to one of them, is below this (times their number)."""
-
-CONFLICT = 1e-6
-"""A proximal solve that ends with ``|G λ - b|∞ > CONFLICT · max(1, |b|∞)`` has no solution."""
 
 
 @dataclass(frozen=True)
@@ -65,46 +61,21 @@ def singular_constraint(G: np.ndarray, constraints: tuple[Constraint, ...]) -> s
     return None
 
 
-def conflict(G: np.ndarray, lam: np.ndarray, b: np.ndarray,
-             constraints: tuple[Constraint, ...], iterations: int) -> str:
-    """The message of a set with no solution: the constraint with the largest residual."""
-    r = np.abs(G @ lam - b)
-    starts = row_starts(constraints)
-    k = int(np.searchsorted(starts, int(np.argmax(r)), side="right") - 1)
+def conflict(constraints: tuple[Constraint, ...], starts: np.ndarray, row: int,
+             residual: float, iterations: int) -> str:
+    """The message of a set with no solution: the constraint with the largest residual
+    (its ``row``)."""
+    k = int(np.searchsorted(starts, row, side="right") - 1)
     return (f"the constraints have no solution: after {iterations} proximal iterations "
-            f"constraint {k} ({constraints[k].name}) is still violated by {r.max():.3g} "
+            f"constraint {k} ({constraints[k].name}) is still violated by {residual:.3g} "
             f"(|J q̈ + γ| or |J v⁺ + e J v⁻|): its rows conflict with those of the others")
 
 
-def solve(G: np.ndarray, b: np.ndarray, constraints: tuple[Constraint, ...],
-          damping: float, iterations: int, accuracy: float) -> tuple[np.ndarray, SolveInfo]:
-    """``λ`` of ``G λ = b`` (C7), directly or by proximal iterations (C8), and how."""
-    if not (np.all(np.isfinite(G)) and np.all(np.isfinite(b))):
-        raise ValueError("the Delassus matrix or the constraint right-hand side is not finite "
-                         "(a state too large, or a singular mass matrix)")
-    if len(b) == 0:
-        return b.copy(), SolveInfo(0, 0.0, 0.0, True)
-    if damping == 0.0:
-        why = singular_constraint(G, constraints)
-        if why is not None:
-            raise ValueError(why)
-        L = np.linalg.cholesky(G)
-        lam = np.linalg.solve(L.T, np.linalg.solve(L, b))
-        r = float(np.abs(G @ lam - b).max())
-        return lam, SolveInfo(1, r, float(np.abs(lam).max()), True)
-    L = np.linalg.cholesky(G + damping * np.eye(len(b)))
-    lam = np.zeros_like(b)
-    r = change = np.inf
-    it = 0
-    while it < iterations:
-        it += 1
-        new = np.linalg.solve(L.T, np.linalg.solve(L, b + damping * lam))  # C8
-        r = float(np.abs(G @ new - b).max())
-        change = float(np.abs(new - lam).max())
-        lam = new
-        if r <= accuracy or change <= accuracy:
-            break
-    converged = r <= accuracy or change <= accuracy
-    if not converged and r > CONFLICT * max(1.0, float(np.abs(b).max())):
-        raise ValueError(conflict(G, lam, b, constraints, it))
-    return lam, SolveInfo(it, r, change, converged)
+def solve_info(constraints: tuple[Constraint, ...], starts: np.ndarray,
+               info: np.ndarray) -> SolveInfo:
+    """The ``SolveInfo`` of the compiled solve's ``info`` (``constraints/core.py``); a set
+    with no solution is an error."""
+    iterations, residual, change, converged, row = info.tolist()
+    if row >= 0:
+        raise ValueError(conflict(constraints, starts, int(row), residual, int(iterations)))
+    return SolveInfo(int(iterations), residual, change, bool(converged))

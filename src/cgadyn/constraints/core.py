@@ -1,0 +1,579 @@
+"""The compiled core of the constraints: J (C1, C2), γ (C3-C5), the Delassus matrix
+``G = J M⁻¹ Jᵀ`` (C7) and the forces of constrained (C6-C8) and impulse (C9) dynamics, one
+sample in one call (``docs/constraints.md``).
+
+A list of constraints reaches compiled code as one float array (``pack``): a header
+``[nc, nr]`` (constraints, rows), then ``ROW`` floats per constraint: its kind (0 a point,
+1 a frame), link, other link (-1 the world), frame (0 ``"local"``, 1
+``"local_world_aligned"``), the corrector's ``Kp, Kd`` and the motors ``P₁, P₂`` of its two
+frames (``P₂`` in the world for a world anchor). Twists here are Pinocchio's ``[v, ω]`` at
+the world origin, as in the docs.
+
+``constraint_core`` runs one ``mode``: ``SYSTEM`` (J, and γ with ``v``), ``DELASSUS``
+(``G + μ I``), ``FORWARD`` (q̈, λ; C6-C8) or ``IMPULSE`` (v⁺, Λ; C9). ``settings`` holds
+``[μ, iterations, accuracy, restitution]``; ``info`` receives ``[iterations, residual,
+change, converged, conflicting row or -1]``. The entries below serve one sample (the C
+entry of ``cgadyn._native`` and numba's dispatcher) and a batch (parallel over samples).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import carray, prange
+
+from .._jit import core, inline, native, parallel, serial
+from .._views import data_pointer
+from ..algorithms._pointers import SIGNATURE, packed_array
+from ..algorithms._workspace import STACK_FLOATS, chunks, stack_buffer
+from ..algorithms.crba import crba_core
+from ..algorithms.kinematics import link_motor, world_motors
+from ..algorithms.ltdl import ltdl, ltdl_solve, ltdl_solve_rows
+from ..algorithms.rnea import rnea_core
+from ..algorithms.status import DELASSUS_SINGULAR, NONFINITE_RESULT, OK, SINGULAR, at_sample, fault
+from ..algorithms.work.crba import workspace_size as crba_size
+from ..algorithms.work.rnea import workspace_size as rnea_size
+from ..kernels import motor_mul, motor_reverse, twist_sandwich
+from ..kernels.layout import physical
+from ..kernels.motors import motor_log, motor_normalize
+from ..kernels.rigid import motor_matrix
+from ..multibody.packed import unpack
+from .work.core import workspace, workspace_size
+
+HEAD, ROW = 2, 22
+"""The pack's header ``[nc, nr]`` and the floats per constraint."""
+KIND, LINK, OTHER, FRAME, KP, KD, P1, P2 = 0, 1, 2, 3, 4, 5, 6, 14
+"""Offsets within a constraint's floats."""
+SYSTEM, DRIFT, DELASSUS, FORWARD, IMPULSE = range(5)
+"""Modes: J; J and γ; G + μI; constrained dynamics; impulse dynamics."""
+MU, ITERATIONS, ACCURACY, RESTITUTION = range(4)
+INFO = 5
+SINGULAR_PIVOT = 1e-12
+"""G is singular where a pivot² of the Cholesky factor of its diagonal-scaled form falls
+below this times its row count: the smallest eigenvalue of the rows so far is then below it
+too (``solve.SINGULAR``, the threshold of the message)."""
+CONFLICT = 1e-6
+"""A proximal solve that ends with ``|G λ - b|∞ > CONFLICT · max(1, |b|∞)`` has no solution."""
+
+WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py); nr: the rows
+    "M": ("n", 8),  # the joint motors
+    "Mw": ("n", 8),  # the world motors
+    "tmp8": (8,),
+    "c": ("nq",),  # the joint motors' scalars (eq. 6)
+    "s": ("nq",),
+    "Sw": ("nv", 6),  # the world Jacobian's columns [v, ω]
+    "Vb": ("n", 6),  # the bodies' world twists
+    "Ab": ("n", 6),  # and accelerations at q̈ = 0 without gravity
+    "E": (3, 8),  # the two ends' motors and the relative one
+    "T": (2, 4, 4),  # the two ends' matrices
+    "tw": (6,),
+    "x": (6, 6),  # small vectors of an end
+    "J": ("nr", "nv"),
+    "g": ("nr",),
+    "H": ("nv", "nv"),  # M, then its factors Lᵀ D L
+    "MJt": ("nv", "nr"),  # M⁻¹ Jᵀ
+    "C": ("nr", "nr"),  # the Cholesky factor
+    "b": ("nr",),
+    "y": ("nr",),
+    "d": ("nr",),
+    "af": ("nv",),  # the free acceleration
+    "h": ("nv",),  # the bias forces h = C(q, v) v + g(q)
+    "cols": ("nv",),  # the coordinates that move a constraint
+}
+
+
+@inline
+def _world_columns(m, q, v, drift, k_):
+    """``Sw`` the world twists of every coordinate (the world Jacobian's columns), and with
+    ``drift`` the bodies' twists ``V_j = V_λ + S_j q̇_j`` and accelerations at q̈ = 0,
+    ``A_j = A_λ + V_λ × S_j q̇_j`` (D2; C3)."""
+    Sw, Vb, Ab, tw = k_.Sw, k_.Vb, k_.Ab, k_.tw
+    world_motors(m, q, k_.c, k_.s, k_.tmp8, k_.M, k_.Mw)
+    for j in range(m.n):
+        for k in range(m.iv[j], m.iv[j + 1]):
+            twist_sandwich(k_.Mw[j], m.S[k], tw)  # M^w_j S_k ~M^w_j (eq. 4)
+            w1, w2, w3, v1, v2, v3 = physical(tw)
+            Sw[k, 0], Sw[k, 1], Sw[k, 2], Sw[k, 3], Sw[k, 4], Sw[k, 5] = v1, v2, v3, w1, w2, w3
+    if not drift:
+        return
+    for j in range(m.n):
+        p = m.parents[j]
+        for i in range(6):
+            tw[i] = 0.0
+        for k in range(m.iv[j], m.iv[j + 1]):
+            for i in range(6):
+                tw[i] += Sw[k, i] * v[k]  # S_j q̇_j
+        if p < 0:
+            for i in range(6):
+                Vb[j, i] = tw[i]
+                Ab[j, i] = 0.0
+            continue
+        a1, a2, a3, w1, w2, w3 = Vb[p, 0], Vb[p, 1], Vb[p, 2], Vb[p, 3], Vb[p, 4], Vb[p, 5]
+        Ab[j, 0] = Ab[p, 0] + w2 * tw[2] - w3 * tw[1] + a2 * tw[5] - a3 * tw[4]  # V_λ × S q̇
+        Ab[j, 1] = Ab[p, 1] + w3 * tw[0] - w1 * tw[2] + a3 * tw[3] - a1 * tw[5]
+        Ab[j, 2] = Ab[p, 2] + w1 * tw[1] - w2 * tw[0] + a1 * tw[4] - a2 * tw[3]
+        Ab[j, 3] = Ab[p, 3] + w2 * tw[5] - w3 * tw[4]
+        Ab[j, 4] = Ab[p, 4] + w3 * tw[3] - w1 * tw[5]
+        Ab[j, 5] = Ab[p, 5] + w1 * tw[4] - w2 * tw[3]
+        for i in range(6):
+            Vb[j, i] = Vb[p, i] + tw[i]
+
+
+@inline
+def _end(m, cons, o, which, k_):
+    """End ``which`` (0, 1) of the constraint at ``o``: its motor ``E[which]``, matrix
+    ``T[which]`` and body (the joint carrying it, -1 for the world)."""
+    E = k_.E
+    link = int(cons[o + (LINK if which == 0 else OTHER)])
+    at = o + (P1 if which == 0 else P2)
+    if link < 0:
+        for i in range(8):
+            E[which, i] = cons[at + i]
+        body = -1
+    else:
+        link_motor(m, k_.Mw, link, k_.tmp8)  # M^w_link
+        motor_mul(k_.tmp8, cons[at:at + 8], E[which])  # M^w_link P
+        body = m.link_joint[link]
+    motor_matrix(E[which], k_.T[which])
+    return body
+
+
+@inline
+def _rotate_rows(R, X, r0, size, local):
+    """Rows ``r0 .. r0 + size`` of X (each column a 3- or 6-vector in the world's axes) into
+    frame 1's axes (``Rᵀ`` on each block of three) where ``local``."""
+    if not local:
+        return
+    for k in range(X.shape[1]):
+        for h in range(r0, r0 + size, 3):
+            x0, x1, x2 = X[h, k], X[h + 1, k], X[h + 2, k]
+            for i in range(3):
+                X[h + i, k] = R[0, i] * x0 + R[1, i] * x1 + R[2, i] * x2
+
+
+@inline
+def _rotate(R, x, h, local):
+    """``x[h:h+3] = Rᵀ x[h:h+3]`` where ``local``."""
+    if local:
+        x0, x1, x2 = x[h], x[h + 1], x[h + 2]
+        for i in range(3):
+            x[h + i] = R[0, i] * x0 + R[1, i] * x1 + R[2, i] * x2
+
+
+@inline
+def _add_columns(Sw, parents, iv, body, sign, p, size, r0, J):
+    """Add ``sign`` times the columns of the body's world Jacobian seen at the point p
+    (``shift(S, p) = [v - p × ω, ω]``, whose first three rows are the velocity of p) to
+    rows ``r0 ..`` of J: the first three (C1), or all six (C2)."""
+    j = body
+    while j >= 0:
+        for k in range(iv[j], iv[j + 1]):
+            v1, v2, v3, w1, w2, w3 = Sw[k, 0], Sw[k, 1], Sw[k, 2], Sw[k, 3], Sw[k, 4], Sw[k, 5]
+            J[r0, k] += sign * (v1 - (p[1] * w3 - p[2] * w2))  # v - p × ω (C1)
+            J[r0 + 1, k] += sign * (v2 - (p[2] * w1 - p[0] * w3))
+            J[r0 + 2, k] += sign * (v3 - (p[0] * w2 - p[1] * w1))
+            if size == 6:  # C2
+                J[r0 + 3, k] += sign * w1
+                J[r0 + 4, k] += sign * w2
+                J[r0 + 5, k] += sign * w3
+        j = parents[j]
+
+
+@inline
+def _motion(Vb, Ab, body, x, row):
+    """``x[row]`` the body's twist V, ``x[row + 1]`` its acceleration A (zero for the
+    world)."""
+    for i in range(6):
+        x[row, i] = Vb[body, i] if body >= 0 else 0.0
+        x[row + 1, i] = Ab[body, i] if body >= 0 else 0.0
+
+
+@inline
+def _shift(X, p, out):
+    """``out[:3]`` the first three rows of ``shift(X, p)``: ``v - p × ω``."""
+    out[0] = X[0] - (p[1] * X[5] - p[2] * X[4])
+    out[1] = X[1] - (p[2] * X[3] - p[0] * X[5])
+    out[2] = X[2] - (p[0] * X[4] - p[1] * X[3])
+
+
+@inline
+def _drift(m, cons, o, b1, b2, r0, g, k_):
+    """``γ`` of the constraint at ``o`` into ``g[r0 ..]``: C3 (a point) or C4 (a frame), plus
+    the corrector's terms (C5). The ends' matrices are in ``k_.T``."""
+    x, T, E, tw = k_.x, k_.T, k_.E, k_.tw
+    _motion(k_.Vb, k_.Ab, b1, x, 0)  # V₁, A₁
+    _motion(k_.Vb, k_.Ab, b2, x, 2)  # V₂, A₂
+    R = T[0]
+    p1, p2 = T[0, :3, 3], T[1, :3, 3]
+    kp, kd = cons[o + KP], cons[o + KD]
+    local = cons[o + FRAME] == 0.0
+    if cons[o + KIND] == 0.0:  # a point
+        for e in range(2):
+            p = p1 if e == 0 else p2
+            V, A = x[2 * e], x[2 * e + 1]
+            _shift(V, p, x[4])  # ṗ, the velocity of the point
+            _shift(A, p, x[5])
+            sg = 1.0 if e == 0 else -1.0
+            w1, w2, w3, u1, u2, u3 = V[3], V[4], V[5], x[4, 0], x[4, 1], x[4, 2]
+            g[r0] += sg * (x[5, 0] + w2 * u3 - w3 * u2 + kd * u1)  # a(p) + ω × ṗ (C3), Kd ṗ
+            g[r0 + 1] += sg * (x[5, 1] + w3 * u1 - w1 * u3 + kd * u2)
+            g[r0 + 2] += sg * (x[5, 2] + w1 * u2 - w2 * u1 + kd * u3)
+        for i in range(3):
+            g[r0 + i] += kp * (p1[i] - p2[i])  # Kp (p₁ - p₂) (C5)
+        _rotate(R, g, r0, local)
+        return
+    for i in range(6):  # relative twist V₁ - V₂ into x[4], A₁ - A₂ (+ the bracket) into x[5]
+        x[4, i] = x[0, i] - x[2, i]
+        x[5, i] = x[1, i] - x[3, i]
+    if local:  # + (V₁ - V₂) × V₂ (C4)
+        a1, a2, a3, w1, w2, w3 = x[4, 0], x[4, 1], x[4, 2], x[4, 3], x[4, 4], x[4, 5]
+        V = x[2]
+        x[5, 0] += w2 * V[2] - w3 * V[1] + a2 * V[5] - a3 * V[4]
+        x[5, 1] += w3 * V[0] - w1 * V[2] + a3 * V[3] - a1 * V[5]
+        x[5, 2] += w1 * V[1] - w2 * V[0] + a1 * V[4] - a2 * V[3]
+        x[5, 3] += w2 * V[5] - w3 * V[4]
+        x[5, 4] += w3 * V[3] - w1 * V[5]
+        x[5, 5] += w1 * V[4] - w2 * V[3]
+    _shift(x[5], p1, tw)  # shift(·, p₁) (C4)
+    _shift(x[4], p1, x[0])  # shift(V₁ - V₂, p₁) for Kd (C5)
+    for i in range(3):
+        g[r0 + i] = tw[i] + kd * x[0, i]
+        g[r0 + 3 + i] = x[5, 3 + i] + kd * x[4, 3 + i]
+    # the error -log(~M₁ M₂), the shortest twist in frame 1 (C5)
+    motor_reverse(E[0], k_.tmp8)
+    motor_mul(k_.tmp8, E[1], E[2])
+    motor_normalize(E[2], k_.tmp8)
+    sign = -1.0 if k_.tmp8[0] < 0.0 else 1.0  # of -M where its angle passes π (the same motion)
+    for i in range(8):
+        E[2, i] = sign * k_.tmp8[i]
+    motor_log(E[2], tw)
+    w1, w2, w3, v1, v2, v3 = physical(tw)
+    x[1, 0], x[1, 1], x[1, 2], x[1, 3], x[1, 4], x[1, 5] = -v1, -v2, -v3, -w1, -w2, -w3
+    if not local:  # its halves in the world's axes
+        for h in range(0, 6, 3):
+            e0, e1, e2 = x[1, h], x[1, h + 1], x[1, h + 2]
+            for i in range(3):
+                x[1, h + i] = R[i, 0] * e0 + R[i, 1] * e1 + R[i, 2] * e2
+    _rotate(R, g, r0, local)
+    _rotate(R, g, r0 + 3, local)
+    for i in range(6):
+        g[r0 + i] += kp * x[1, i]
+
+
+@inline
+def constraint_system(m, cons, q, v, drift, J, g, k_):
+    """J (nr, nv) (C1, C2) and, with ``drift``, γ (nr) (C3-C5)."""
+    nc = int(cons[0])
+    _world_columns(m, q, v, drift, k_)
+    for r in range(J.shape[0]):
+        g[r] = 0.0
+        for k in range(m.nv):
+            J[r, k] = 0.0
+    r0 = 0
+    for c in range(nc):
+        o = HEAD + ROW * c
+        size = 3 if cons[o + KIND] == 0.0 else 6
+        b1 = _end(m, cons, o, 0, k_)
+        b2 = _end(m, cons, o, 1, k_)
+        p1 = k_.T[0, :3, 3]
+        p2 = k_.T[1, :3, 3] if size == 3 else p1
+        _add_columns(k_.Sw, m.parents, m.iv, b1, 1.0, p1, size, r0, J)
+        _add_columns(k_.Sw, m.parents, m.iv, b2, -1.0, p2, size, r0, J)
+        _rotate_rows(k_.T[0], J, r0, size, cons[o + FRAME] == 0.0)
+        if drift:
+            _drift(m, cons, o, b1, b2, r0, g, k_)
+        r0 += size
+
+
+@inline
+def _delassus(m, J, k_, G):
+    """``M⁻¹ Jᵀ`` by the two sweeps of M's factors along the tree (L5, L6; ``H = Lᵀ D L``)
+    and ``G = J M⁻¹ Jᵀ`` (C7) over the coordinates that move a constraint."""
+    nr, nv = J.shape[0], m.nv
+    MJt, cols = k_.MJt, k_.cols
+    nk = 0
+    for k in range(nv):
+        for r in range(nr):
+            MJt[k, r] = J[r, k]
+        for r in range(nr):
+            if J[r, k] != 0.0:
+                cols[nk] = k
+                nk += 1
+                break
+    ltdl_solve_rows(m, k_.H, MJt, 1.0)  # M⁻¹ Jᵀ (L5, L6)
+    for r in range(nr):  # G = J (M⁻¹ Jᵀ): row r from J's nonzeros, in loops over G's row
+        for s in range(r + 1):
+            G[r, s] = 0.0
+        for c in range(nk):
+            k = int(cols[c])
+            x = J[r, k]
+            if x != 0.0:
+                for s in range(r + 1):
+                    G[r, s] += x * MJt[k, s]
+        for s in range(r):
+            G[s, r] = G[r, s]
+
+
+@inline
+def _factor(A, n, pivot):
+    """Cholesky ``A = L Lᵀ`` in place (L in the lower triangle); the first row whose pivot²
+    falls below ``pivot`` times its count of rows, or -1."""
+    for a in range(n):
+        for c in range(a + 1):
+            acc = A[a, c]
+            for k in range(c):
+                acc -= A[a, k] * A[c, k]
+            if a == c:
+                if not acc > pivot * (a + 1):
+                    return a
+                A[a, a] = math.sqrt(acc)
+            else:
+                A[a, c] = acc / A[c, c]
+    return -1
+
+
+@inline
+def _substitute(L, n, x):
+    """``x = (L Lᵀ)⁻¹ x`` in place."""
+    for a in range(n):
+        acc = x[a]
+        for k in range(a):
+            acc -= L[a, k] * x[k]
+        x[a] = acc / L[a, a]
+    for a in range(n - 1, -1, -1):
+        acc = x[a]
+        for k in range(a + 1, n):
+            acc -= L[k, a] * x[k]
+        x[a] = acc / L[a, a]
+
+
+@inline
+def _residual(G, lam, b, n):
+    """``|G λ - b|∞`` and its row."""
+    worst, row = 0.0, 0
+    for r in range(n):
+        acc = -b[r]
+        for s in range(n):
+            acc += G[r, s] * lam[s]
+        if abs(acc) > worst or r == 0:
+            worst, row = abs(acc), r
+    return worst, row
+
+
+@inline
+def solve_forces(G, b, settings, lam, info, k_):
+    """``λ`` of ``G λ = b`` (C7): with ``μ = 0`` once, through the Cholesky factor of the
+    diagonal-scaled G (``DELASSUS_SINGULAR`` at the first row that makes it singular); with
+    ``μ > 0`` by the proximal iterations ``(G + μ I) λ_{k+1} = b + μ λ_k`` from ``λ₀ = 0``
+    (C8). ``info`` as in the module's docstring; a status."""
+    n = b.shape[0]
+    C, y, d = k_.C, k_.y, k_.d
+    info[4] = -1.0
+    if n == 0:
+        info[0], info[1], info[2], info[3] = 0.0, 0.0, 0.0, 1.0
+        return OK
+    bmax = 0.0
+    for r in range(n):
+        bmax = max(bmax, abs(b[r]))
+        for s in range(n):
+            if not math.isfinite(G[r, s]):
+                return fault(NONFINITE_RESULT, -1)
+    if not math.isfinite(bmax):
+        return fault(NONFINITE_RESULT, -1)
+    mu, iterations, accuracy = settings[MU], int(settings[ITERATIONS]), settings[ACCURACY]
+    if mu == 0.0:
+        scale = 0.0
+        for r in range(n):
+            d[r] = math.sqrt(max(G[r, r], 0.0))
+            scale = max(scale, d[r])
+        scale = max(scale, 1e-300)
+        for r in range(n):
+            if d[r] <= 1e-12 * scale:
+                return fault(DELASSUS_SINGULAR, r)
+        for r in range(n):
+            for s in range(n):
+                C[r, s] = G[r, s] / (d[r] * d[s])
+        row = _factor(C, n, SINGULAR_PIVOT)
+        if row >= 0:
+            return fault(DELASSUS_SINGULAR, row)
+        for r in range(n):
+            lam[r] = b[r] / d[r]
+        _substitute(C, n, lam)
+        change = 0.0
+        for r in range(n):
+            lam[r] /= d[r]
+            change = max(change, abs(lam[r]))
+        res, _ = _residual(G, lam, b, n)
+        info[0], info[1], info[2], info[3] = 1.0, res, change, 1.0
+        return OK
+    for r in range(n):
+        lam[r] = 0.0
+        for s in range(n):
+            C[r, s] = G[r, s] + (mu if r == s else 0.0)
+    if _factor(C, n, 0.0) >= 0:
+        return fault(DELASSUS_SINGULAR, -1)
+    res = change = math.inf
+    row = 0
+    it = 0
+    while it < iterations:
+        it += 1
+        for r in range(n):
+            y[r] = b[r] + mu * lam[r]
+        _substitute(C, n, y)  # (G + μ I) λ_{k+1} = b + μ λ_k (C8)
+        change = 0.0
+        for r in range(n):
+            change = max(change, abs(y[r] - lam[r]))
+            lam[r] = y[r]
+        res, row = _residual(G, lam, b, n)
+        if res <= accuracy or change <= accuracy:
+            break
+    converged = res <= accuracy or change <= accuracy
+    info[0], info[1], info[2], info[3] = float(it), res, change, 1.0 if converged else 0.0
+    if not converged and res > CONFLICT * max(1.0, bmax):
+        info[4] = float(row)
+    return OK
+
+
+@core
+def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, work, mwork,
+                    awork, f0):
+    """One sample of ``mode`` (the module's docstring); a status."""
+    nr = int(cons[1])
+    k_ = workspace(data_pointer(work), m, nr)
+    constraint_system(m, cons, q, v, mode == DRIFT or mode == FORWARD, J, g, k_)
+    if mode == SYSTEM or mode == DRIFT:
+        for r in range(nr):
+            if not math.isfinite(g[r]):
+                return fault(NONFINITE_RESULT, -1)
+            for k in range(m.nv):
+                if not math.isfinite(J[r, k]):
+                    return fault(NONFINITE_RESULT, -1)
+        return OK
+    status = crba_core(m, q, k_.H, mwork)
+    if status != OK:
+        return status
+    k = ltdl(m, k_.H)  # M = Lᵀ D L (L1, L2)
+    if k >= 0:
+        return fault(SINGULAR, m.dof_joint[k])
+    _delassus(m, J, k_, G)
+    if mode == DELASSUS:
+        for r in range(nr):
+            G[r, r] += settings[MU]
+        for r in range(nr):
+            for s in range(nr):
+                if not math.isfinite(G[r, s]):
+                    return fault(NONFINITE_RESULT, -1)
+        return OK
+    b = k_.b
+    if mode == FORWARD:
+        for k in range(m.nv):
+            k_.af[k] = 0.0
+        status = rnea_core(m, q, v, k_.af, f0, k_.h, awork)  # h = rnea(q, v, 0)
+        if status != OK:
+            return status
+        for k in range(m.nv):
+            k_.af[k] = tau[k] - k_.h[k]
+        ltdl_solve(m, k_.H, k_.af)  # q̈_f = M⁻¹ (τ - h) (C7; L5, L6)
+        for r in range(nr):  # b = -γ - J q̈_f (C7)
+            acc = -g[r]
+            for k in range(m.nv):
+                acc -= J[r, k] * k_.af[k]
+            b[r] = acc
+    else:
+        e = settings[RESTITUTION]
+        for k in range(m.nv):
+            k_.af[k] = v[k]
+        for r in range(nr):  # b = -(1 + e) J v⁻ (C9)
+            acc = 0.0
+            for k in range(m.nv):
+                acc += J[r, k] * v[k]
+            b[r] = -(1.0 + e) * acc
+    status = solve_forces(G, b, settings, lam, info, k_)
+    if status != OK:
+        return status
+    for i in range(m.nv):  # q̈ = q̈_f + M⁻¹ Jᵀ λ (C7), v⁺ = v⁻ + M⁻¹ Jᵀ Λ (C9)
+        acc = k_.af[i]
+        for r in range(nr):
+            acc += k_.MJt[i, r] * lam[r]
+        a[i] = acc
+    for i in range(m.nv):
+        if not math.isfinite(a[i]):
+            return fault(NONFINITE_RESULT, -1)
+    return OK
+
+
+@serial
+def constraint_single(packed, cons, q, v, tau, settings, mode, J, g, G, a, lam, info):
+    """One sample of ``constraint_core``, its workspaces on this call's stack (on the heap
+    above ``STACK_FLOATS``)."""
+    m = unpack(packed)
+    nr = int(cons[1])
+    size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
+    msize = crba_size(m.n, m.nq, m.nv, m.nl)
+    total = size + msize + rnea_size(m.n, m.nq, m.nv, m.nl)
+    buf = stack_buffer(total) if total <= STACK_FLOATS else np.empty(total)
+    return constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info,
+                           buf[:size], buf[size:size + msize], buf[size + msize:],
+                           buf[:0].reshape((0, 6)))
+
+
+@native(SIGNATURE)
+def constraint_native(pk, x, f, nf, o, options):
+    """``constraint_single`` on raw pointers, for ``cgadyn._native``: inputs ``cons, q, v,
+    tau, settings``, option ``mode``; outputs ``J, γ`` (``SYSTEM``, ``DRIFT``), ``G``
+    (``DELASSUS``) or ``q̈ (or v⁺), λ, info`` (``FORWARD``, ``IMPULSE``)."""
+    packed = packed_array(pk)
+    m = unpack(packed)
+    head = carray(x[0], (HEAD,))
+    nc, nr = int(head[0]), int(head[1])
+    cons = carray(x[0], (HEAD + ROW * nc,))
+    q = carray(x[1], (m.nq,))
+    v = carray(x[2], (m.nv,))
+    tau = carray(x[3], (m.nv,))
+    settings = carray(x[4], (4,))
+    mode = options[0]
+    if mode == SYSTEM or mode == DRIFT:
+        return constraint_single(packed, cons, q, v, tau, settings, mode,
+                                 carray(o[0], (nr, m.nv)), carray(o[1], (nr,)),
+                                 np.empty((nr, nr)), np.empty(m.nv), np.empty(nr),
+                                 np.empty(INFO))
+    if mode == DELASSUS:
+        return constraint_single(packed, cons, q, v, tau, settings, mode,
+                                 np.empty((nr, m.nv)), np.empty(nr),
+                                 carray(o[0], (nr, nr)), np.empty(m.nv), np.empty(nr),
+                                 np.empty(INFO))
+    return constraint_single(packed, cons, q, v, tau, settings, mode,
+                             np.empty((nr, m.nv)), np.empty(nr), np.empty((nr, nr)),
+                             carray(o[0], (m.nv,)), carray(o[1], (nr,)),
+                             carray(o[2], (INFO,)))
+
+
+@parallel
+def constraint_batch(packed, cons, q, v, tau, settings, mode, J, g, G, a, lam, info,
+                     threads):
+    """(B, ...) samples of ``constraint_core`` in parallel chunks; a status."""
+    m = unpack(packed)
+    batch = q.shape[0]
+    nr = int(cons[1])
+    size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
+    msize = crba_size(m.n, m.nq, m.nv, m.nl)
+    asize = rnea_size(m.n, m.nq, m.nv, m.nl)
+    starts, stops = chunks(batch, threads)
+    status = np.zeros(starts.shape[0], dtype=np.int64)
+    for c in prange(starts.shape[0]):
+        mc = unpack(packed)
+        work = np.empty(size)
+        mwork = np.empty(msize)
+        awork = np.empty(asize)
+        f0 = np.empty((0, 6))
+        for b in range(starts[c], stops[c]):
+            s = constraint_core(mc, cons, q[b], v[b], tau[b], settings, mode, J[b], g[b],
+                                G[b], a[b], lam[b], info[b], work, mwork, awork, f0)
+            if s != OK:
+                status[c] = at_sample(s, b)
+                break
+    for c in range(starts.shape[0]):
+        if status[c] != OK:
+            return status[c]
+    return OK
