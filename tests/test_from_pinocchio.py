@@ -285,7 +285,6 @@ def test_cli_validates_an_mjcf_file(capsys):
 
 
 @pytest.mark.parametrize("make, shortname", [
-    (lambda pm: pin.JointModelSpherical(), "JointModelSpherical"),
     (lambda pm: pin.JointModelPlanar(), "JointModelPlanar"),
     (lambda pm: pin.JointModelTranslation(), "JointModelTranslation"),
     (lambda pm: pin.JointModelMimic(pm.joints[1], 2.0, 0.1), "JointModelMimic"),
@@ -299,11 +298,11 @@ def test_unsupported_joint_refused_by_name(make, shortname):
         cgadyn.from_pinocchio(pm)
 
 
-def test_mjcf_ball_joint_refused_by_name(tmp_path):
+def test_mjcf_ball_joint_is_spherical(tmp_path):
     ball = tmp_path / "ball.xml"
     ball.write_text(ARM.read_text().replace('type="hinge" axis="1 0 0"', 'type="ball"'))
-    with pytest.raises(ValueError, match="joint 'roll' is a JointModelSpherical"):
-        cgadyn.load(ball)
+    model = cgadyn.load(ball)
+    assert model.joint_kinds[model.joint_names.index("roll")] == "spherical"
 
 
 def test_free_flyer_below_the_root_refused():

@@ -2,9 +2,10 @@
 
 A configuration ``q`` has ``model.nq`` entries and a velocity ``v`` ``model.nv``: they differ
 on a free flyer, whose configuration is a position and a unit quaternion (a motor) and whose
-velocity is a body twist. ``integrate`` and ``difference`` are the exponential and logarithm
-maps joint by joint (``multibody.joints``); each takes one sample or a batch. What each joint
-type adds (its neutral and random configurations, its quaternion) comes from its record.
+velocity is a body twist, and on a spherical joint (a unit quaternion, an angular velocity).
+``integrate`` and ``difference`` are the exponential and logarithm maps joint by joint
+(``multibody.joints``); each takes one sample or a batch. What each joint type adds (its
+neutral and random configurations, its quaternion) comes from its record.
 """
 
 from __future__ import annotations
@@ -57,6 +58,6 @@ def random_configuration(model, rng=None, box: float = 1.0) -> np.ndarray:
 
 
 def normalize(model, q) -> np.ndarray:
-    """``q`` with every unit quaternion (a free flyer's) scaled to unit length (a zero one
-    is an error); (nq,) or (B, nq)."""
+    """``q`` with every unit quaternion (free flyers', spherical joints') scaled to unit
+    length (a zero one is an error); (nq,) or (B, nq)."""
     return table.normalize(model, _inputs.state(model, q, "q", model.nq).copy())

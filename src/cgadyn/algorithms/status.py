@@ -20,7 +20,7 @@ NONFINITE_RESULT = 2
 SINGULAR = 3
 """ABA: the articulated inertia of a joint's subtree along its motion is not positive."""
 QUATERNION = 4
-"""A free flyer's quaternion is far from unit length."""
+"""A joint's quaternion (a free flyer's, a spherical joint's) is far from unit length."""
 WRONG_SHAPE = 5
 """An array's shape does not fit the model (batch entries check their inputs)."""
 DIVERGED = 6

@@ -4,7 +4,13 @@
 ``load_urdf(source)`` loads a URDF file or text.
 """
 
-from cgadyn.multibody.joints import FREE_FLYER, PRISMATIC, REVOLUTE, REVOLUTE_UNBOUNDED
+from cgadyn.multibody.joints import (
+    FREE_FLYER,
+    PRISMATIC,
+    REVOLUTE,
+    REVOLUTE_UNBOUNDED,
+    SPHERICAL,
+)
 from cgadyn.multibody.model import Model, build_model, merge_inertias
 from cgadyn.multibody.registry import load, robot_path, robots
 from cgadyn.multibody.urdf import load_urdf
@@ -15,6 +21,7 @@ __all__ = [
     "PRISMATIC",
     "REVOLUTE",
     "REVOLUTE_UNBOUNDED",
+    "SPHERICAL",
     "build_model",
     "load",
     "load_urdf",

@@ -4,7 +4,7 @@ An XML document whose root element is ``<mujoco>`` is MJCF (``is_mjcf``, the one
 ``cgadyn.load`` and the oracle use). Pinocchio parses it (``pinocchio_model``, the one
 place that calls ``pinocchio.buildModelFromMJCF``) and ``from_pinocchio`` converts the
 result, so the model is Pinocchio's reading of the file: its joints (hinge: revolute,
-slide: prismatic, free: free flyer; ball joints are refused by name), the bodies without
+slide: prismatic, free: free flyer, ball: spherical, as Pinocchio reads them), the bodies without
 a joint welded to their parent, the masses and inertias of the ``<inertial>`` elements.
 
 Pinocchio's parser (4.1) reads less than MuJoCo does, silently; what it would get wrong

@@ -7,8 +7,10 @@ places every body. ``from_mujoco`` reads what it compiled, whole:
 - **Joints**, with MuJoCo's names and order (so that q is MuJoCo's qpos and v its qvel,
   except for a free joint's layout, below): ``hinge`` becomes a revolute joint (an
   unbounded one when the joint is not limited), ``slide`` a prismatic joint, ``free`` the
-  free flyer (the first joint, of a top-level body). A ``ball`` joint is refused by name
-  until cgadyn has a spherical joint.
+  free flyer (the first joint, of a top-level body), ``ball`` a spherical joint about its
+  anchor ``jnt_pos`` (qpos ``[qw, qx, qy, qz]``, cgadyn's ``[qx, qy, qz, qw]``; qvel the
+  angular velocity in the body frame, as cgadyn's). A ball joint's cone limit (``range``)
+  is not kept: cgadyn's model has no cone constraint (its quaternion's limits are [-1, 1]).
 - **Bodies.** Body b's frame at rest is its parent's composed with ``body_pos`` and
   ``body_quat`` (w, x, y, z). MuJoCo moves it by its joints in order, each about or along
   its axis ``jnt_axis`` through the point ``jnt_pos`` of the body frame as the previous
@@ -53,7 +55,7 @@ from cgadyn.multibody.packed import DEFAULT_GRAVITY
 WORLD = "world"
 """The name of MuJoCo's world body, the root link of a converted model."""
 
-_KINDS = {"free": "free_flyer", "slide": "prismatic"}
+_KINDS = {"free": "free_flyer", "slide": "prismatic", "ball": "spherical"}
 """MuJoCo's joint types and cgadyn's joint kinds (a hinge: ``_hinge_kind``)."""
 
 _MJ_TYPES = ("free", "ball", "slide", "hinge")
@@ -94,18 +96,20 @@ def _hinge_kind(mj, j: int) -> str:
 
 
 def _check_model(mj, where: str) -> None:
-    """Refuse what a cgadyn model cannot hold, by name: a ball joint, a free joint that is
-    not the first joint of a top-level body or that is offset in its body. A gravity other
+    """Refuse what a cgadyn model cannot hold, by name: a free joint that is not the first
+    joint of a top-level body or that is offset in its body, a ball joint whose reference
+    ``qpos0`` is not the identity. A gravity other
     than cgadyn's default is only warned of: the model does not hold gravity, calls take
     ``gravity=``."""
     for j in range(mj.njnt):
         kind = _MJ_TYPES[int(mj.jnt_type[j])]
         name = _name(mj, _obj("JOINT"), j, f"joint {j}")
         body = int(mj.jnt_bodyid[j])
-        if kind == "ball":
-            raise ValueError(f"{where}: joint {name!r} is a ball joint, which cgadyn does not "
-                             f"support yet (its spherical joint is still to come); supported "
-                             f"MuJoCo joints: hinge, slide, and free as the first joint")
+        if kind == "ball" and np.any(mj.qpos0[mj.jnt_qposadr[j]:mj.jnt_qposadr[j] + 4] !=
+                                     np.array([1.0, 0.0, 0.0, 0.0])):
+            raise ValueError(f"{where}: ball joint {name!r} has the reference qpos0 "
+                             f"{mj.qpos0[mj.jnt_qposadr[j]:mj.jnt_qposadr[j] + 4].tolist()}; "
+                             f"cgadyn's spherical joint expects the identity [1, 0, 0, 0]")
         if kind == "free" and (j != 0 or mj.body_parentid[body] != 0):
             raise ValueError(f"{where}: joint {name!r} is a free joint that is not the "
                              f"first joint of the model (or not in a top-level body); cgadyn "
@@ -144,9 +148,10 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
     """The cgadyn :class:`Model` of a compiled MuJoCo model (``mujoco.MjModel``), as the
     module's docstring describes. ``name`` defaults to the model's (``<mujoco model>``).
 
-    Raises ``ValueError`` naming a ball joint, a free joint that is not the first joint
-    of a top-level body, or (with ``check_inertia``) a body whose inertia is not physical;
-    warns of a gravity other than cgadyn's default (calls take ``gravity=``).
+    Raises ``ValueError`` naming a free joint that is not the first joint of a top-level
+    body, a ball joint whose ``qpos0`` is not the identity, or (with ``check_inertia``) a
+    body whose inertia is not physical; warns of a gravity other than cgadyn's default
+    (calls take ``gravity=``).
     """
     try:
         import mujoco
@@ -206,12 +211,17 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
                 frame, previous = np.eye(4), np.zeros(3)
                 continue
             kind = _hinge_kind(mj, j) if mj_type == "hinge" else _KINDS[mj_type]
-            axis = np.asarray(mj.jnt_axis[j], dtype=float)
             pos = np.asarray(mj.jnt_pos[j], dtype=float)
+            offset = frame @ _pose(pos) if previous is None else _pose(pos - previous)
+            if mj_type == "ball":  # a rotation about the anchor; qpos0 the identity
+                parent_joint = add_joint(jname, kind, parent_joint, offset, np.zeros(3),
+                                         [-np.inf] * 4, [np.inf] * 4, j)
+                previous = pos
+                continue
+            axis = np.asarray(mj.jnt_axis[j], dtype=float)
             ref = float(mj.qpos0[mj.jnt_qposadr[j]])
             folded = (_pose(rot=_axis_angle(axis, -ref)) if mj_type == "hinge"
                       else _pose(-ref * axis))  # X M_J(q - ref) = (X M_J(-ref)) M_J(q)
-            offset = frame @ _pose(pos) if previous is None else _pose(pos - previous)
             limited = bool(mj.jnt_limited[j])
             lower, upper = ([float(mj.jnt_range[j, 0])], [float(mj.jnt_range[j, 1])]) \
                 if limited else ([-np.inf], [np.inf])

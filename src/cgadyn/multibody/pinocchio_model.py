@@ -10,8 +10,9 @@ them, and every ``BODY`` frame becomes a link of the model.
 The joint types converted (``SUPPORTED``): revolute about any axis (``JointModelRX``,
 ``RY``, ``RZ``, ``RevoluteUnaligned``), unbounded revolute (``RUBX``, ``RUBY``, ``RUBZ``,
 ``RevoluteUnboundedUnaligned``), prismatic (``PX``, ``PY``, ``PZ``,
-``PrismaticUnaligned``) and a free flyer (``FreeFlyer``) as the root joint. Any other joint
-(spherical, planar, translation, helical, universal, composite, mimic, ...) is refused by
+``PrismaticUnaligned``), spherical (``Spherical``, anywhere in the tree: q its quaternion
+``(x, y, z, w)`` as Pinocchio's) and a free flyer (``FreeFlyer``) as the root joint. Any
+other joint (planar, translation, helical, universal, composite, mimic, ...) is refused by
 name.
 
 Configurations: an unbounded revolute joint takes two numbers ``(cos θ, sin θ)`` in

@@ -328,7 +328,7 @@ def _controller(model, controller, q0: np.ndarray, B: int, coords: np.ndarray):
         ref = _inputs.state(model, controller.q_ref, "q_ref", nq)
         if ref.ndim != 1 or not np.all(np.isfinite(ref)):
             raise ValueError(f"q_ref must be one finite configuration ({nq},), got {ref!r}")
-        _energy(model, ref, np.zeros(nv))  # a free flyer's unit quaternion
+        _energy(model, ref, np.zeros(nv))  # unit quaternions (free flyers, spherical joints)
         q_ref[:] = ref
     if controller.v_ref is not None:
         ref = _inputs.state(model, controller.v_ref, "v_ref", nv)
@@ -364,7 +364,7 @@ def _reason(model, code: int, joint: int, k: int, coords: np.ndarray, dt: float,
         return (f"a singular articulated-body inertia at joint{name} in the initial state "
                 f"(a subtree without mass?)")
     if code == QUATERNION:
-        return f"a free flyer's quaternion left unit length; {_CAUSE}"
+        return f"the quaternion of joint{name} left unit length; {_CAUSE}"
     return f"status {code}"
 
 

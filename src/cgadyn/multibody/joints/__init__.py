@@ -3,10 +3,10 @@
 As in Featherstone's ``jcalc``, adding a joint type means adding a case here, and nowhere
 else but its tests and the converters (``docs/joints.md``). A joint type is
 
-- a file of its own (``revolute``, ``prismatic``, ``free_flyer``): its code, its compiled
-  joint motor ``M_J(q)`` and manifold maps ⊕/⊖, and its record (``record.JointType``:
-  sizes, motion subspace, limits, neutral and random configurations, quaternion, actuation,
-  speeds, Pinocchio's and MuJoCo's layouts);
+- a file of its own (``revolute``, ``prismatic``, ``free_flyer``, ``spherical``): its
+  code, its compiled joint motor ``M_J(q)`` and manifold maps ⊕/⊖, and its record
+  (``record.JointType``: sizes, motion subspace, limits, neutral and random configurations,
+  quaternion, actuation, speeds, Pinocchio's and MuJoCo's layouts);
 - a case in each compiled function of ``dispatch`` that branches on the type code;
 - an entry in ``table.TYPES``, which the other layers ask.
 
@@ -19,6 +19,9 @@ type                    nq_j  nv_j  M_J(q_j) and S_j
 ``FREE_FLYER``          7     6     the motor ``T(p) R(x, y, z, w)`` of
                                     ``q_j = (p1, p2, p3, x, y, z, w)``; ``S_j`` the six
                                     unit twists, so ``S_j v_j`` is the body twist ``(v, ω)``
+``SPHERICAL``           4     3     the rotor ``R(x, y, z, w)`` of ``q_j = (x, y, z, w)``;
+                                    ``S_j`` the three unit rotation twists, so ``v_j`` is
+                                    ``ω`` in the child's frame (the free flyer's rotation)
 ======================  ====  ====  ====================================================
 """
 
@@ -41,6 +44,7 @@ from .free_flyer import FREE_FLYER
 from .prismatic import PRISMATIC
 from .record import JointType
 from .revolute import REVOLUTE, REVOLUTE_UNBOUNDED
+from .spherical import SPHERICAL
 from .table import (
     ACTUATED,
     JOINT_KINDS,
@@ -56,7 +60,7 @@ from .table import (
 __all__ = [
     "ACTUATED", "ADDITIVE", "FREE_FLYER", "JOINT_KINDS", "KIND_TYPE", "NQ", "NV", "PRISMATIC",
     "QUATERNION_AT", "QUATERNION_TOLERANCE", "REVOLUTE", "REVOLUTE_UNBOUNDED", "SPEEDS",
-    "TYPES", "TYPE_NAMES", "JointType", "free_root", "is_additive", "joint_difference",
-    "joint_integrate", "joint_motors", "joint_power", "joint_scalars", "joint_twist", "of_kind",
-    "quaternion_error", "unit_axes",
+    "SPHERICAL", "TYPES", "TYPE_NAMES", "JointType", "free_root", "is_additive",
+    "joint_difference", "joint_integrate", "joint_motors", "joint_power", "joint_scalars",
+    "joint_twist", "of_kind", "quaternion_error", "unit_axes",
 ]

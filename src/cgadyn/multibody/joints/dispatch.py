@@ -1,7 +1,8 @@
 """The compiled joint functions: a branch on each joint's type code, per joint.
 
 As in Featherstone's ``jcalc``, every function that depends on a joint's type switches on
-it here and calls the type's own code (``revolute``, ``prismatic``, ``free_flyer``); the
+it here and calls the type's own code (``revolute``, ``prismatic``, ``free_flyer``,
+``spherical``); the
 algorithms call these and nothing else about joints. A joint j moves its body relative to
 the body of its parent λ(j) by the motor (eqs. 5-6)
 
@@ -32,9 +33,12 @@ from .free_flyer import (
     free_flyer_difference,
     free_flyer_integrate,
     free_flyer_motor,
+    quaternion_difference,
+    quaternion_integrate,
 )
 from .prismatic import PRISMATIC, prismatic_motor
 from .revolute import REVOLUTE_UNBOUNDED, revolute_motor
+from .spherical import SPHERICAL, spherical_motor
 from .table import NV, TYPES
 
 ADDITIVE = tuple(r.additive for r in TYPES)
@@ -86,9 +90,12 @@ def joint_motors(m, q, c, s, tmp, out):
         elif t == PRISMATIC:
             prismatic_motor(m.placements[j], m.S, k, q[i], tmp, out[j])
     for j in range(m.n):
-        if m.types[j] == FREE_FLYER:
+        t = m.types[j]
+        if t == FREE_FLYER:
             free_flyer_motor(q, m.iq[j], tmp)
             motor_mul(m.placements[j], tmp, out[j])
+        elif t == SPHERICAL:
+            spherical_motor(m.placements[j], q, m.iq[j], tmp, out[j])
 
 
 @inline
@@ -115,11 +122,15 @@ def joint_power(m, j, w, tau):
 def joint_integrate(m, j, q, v, tmp, out):
     """``out_j = q_j ⊕ v_j``, moving joint j's configuration along its velocity for unit
     time: ``q + v`` for a one-dof joint; ``M exp(V / 2)`` for a free flyer (eq. 6), the
-    body twist V applied in the body's frame (Pinocchio's ``integrate``). ``tmp``: (3, 8)."""
-    i = m.iq[j]
-    if m.types[j] == FREE_FLYER:
+    body twist V applied in the body's frame (Pinocchio's ``integrate``), and ``R exp(V / 2)``
+    for a spherical joint, V its rotation. ``tmp``: (3, 8)."""
+    i, t = m.iq[j], m.types[j]
+    if t == FREE_FLYER:
         joint_twist(m, j, v, tmp[2])  # V = S v, the body twist
         free_flyer_integrate(q, i, tmp, out)
+    elif t == SPHERICAL:
+        joint_twist(m, j, v, tmp[2])  # V = S v, the rotation in the child's frame
+        quaternion_integrate(q, i, 0, tmp, out)
     else:
         out[i] = q[i] + v[m.iv[j]]
 
@@ -128,11 +139,13 @@ def joint_integrate(m, j, q, v, tmp, out):
 def joint_difference(m, j, q0, q1, tmp, out):
     """``out_j = q1_j ⊖ q0_j``, the velocity that moves q0 to q1 in unit time (the inverse of
     ``joint_integrate``): ``q1 - q0``, wrapped to (-π, π] for an unbounded revolute joint;
-    for a free flyer the logarithm of ``~M0 M1`` (``free_flyer_difference``). ``tmp``:
-    (3, 8)."""
+    for a free flyer the logarithm of ``~M0 M1`` (``free_flyer_difference``), for a spherical
+    joint that of ``~R0 R1`` (its ω). ``tmp``: (3, 8)."""
     i, k, t = m.iq[j], m.iv[j], m.types[j]
     if t == FREE_FLYER:
         free_flyer_difference(q0, q1, i, k, tmp, out)
+    elif t == SPHERICAL:
+        quaternion_difference(q0, q1, i, 0, k, tmp, out)
     else:
         d = q1[i] - q0[i]
         out[k] = math.atan2(math.sin(d), math.cos(d)) if t == REVOLUTE_UNBOUNDED else d

@@ -31,48 +31,77 @@ FREE_FLYER = 3
 
 
 @inline
+def quaternion_rotor(q, i):
+    """The rotor coefficients ``(1, e12, e13, e23)`` of the unit quaternion
+    ``q[i:i+4] = (x, y, z, w)``, normalised: the rotation of a free flyer and of a spherical
+    joint."""
+    x, y, z, w = q[i], q[i + 1], q[i + 2], q[i + 3]
+    r = 1.0 / sqrt(x * x + y * y + z * z + w * w)  # of a number, or of each lane
+    return rotor((w * r, x * r, y * r, z * r))
+
+
+@inline
 def free_flyer_motor(q, i, out):
     """The motor ``T(p) R(x, y, z, w)`` of a free flyer's configuration
     ``q[i:i+7] = (p1, p2, p3, x, y, z, w)``, the quaternion normalised."""
-    x, y, z, w = q[i + 3], q[i + 4], q[i + 5], q[i + 6]
-    r = 1.0 / sqrt(x * x + y * y + z * z + w * w)  # of a number, or of each lane
-    r0, r1, r2, r3 = rotor((w * r, x * r, y * r, z * r))
+    r0, r1, r2, r3 = quaternion_rotor(q, i + 3)
     translator_rotor(q[i], q[i + 1], q[i + 2], r0, r1, r2, r3, out)
 
 
 @inline
-def free_flyer_configuration(M, out, i):
-    """``out[i:i+7] = (p, x, y, z, w)`` of a motor, the quaternion normalised: the inverse
-    of ``free_flyer_motor``."""
+def _quaternion_motor(q, i, o, out):
+    """``T(p) R`` of ``q[i:i+7]`` for ``o = 3`` (a free flyer), ``R`` of ``q[i:i+4]`` for
+    ``o = 0`` (a spherical joint): the quaternion at ``i + o``."""
+    r0, r1, r2, r3 = quaternion_rotor(q, i + o)
+    if o == 0:
+        translator_rotor(0.0, 0.0, 0.0, r0, r1, r2, r3, out)
+    else:
+        translator_rotor(q[i], q[i + 1], q[i + 2], r0, r1, r2, r3, out)
+
+
+@inline
+def _quaternion_configuration(M, out, i, o):
+    """``out[i:i+o+4]``: the translation (``o = 3``) and the quaternion ``(x, y, z, w)`` of a
+    motor, normalised; the inverse of ``_quaternion_motor``."""
     w, x, y, z = quaternion(M)
     r = 1.0 / sqrt(x * x + y * y + z * z + w * w)  # of a number, or of each lane
-    out[i], out[i + 1], out[i + 2] = motor_translation(M)
-    out[i + 3], out[i + 4], out[i + 5], out[i + 6] = x * r, y * r, z * r, w * r
+    if o != 0:
+        out[i], out[i + 1], out[i + 2] = motor_translation(M)
+    out[i + o], out[i + o + 1], out[i + o + 2], out[i + o + 3] = x * r, y * r, z * r, w * r
+
+
+@inline
+def quaternion_integrate(q, i, o, tmp, out):
+    """``out[i:i+o+4] = q ⊕ v = M exp(V / 2)`` (eq. 6), the body twist ``V = S v`` given in
+    ``tmp[2]`` (``tmp``: (3, 8)), M the motor of a free flyer (``o = 3``) or the rotor of a
+    spherical joint (``o = 0``, V a rotation); the quaternion's sign kept on q's side."""
+    twist_exp(tmp[2], tmp[1])  # exp(V / 2)
+    _quaternion_motor(q, i, o, tmp[0])  # M
+    motor_mul(tmp[0], tmp[1], tmp[2])  # M exp(V / 2)
+    _quaternion_configuration(tmp[2], out, i, o)
+    dot = 0.0
+    for c in range(o, o + 4):
+        dot += out[i + c] * q[i + c]
+    if dot < 0.0:
+        for c in range(o, o + 4):
+            out[i + c] = -out[i + c]
 
 
 @inline
 def free_flyer_integrate(q, i, tmp, out):
     """``out[i:i+7] = q ⊕ v = M exp(V / 2)``, the body twist ``V = S v`` given in
     ``tmp[2]`` (``tmp``: (3, 8)); the quaternion's sign kept on q's side."""
-    twist_exp(tmp[2], tmp[1])  # exp(V / 2)
-    free_flyer_motor(q, i, tmp[0])  # M
-    motor_mul(tmp[0], tmp[1], tmp[2])  # M exp(V / 2)
-    free_flyer_configuration(tmp[2], out, i)
-    dot = 0.0
-    for c in range(3, 7):
-        dot += out[i + c] * q[i + c]
-    if dot < 0.0:
-        for c in range(3, 7):
-            out[i + c] = -out[i + c]
+    quaternion_integrate(q, i, 3, tmp, out)
 
 
 @inline
-def free_flyer_difference(q0, q1, i, k, tmp, out):
-    """``out[k:k+6] = q1 ⊖ q0``: the body twist ``V = log(~M0 M1)`` with
-    ``exp(V / 2) = ~M0 M1``, the motor taken with a non-negative scalar part so that the
-    rotation is at most π (Pinocchio's ``log6``), as ``[v, ω]``. ``tmp``: (3, 8)."""
-    free_flyer_motor(q0, i, tmp[0])
-    free_flyer_motor(q1, i, tmp[1])
+def quaternion_difference(q0, q1, i, o, k, tmp, out):
+    """``out = q1 ⊖ q0``: the body twist ``V = log(~M0 M1)`` with ``exp(V / 2) = ~M0 M1``,
+    the motor taken with a non-negative scalar part so that the rotation is at most π
+    (Pinocchio's ``log6``, ``log3``): ``[v, ω]`` in ``out[k:k+6]`` for a free flyer
+    (``o = 3``), ``ω`` in ``out[k:k+3]`` for a spherical joint (``o = 0``). ``tmp``: (3, 8)."""
+    _quaternion_motor(q0, i, o, tmp[0])
+    _quaternion_motor(q1, i, o, tmp[1])
     motor_reverse(tmp[0], tmp[2])
     motor_mul(tmp[2], tmp[1], tmp[0])  # ~M0 M1
     if tmp[0, 0] < 0.0:  # -M is the same motion: the rotation angle in [0, π]
@@ -80,7 +109,18 @@ def free_flyer_difference(q0, q1, i, k, tmp, out):
             tmp[0, c] = -tmp[0, c]
     motor_log(tmp[0], tmp[1])  # the twist V, exp(V / 2) = ~M0 M1
     w1, w2, w3, v1, v2, v3 = physical(tmp[1])
-    out[k], out[k + 1], out[k + 2], out[k + 3], out[k + 4], out[k + 5] = v1, v2, v3, w1, w2, w3
+    if o == 0:
+        out[k], out[k + 1], out[k + 2] = w1, w2, w3
+    else:
+        out[k], out[k + 1], out[k + 2] = v1, v2, v3
+        out[k + 3], out[k + 4], out[k + 5] = w1, w2, w3
+
+
+@inline
+def free_flyer_difference(q0, q1, i, k, tmp, out):
+    """``out[k:k+6] = q1 ⊖ q0`` (``quaternion_difference``), as ``[v, ω]``. ``tmp``:
+    (3, 8)."""
+    quaternion_difference(q0, q1, i, 3, k, tmp, out)
 
 
 def _every_twist(B: np.ndarray) -> np.ndarray:

@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import free_flyer, prismatic, revolute
+from . import free_flyer, prismatic, revolute, spherical
 from .record import JointType
 
 TYPES: tuple[JointType, ...] = tuple(sorted(
-    (*revolute.TYPES, *prismatic.TYPES, *free_flyer.TYPES), key=lambda r: r.code))
+    (*revolute.TYPES, *prismatic.TYPES, *free_flyer.TYPES, *spherical.TYPES), key=lambda r: r.code))
 """The record of every joint type, indexed by its code."""
 assert tuple(r.code for r in TYPES) == tuple(range(len(TYPES))), "codes 0, 1, 2, ..."
 
