@@ -25,5 +25,11 @@ def test_robots_are_real_files_shipped_in_the_wheel(tmp_path):
                    capture_output=True)
     (wheel,) = tmp_path.glob("cgadyn-*.whl")
     names = zipfile.ZipFile(wheel).namelist()
-    assert sorted(n.split("/")[-1] for n in names if n.startswith("cgadyn/robots/")) == robots
+    top = [n for n in names if n.startswith("cgadyn/robots/") and n.count("/") == 2]
+    assert sorted(n.split("/")[-1] for n in top) == robots
+    suites = sorted(str(p.relative_to(ROOT)) for p in (ROOT / "robots" / "mujoco").rglob("*")
+                    if p.is_file())
+    assert len(suites) > 22  # Gymnasium's and dm_control's models, included files, licence
+    assert sorted(n.removeprefix("cgadyn/") for n in names
+                  if n.startswith("cgadyn/robots/mujoco/")) == suites
     assert any(n.startswith("cgadyn/_native") and n.endswith(".so") for n in names)

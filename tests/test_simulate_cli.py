@@ -45,7 +45,9 @@ def test_json_equals_simulate():
     for key in ("q", "v", "a", "energy", "kinetic", "potential", "t"):
         np.testing.assert_array_equal(np.array(out[key]), getattr(traj, key), err_msg=key)
     drift = np.max(np.abs(traj.energy - traj.energy[0])) / abs(traj.energy[0])
-    assert out["energy_drift"] == pytest.approx(drift, rel=1e-12) and 0 < drift < 1e-5
+    assert out["energy_drift"] == pytest.approx(drift, rel=1e-12) and 0 < drift
+    # the pendulum's URDF dampers (applied by default) only ever take energy out
+    assert np.all(np.diff(traj.energy) <= 1e-6 * abs(traj.energy[0]))
     assert out["controller"] == "none" and out["gains"] is None
 
 
@@ -71,7 +73,8 @@ def test_chunked_run_with_progress_bar_equals_one_call(monkeypatch, capsys):
     traj = simulate(model, Q0, V0, 1e-3, 1500, controller=ctrl)
     for key in ("q", "v", "a", "energy", "t"):
         np.testing.assert_array_equal(getattr(chunked, key), getattr(traj, key), err_msg=key)
-    assert np.abs(traj.q[-1]).max() < 0.5 * np.abs(Q0).max()  # the PD pulls it in
+    assert np.abs(traj.q[-1]).max() < 0.75 * np.abs(Q0).max()  # the PD (and the URDF's
+    # dampers, which slow this overdamped return) pulls it in
 
 
 def test_pd_gains_follow_the_mass_matrix():
