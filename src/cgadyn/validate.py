@@ -82,7 +82,9 @@ def held_feet(model) -> list:
 def _constraints_of(robot, model) -> tuple[list, str, float]:
     """The constraints the constrained check holds, what they are, and the proximal damping
     it solves with: an MJCF model's equalities (``mujoco_constraints``; damped, as a planar
-    loop closed by a point has a row no joint moves), else a floating robot's feet."""
+    loop closed by a point has a row no joint moves), else a floating robot's feet where
+    their rows are independent (solo's two-joint legs cannot hold a point foot at every
+    state: no check there)."""
     import cgadyn
 
     if mujoco_oracle.applies(robot):
@@ -90,7 +92,10 @@ def _constraints_of(robot, model) -> tuple[list, str, float]:
         if mj.neq:
             return cgadyn.mujoco_constraints(model, mj), "MJCF equalities", 1e-10
     if model.floating_base:
-        return held_feet(model), "feet held", 0.0
+        feet = held_feet(model)
+        J = cgadyn.constraint_jacobian(model, cgadyn.neutral(model), feet)
+        if np.linalg.matrix_rank(J) == J.shape[0]:  # else legs of too few joints (solo's
+            return feet, "feet held", 0.0  # two) cannot hold their feet at every state
     return [], "", 0.0
 
 
