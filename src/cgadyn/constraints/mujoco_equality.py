@@ -29,22 +29,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..multibody.mujoco_model import mujoco_model
+from ..multibody.mujoco_model import _pose, _rotation, mujoco_model
 from .model import Constraint
 
 _TYPES = {0: "connect", 1: "weld", 2: "joint", 3: "tendon", 4: "flex"}
 """``mjtEq`` by value (the types after flex are named by MuJoCo's enum)."""
 
 
-def _pose(pos, quat_wxyz=(1.0, 0.0, 0.0, 0.0)) -> np.ndarray:
-    """The 4x4 placement of a position and a unit quaternion (w, x, y, z)."""
-    w, x, y, z = np.asarray(quat_wxyz, dtype=float) / np.linalg.norm(quat_wxyz)
-    T = np.eye(4)
-    T[:3, :3] = [[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                 [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                 [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]
-    T[:3, 3] = pos
-    return T
+def _placement(pos, quat=(1.0, 0.0, 0.0, 0.0)) -> np.ndarray:
+    """The 4x4 placement of a position and MuJoCo's unit quaternion (w, x, y, z)."""
+    return _pose(pos, _rotation(quat))
 
 
 def _name(mj, obj, i: int, fallback: str) -> str:
@@ -73,9 +67,9 @@ def _end(mj, model, k: int, side: int, pos, quat=(1.0, 0.0, 0.0, 0.0)):
         name = _name(mj, mujoco.mjtObj.mjOBJ_SITE, obj, f"site {obj}")
         return _link(model, name, f"site {name!r}"), np.eye(4)
     if obj == 0:
-        return None, _pose(pos, quat)
+        return None, _placement(pos, quat)
     name = _name(mj, mujoco.mjtObj.mjOBJ_BODY, obj, f"body{obj}")
-    return _link(model, name, f"body {name!r}"), _pose(pos, quat)
+    return _link(model, name, f"body {name!r}"), _placement(pos, quat)
 
 
 def _link(model, name: str, what: str) -> int:
