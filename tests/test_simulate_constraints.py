@@ -127,7 +127,7 @@ def test_mjcf_connect_loop_keeps_the_constrained_dynamics():
     torque, 2 s of RK4: at every kept state ``J q̈ + γ = 0`` (γ with the corrector) and
     ``M q̈ + h = τ + Jᵀ λ``, and the loop stays closed. (MuJoCo's own ``mj_step`` holds the
     loop softly, by ``solref``/``solimp``, so its motion is not this one: no comparison.)"""
-    model = cgadyn.load_mujoco(CLOSED_CHAIN)
+    model = cgadyn.load(CLOSED_CHAIN)  # MuJoCo compiles the MJCF text
     cs = cgadyn.mujoco_constraints(model, CLOSED_CHAIN, corrector=(100.0, 20.0))
     q = cgadyn.neutral(model)
     v = np.zeros(model.nv)
@@ -230,7 +230,7 @@ def test_a_set_that_becomes_singular_mid_run_stops_with_a_reason():
     singular; the rollout stops there with the constraint named, its states finite up to
     there, a second rollout of the batch (gliding away from the axis) unaffected."""
     model = cgadyn.load(SLIDERS)
-    assert model.joint_names == ["phi", "s", "u", "w"]
+    assert model.joint_names == ("phi", "s", "u", "w")
     c = cgadyn.Constraint(model, "point", "radial", other="cz")
     q0 = np.array([[0.0, -1.0, -1.0, 0.0], [0.0, 1.0, 1.0, 0.0]])
     v0 = np.array([0.0, 1.0, 1.0, 0.0])

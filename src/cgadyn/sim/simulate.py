@@ -235,8 +235,8 @@ def _times(dt: float, steps: int, every: int, rows: int) -> np.ndarray:
 
 def _last_row(done: int, steps: int, every: int) -> int:
     """The row holding the last state a stopped rollout reached (``rollout.rollouts``)."""
-    r = kept_row.py_func(done, steps, every)
-    return r if r >= 0 else stop_row.py_func(done, every)
+    r = getattr(kept_row, "py_func", kept_row)(done, steps, every)  # plain under NUMBA_DISABLE_JIT
+    return r if r >= 0 else getattr(stop_row, "py_func", stop_row)(done, every)
 
 
 def available_memory() -> int:
