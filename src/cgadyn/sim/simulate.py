@@ -147,8 +147,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     B = batch or 1
     rows = kept_rows(steps, every)
     _fits(model, B, steps, rows, p.nr)
-    q0 = np.array(np.broadcast_to(q0, (B, model.nq)))  # own copies: one compiled signature
-    v0 = np.array(np.broadcast_to(v0, (B, model.nv)))
+    q0 = np.array(np.broadcast_to(q0, (B, model.nq)), order="C")  # own copies, C order:
+    v0 = np.array(np.broadcast_to(v0, (B, model.nv)), order="C")  # one compiled signature
     _energy(model, q0, v0, gravity)  # finite states, unit quaternions: its ValueError
     u = u.reshape((-1, u.shape[-2], model.nv))
     f = _inputs.external(model, f_ext, (B,) if batch else ())
