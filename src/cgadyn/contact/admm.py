@@ -126,7 +126,7 @@ def admm_solve(G, g, mu, R, settings, lam, info, C, w):
             zold[r] = z[r]
             rhs[r] = -g[r] - y[r] + rho * z[r] + eta * x[r]
         for i in range(nc):
-            rhs[3 * i + 2] -= desaxce(mu[i], sigma, 3 * i)  # s = Γ(σ(z_k)) (K13)
+            rhs[3 * i + 2] -= desaxce(mu[i], y, 3 * i)  # s = Γ(-y_k) (K13)
         for r in range(m):
             x[r] = rhs[r]
         _substitute(C, m, x)
