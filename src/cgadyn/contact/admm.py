@@ -1,7 +1,7 @@
 """The ADMM contact solver with a proximal term and the spectral penalty update of
 Carpentier, Le Lidec and Montaut (RSS 2024) (``docs/contact.md``, K16-K17, K19).
 
-One call solves one problem in place, with its scratch given (``scratch_rows`` rows of
+One call solves one problem in place, with its scratch given (``SCRATCH_ROWS`` rows of
 ``max(m, 6)`` floats and an ``m x m`` matrix for the factor), allocates nothing and returns a
 status, so that a rollout can call it every step.
 """
@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from .._jit import serial
+from .._jit import inline, serial
 from ..algorithms.status import DELASSUS_SINGULAR, NONFINITE_INPUT, NONFINITE_RESULT, OK, fault
 from ..constraints.core import _factor, _substitute
 from .cone import desaxce, ncp_residuals, project
@@ -38,7 +38,7 @@ SCRATCH_ROWS = 8
 POWER_ITERATIONS = 50
 
 
-@serial
+@inline
 def largest_eigenvalue(G, R, u, w):
     """The largest eigenvalue ``L`` of ``G + R`` by power iteration (K17), to 1e-6; ``u``,
     ``w`` hold ``m`` floats."""
@@ -66,7 +66,7 @@ def largest_eigenvalue(G, R, u, w):
     return L
 
 
-@serial
+@inline
 def _factor_shifted(G, R, shift, C):
     """``C`` the Cholesky factor of ``G + R + shift I`` (K16); False where it fails (G not
     positive semi-definite)."""

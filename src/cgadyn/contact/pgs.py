@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 
-from .._jit import serial
+from .._jit import inline, serial
 from ..algorithms.status import NONFINITE_INPUT, NONFINITE_RESULT, OK, fault
 from .admm import SIGMA, TMP
 from .cone import ncp_residuals, project
@@ -23,7 +23,7 @@ from .ncp import (
 )
 
 
-@serial
+@inline
 def _block_row(G, R, g, lam, r):
     """Row ``r`` of ``σ = (G + R) λ + g`` (K11)."""
     acc = g[r] + R[r] * lam[r]
