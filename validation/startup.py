@@ -13,10 +13,14 @@ temporary directory), in fresh ``NUMBA_CACHE_DIR`` and ``CGADYN_CACHE_DIR`` dire
 - ``cold validate`` (with ``--validate``): ``cgadyn validate`` on the default robot, with the
   time until its first line on stderr.
 
+With ``--breakdown``, also where the cold compilation goes (``compile_breakdown.py``: numba's
+compile events, CPU seconds of the process) for a first ``aba`` and a cold ``validate``, per
+kind of compiled function, each tree in a fresh cache directory.
+
 Writes ``validation/results/startup.{md,json}``.
 
     python validation/startup.py [--baseline REV] [--variant NAME=VALUE] [--validate]
-                                 [--repeats N]
+                                 [--breakdown] [--repeats N]
 """
 
 from __future__ import annotations
@@ -128,6 +132,63 @@ def measure(src: Path, tmp: Path, tag: str, with_validate: bool) -> dict[str, fl
     return row
 
 
+KINDS = (
+    ("cores (`<name>_core`, one sample)", lambda f: f.endswith("_core")),
+    ("one-sample entries (`_single`, `_native`)",
+     lambda f: ".entries." in f and f.endswith(("_single", "_native"))),
+    ("parallel batch entries (`_batch`)", lambda f: ".entries." in f and f.endswith("_batch")),
+    ("lane groups (`*_lanes`)", lambda f: "_lanes." in f),
+    ("everything else", lambda f: True),
+)
+"""How the breakdown sorts compiled functions, the first kind that matches."""
+
+BREAKDOWN = Path(__file__).with_name("compile_breakdown.py")
+
+
+def breakdown(src: Path, tmp: Path, tag: str, workload: str) -> dict:
+    """``compile_breakdown.py workload`` in fresh cache directories: its JSON."""
+    cache = tmp / f"breakdown-{tag}-{workload}-{time.monotonic_ns()}"
+    cache.mkdir(parents=True)
+    run = subprocess.run([sys.executable, str(BREAKDOWN), workload],
+                         env=env(src, cache) | {"CGADYN_PROGRESS": "0"},
+                         capture_output=True, text=True, check=True, cwd=cache)
+    shutil.rmtree(cache, ignore_errors=True)
+    return json.loads(run.stdout.strip().splitlines()[-1])
+
+
+def kind(function: str) -> str:
+    return next(name for name, test in KINDS if test(function))
+
+
+def breakdown_table(found: dict[str, dict[str, dict]]) -> list[str]:
+    """Per kind of function: specialisations compiled and their exclusive CPU seconds, for
+    each tree and workload; then the ten largest functions of each workload's first tree."""
+    cols = [(tag, w) for tag, per in found.items() for w in per]
+    lines = ["| kind: count, CPU s | " + " | ".join(f"{w}, {tag}" for tag, w in cols) + " |",
+             "|---|" + "---:|" * len(cols)]
+    for name, _ in KINDS:
+        cells = []
+        for tag, w in cols:
+            recs = [r for r in found[tag][w]["records"] if kind(r["function"]) == name]
+            cells.append(f"{len(recs)}, {sum(r['exclusive'] for r in recs):.1f}")
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    cells = []
+    for tag, w in cols:
+        recs = found[tag][w]["records"]
+        cells.append(f"{len(recs)}, {sum(r['exclusive'] for r in recs):.1f}")
+    lines.append("| all compiled | " + " | ".join(cells) + " |")
+    lines.append("| whole process (CPU s) | " + " | ".join(
+        f"{found[tag][w]['cpu']:.1f}" for tag, w in cols) + " |")
+    for w in next(iter(found.values())):
+        tag = next(iter(found))
+        top = sorted(found[tag][w]["records"], key=lambda r: -r["exclusive"])[:10]
+        lines += ["", f"Largest compilations of `{w}`, {tag} (CPU s, exclusive of the "
+                      "functions compiled inside them):", ""]
+        lines += [f"- {r['exclusive']:.1f} `{r['function'].removeprefix('cgadyn.')}`"
+                  for r in top]
+    return lines
+
+
 def table(results: dict[str, list[dict]]) -> list[str]:
     keys = list(next(iter(results.values()))[0])
     tags = list(results)
@@ -145,6 +206,8 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--baseline", help="a git revision to measure in the same run")
     parser.add_argument("--validate", action="store_true", help="also a cold cgadyn validate")
+    parser.add_argument("--breakdown", action="store_true",
+                        help="also where a cold aba and a cold validate spend compiling")
     parser.add_argument("--repeats", type=int, default=1)
     parser.add_argument("--variant", action="append", default=[], metavar="NAME=VALUE",
                         help="also this checkout with an environment variable set "
@@ -168,6 +231,14 @@ def main() -> int:
                 row = measure(src, tmp, f"{r}-{i}", args.validate)
                 print(tag, json.dumps(row), flush=True)
                 results[tag].append(row)
+        found: dict[str, dict[str, dict]] = {tag: {} for tag in trees}
+        if args.breakdown:
+            for workload in ("aba", "validate"):
+                for i, (tag, (src, extra)) in enumerate(trees.items()):
+                    EXTRA.clear()
+                    EXTRA.update(extra)
+                    found[tag][workload] = breakdown(src, tmp, str(i), workload)
+                    print(tag, workload, round(found[tag][workload]["cpu"], 1), flush=True)
     machine = f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores"
     when = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     lines = ["# First runs: cold and warm", "",
@@ -179,10 +250,18 @@ def main() -> int:
              f"{machine} (medians of {args.repeats}; other jobs may have been running). "
              "Seconds; each column in its own fresh cache directories.", "", *table(results),
              ""]
+    if args.breakdown:
+        lines += ["## Where the cold compilation goes", "",
+                  "numba's compile events (`validation/compile_breakdown.py`) in a fresh cache: "
+                  "per kind of compiled function, the specialisations compiled and the CPU "
+                  "seconds of the process spent compiling them (exclusive of the functions "
+                  "compiled inside them; CPU time, which other jobs on the machine change "
+                  "less than wall time).", "", *breakdown_table(found), ""]
     OUT.mkdir(exist_ok=True)
     (OUT / "startup.md").write_text("\n".join(lines))
     (OUT / "startup.json").write_text(json.dumps({"machine": machine, "date": when,
-                                                  "results": results}, indent=1) + "\n")
+                                                  "results": results, "breakdown": found},
+                                                 indent=1) + "\n")
     print("\n".join(lines))
     return 0
 
