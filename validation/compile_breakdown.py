@@ -2,11 +2,12 @@
 
 Run as a script in a fresh ``NUMBA_CACHE_DIR`` (``startup.py --breakdown`` does), it listens
 to numba's ``numba:compile`` events (raised only where no cached machine code was found),
-runs one workload and prints, as one JSON line, one record per compiled specialisation:
-the function, its depth (0: compiled from Python; deeper: compiled while typing a caller),
-its argument types and its CPU seconds, inclusive (with the functions compiled inside it)
-and exclusive. CPU time of the process, not wall time, so that other jobs on the machine
-change the numbers little. Workloads:
+runs one workload and prints one JSON line per compiled specialisation as it ends (the
+function, its depth (0: compiled from Python; deeper: compiled while typing a caller), its
+argument types, its CPU seconds inclusive (with the functions compiled inside it) and
+exclusive, and the CPU seconds of the process so far), then one JSON line with them all.
+CPU time of the process, not wall time, so that other jobs on the machine change the
+numbers little. Workloads:
 
 - ``aba``: a first ``cgadyn.aba`` on the panda;
 - ``validate``: ``cgadyn.validate.validate_robot("panda")``, what ``cgadyn validate`` does.
@@ -46,10 +47,11 @@ def main(workload: str) -> int:
             name = f"{fn.__module__}.{fn.__qualname__}" if fn else str(data.get("dispatcher"))
             records.append({"function": name, "depth": len(stack),
                             "args": str(data.get("args")), "inclusive": inclusive,
-                            "exclusive": inclusive - nested})
+                            "exclusive": inclusive - nested, "at": cpu() - start})
+            print(json.dumps(records[-1]), flush=True)
 
-    event.register("numba:compile", Recorder())
     start = cpu()
+    event.register("numba:compile", Recorder())
     import numpy as np
 
     import cgadyn
