@@ -38,8 +38,8 @@ def main(workload: str) -> int:
             stack.append([cpu(), 0.0])
 
         def on_end(self, ev) -> None:
-            start, nested = stack.pop()
-            inclusive = cpu() - start
+            began, nested = stack.pop()
+            inclusive = cpu() - began
             if stack:
                 stack[-1][1] += inclusive
             data = ev.data or {}

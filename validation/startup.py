@@ -204,8 +204,8 @@ def tabulate_records(records: list[str]) -> int:
         workload, _, path = workload_file.partition(":")
         lines = [json.loads(x) for x in Path(path).read_text().splitlines() if x.strip()]
         data = lines[-1] if "workload" in lines[-1] else {  # a run stopped before its end
-            "workload": workload, "records": lines, "cpu": lines[-1]["at"] if lines else 0.0,
-            "unfinished": True}
+            "workload": workload, "records": lines, "unfinished": True,
+            "cpu": sum(r["exclusive"] for r in lines)}  # its compilations only
         found.setdefault(label + (" (unfinished)" if data.get("unfinished") else ""),
                          {})[workload] = data
     machine = f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores"
