@@ -20,6 +20,7 @@ from __future__ import annotations
 import json
 import resource
 import sys
+from contextlib import contextmanager
 
 
 def cpu() -> float:
@@ -33,29 +34,44 @@ def main(workload: str) -> int:
     records: list[dict] = []
     stack: list[list[float]] = []  # [start, seconds of the compilations nested inside]
 
+    def end(fn, args) -> None:
+        began, nested = stack.pop()
+        inclusive = cpu() - began
+        if stack:
+            stack[-1][1] += inclusive
+        name = f"{fn.__module__}.{fn.__qualname__}" if fn else "?"
+        records.append({"function": name, "depth": len(stack), "args": str(args),
+                        "inclusive": inclusive, "exclusive": inclusive - nested,
+                        "at": cpu() - start})
+        print(json.dumps(records[-1]), flush=True)
+
     class Recorder(event.Listener):
         def on_start(self, ev) -> None:
             stack.append([cpu(), 0.0])
 
         def on_end(self, ev) -> None:
-            began, nested = stack.pop()
-            inclusive = cpu() - began
-            if stack:
-                stack[-1][1] += inclusive
             data = ev.data or {}
-            fn = getattr(data.get("dispatcher"), "py_func", None)
-            name = f"{fn.__module__}.{fn.__qualname__}" if fn else str(data.get("dispatcher"))
-            records.append({"function": name, "depth": len(stack),
-                            "args": str(data.get("args")), "inclusive": inclusive,
-                            "exclusive": inclusive - nested, "at": cpu() - start})
-            print(json.dumps(records[-1]), flush=True)
+            end(getattr(data.get("dispatcher"), "py_func", None), data.get("args"))
 
     start = cpu()
     event.register("numba:compile", Recorder())
     import numpy as np
 
     import cgadyn
+    from cgadyn import _progress
 
+    frame = _progress.frame
+
+    @contextmanager
+    def native(fn):  # a C entry point compiles without an event of its own
+        stack.append([cpu(), 0.0])
+        try:
+            with frame(fn):
+                yield
+        finally:
+            end(fn, "C entry point")
+
+    _progress.frame = native
     if workload == "aba":
         m = cgadyn.load("panda")
         q = np.full(m.nq, 0.3)
