@@ -191,8 +191,10 @@ def breakdown_table(found: dict[str, dict[str, dict]]) -> list[str]:
 BREAKDOWN_TEXT = (
     "numba's compile events (`validation/compile_breakdown.py`) in a fresh cache: per kind of "
     "compiled function, the specialisations compiled and the CPU seconds of the process spent "
-    "compiling them (exclusive of the functions compiled inside them; CPU time, which other "
-    "jobs on the machine change less than wall time).")
+    "compiling them (exclusive of the functions compiled inside them). CPU time still grows "
+    "with the load of the machine (the same core has taken 2.5 times the CPU seconds in one "
+    "run as in another at the same time): compare the kinds within a column, and the counts "
+    "across columns.")
 
 
 def tabulate_records(records: list[str]) -> int:
