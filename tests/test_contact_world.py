@@ -1,4 +1,4 @@
-"""Contacts with the ground (contact/manifold.py, contact/world.py; docs/contact.md K11-K12):
+"""Contacts with the ground (contact/manifold.py, contact/world.py; docs/contact.md K21-K22):
 each shape's deepest contact has the distance of ``shape_distance`` to the plane, a resting
 face gives the corners of its patch, and a robot standing touches the ground by its feet."""
 
@@ -39,7 +39,7 @@ def _contacts(shape, T, world=None, margin=1.0):
 
 @pytest.mark.parametrize("shape", SHAPES, ids=lambda s: s.name)
 def test_deepest_contact_is_the_distance_to_the_plane(shape):
-    """K11 against K5: the deepest contact point is the shape's closest point to the plane,
+    """K21 against K5: the deepest contact point is the shape's closest point to the plane,
     at the signed distance ``shape_distance`` gives, on the shape, for random poses, on a
     level and on a tilted ground."""
     rng = np.random.default_rng(1)
@@ -68,7 +68,7 @@ def _resting(T_shape, height):
 
 
 def test_a_box_on_a_face_an_edge_and_a_corner():
-    """K12: a box lying on its face touches by its four bottom corners, tipped onto an edge
+    """K22: a box lying on its face touches by its four bottom corners, tipped onto an edge
     by two, balanced on a corner by one."""
     box = cgadyn.Box([0.1, 0.2, 0.05])
     rows = _contacts(box, _resting(np.eye(4), 0.05), margin=1e-6)
@@ -95,7 +95,7 @@ def test_a_box_on_a_face_an_edge_and_a_corner():
 
 
 def test_a_flat_mesh_face_is_held_by_its_corners():
-    """K12: a convex mesh whose bottom face carries a 5 x 5 grid of vertices, resting on it,
+    """K22: a convex mesh whose bottom face carries a 5 x 5 grid of vertices, resting on it,
     is held by the four corners of that face (the largest patch four points span), not by
     four neighbouring grid points."""
     g = np.linspace(-0.1, 0.1, 5)
@@ -108,7 +108,7 @@ def test_a_flat_mesh_face_is_held_by_its_corners():
 
 
 def test_cylinders_and_capsules_standing_and_lying():
-    """K11: a cylinder on its cap touches by four rim points a quarter-turn apart, lying on
+    """K21: a cylinder on its cap touches by four rim points a quarter-turn apart, lying on
     its side by one point of each rim; a capsule lying down by both end spheres."""
     cyl, cap = cgadyn.Cylinder(0.08, 0.2), cgadyn.Capsule(0.05, 0.3)
     rows = _contacts(cyl, _resting(np.eye(4), 0.1), margin=1e-9)

@@ -1,11 +1,11 @@
-"""The contact points of a shape resting on a plane, compiled (docs/contact.md, K11-K12).
+"""The contact points of a shape resting on a plane, compiled (docs/contact.md, K21-K22).
 
 A sphere touches a plane at one point; a box lying on a face, a cylinder standing on a cap
 or a convex mesh on a flat side touch it over a patch, which one point cannot hold still:
 a contact solver needs the corners of the patch. ``plane_contacts`` gives every shape's
-candidate points, each with its signed distance ``X · π`` to the plane (K1, K11), keeps
+candidate points, each with its signed distance ``X · π`` to the plane (K1, K21), keeps
 those closer than a margin (so that a contact is found one step before it closes) and
-reduces them to at most ``MAX_CONTACTS`` that span the patch (K12). It allocates nothing
+reduces them to at most ``MAX_CONTACTS`` that span the patch (K22). It allocates nothing
 and returns the number of contacts written.
 """
 
@@ -30,7 +30,7 @@ distance to the plane (negative: a penetration)."""
 @serial
 def _candidate(cand, c, x0, x1, x2, n0, n1, n2, delta, r):
     """Row ``c`` of ``cand``: the point ``x - r n`` of a sphere of radius ``r`` centred at
-    ``x`` (``r = 0``: the point ``x``) and its distance ``X · π - r`` (K1, K11)."""
+    ``x`` (``r = 0``: the point ``x``) and its distance ``X · π - r`` (K1, K21)."""
     cand[c, 0] = x0 - r * n0
     cand[c, 1] = x1 - r * n1
     cand[c, 2] = x2 - r * n2
@@ -40,7 +40,7 @@ def _candidate(cand, c, x0, x1, x2, n0, n1, n2, delta, r):
 
 @serial
 def candidates(kind, size, vertices, T, n0, n1, n2, delta, cand):
-    """The shape's candidate points against the plane ``π = n + δ e∞`` (K11): a sphere's
+    """The shape's candidate points against the plane ``π = n + δ e∞`` (K21): a sphere's
     lowest point; a capsule's two end spheres' lowest points; a box's eight corners; on
     each of a cylinder's two rims, the lowest point and the three a quarter-turn apart; a
     convex mesh's vertices. Returns their number."""
@@ -92,7 +92,7 @@ def _write(out, m, cand, i):
 @serial
 def reduce_patch(cand, count, margin, n0, n1, n2, out):
     """At most four of the ``count`` candidates closer than ``margin``, spanning the patch
-    (K12): the deepest; the one farthest from it; the one making the largest triangle with
+    (K22): the deepest; the one farthest from it; the one making the largest triangle with
     those two; the one adding the largest area to that triangle. Duplicates (a point no
     farther than 1e-9 from the chosen ones, or no area added) are not kept. Writes them to
     ``out`` and returns their number."""
@@ -143,7 +143,7 @@ def reduce_patch(cand, count, margin, n0, n1, n2, out):
 def plane_contacts(kind, size, vertices, T, sb, Tb, margin, cand, out):
     """The contacts of shape ``(kind, size, vertices)`` at pose ``T`` with the plane of
     size ``sb`` (``n``, ``δ`` in its frame) at pose ``Tb``: at most ``MAX_CONTACTS`` rows
-    ``[x, y, z, d]`` in ``out`` (K11, K12), the plane's world normal pointing out of it.
+    ``[x, y, z, d]`` in ``out`` (K21, K22), the plane's world normal pointing out of it.
     Returns their number."""
     n0, n1, n2 = rotate(Tb, sb[0], sb[1], sb[2])
     delta = sb[3] + n0 * Tb[0, 3] + n1 * Tb[1, 3] + n2 * Tb[2, 3]

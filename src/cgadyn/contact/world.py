@@ -1,7 +1,7 @@
 """The world a robot touches: a ground plane, which may be tilted, and its friction.
 
 ``World`` says where the ground is; ``ground_contacts(model, collisions, q, world)`` finds
-where the robot's collision shapes touch it (``manifold``, K11-K12): for each contact the
+where the robot's collision shapes touch it (``manifold``, K21-K22): for each contact the
 shape and its link, the point on the shape, the ground's normal and the signed distance.
 """
 
@@ -77,7 +77,7 @@ def ground_contacts(model, collisions, q, world: World | None = None,
     ground of ``world`` (default: ``World()``): for each shape allowed to touch it (MuJoCo's
     filter with the ground's ``contype = conaffinity = 1``; shapes fixed in the world, as an
     MJCF's own floor, never), at most four points closer than ``margin`` spanning the
-    shape's contact patch (K11, K12)."""
+    shape's contact patch (K21, K22)."""
     from .api import check_rigid
     from .model import _collisions, collision_poses
 
