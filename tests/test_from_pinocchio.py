@@ -309,8 +309,8 @@ def test_free_flyer_below_the_root_refused():
     pm = pin.Model()
     pm.addJoint(0, pin.JointModelRZ(), pin.SE3.Identity(), "yaw")
     pm.addJoint(1, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "floater")
-    with pytest.raises(ValueError, match="'floater' is a JointModelFreeFlyer that is not the "
-                                         "root joint"):
+    with pytest.raises(ValueError, match="'floater' is a JointModelFreeFlyer whose parent is "
+                                         "not the universe"):
         cgadyn.from_pinocchio(pm)
 
 

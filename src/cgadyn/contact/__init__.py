@@ -1,13 +1,15 @@
-"""Contact: collision shapes as CGA objects, on links, their signed distances, and the
-frictional contact problem with its solvers, ADMM and PGS (docs/contact.md)."""
+"""Contact: collision shapes as CGA objects, on links, their signed distances, the ground
+and the contact points with it, the frictional contact problem with its solvers, ADMM and
+PGS, and the velocity-level step that joins them (docs/contact.md)."""
 
 from .api import shape_distance
 from .model import Collision, CollisionModel, collision_distances, collision_model, collision_poses
 from .problem import contact_problem
 from .shapes import Box, Capsule, ConvexMesh, Cylinder, MeshSimplified, Plane, Shape, Sphere
 from .solve import ContactSolveInfo, solve_contacts
+from .world import Contacts, World, ground_contacts
 
-__all__ = ["Box", "Capsule", "Collision", "CollisionModel", "ContactSolveInfo", "ConvexMesh",
-           "Cylinder", "MeshSimplified", "Plane", "Shape", "Sphere", "collision_distances",
-           "collision_model", "collision_poses", "contact_problem", "shape_distance",
-           "solve_contacts"]
+__all__ = ["Box", "Capsule", "Collision", "CollisionModel", "ContactSolveInfo", "Contacts",
+           "ConvexMesh", "Cylinder", "MeshSimplified", "Plane", "Shape", "Sphere", "World",
+           "collision_distances", "collision_model", "collision_poses", "contact_problem",
+           "ground_contacts", "shape_distance", "solve_contacts"]

@@ -11,9 +11,9 @@ The joint types converted (``SUPPORTED``): revolute about any axis (``JointModel
 ``RY``, ``RZ``, ``RevoluteUnaligned``), unbounded revolute (``RUBX``, ``RUBY``, ``RUBZ``,
 ``RevoluteUnboundedUnaligned``), prismatic (``PX``, ``PY``, ``PZ``,
 ``PrismaticUnaligned``), spherical (``Spherical``, anywhere in the tree: q its quaternion
-``(x, y, z, w)`` as Pinocchio's) and a free flyer (``FreeFlyer``) as the root joint. Any
-other joint (planar, translation, helical, universal, composite, mimic, ...) is refused by
-name.
+``(x, y, z, w)`` as Pinocchio's) and free flyers (``FreeFlyer``), each the root of a tree
+(a child of the universe: a robot's floating base, a free object beside it). Any other
+joint (planar, translation, helical, universal, composite, mimic, ...) is refused by name.
 
 Configurations: an unbounded revolute joint takes two numbers ``(cos θ, sin θ)`` in
 Pinocchio's q and one angle θ in cgadyn's, so for a model with such joints ``nq`` differs
@@ -36,7 +36,7 @@ SUPPORTED = {name: record.kind for name, record in PINOCCHIO.items()}
 type's record, ``multibody.joints``, names its Pinocchio types)."""
 
 _SUPPORTED_TEXT = ", ".join(
-    f"{r.label} ({', '.join(r.pinocchio)}){' as the root joint' if r.floating else ''}"
+    f"{r.label} ({', '.join(r.pinocchio)}){' as the root of a tree' if r.floating else ''}"
     for r in TYPES)
 
 _HUGE = 1e300  # Pinocchio's "no limit" is ±DBL_MAX
@@ -90,10 +90,10 @@ def _kinds(pm) -> list[str]:
         if kind is None:
             raise ValueError(f"joint {pm.names[i]!r} is a {shortname}, which cgadyn does not "
                              f"support; supported joints: {_SUPPORTED_TEXT}")
-        if of_kind(kind).floating and (i != 1 or pm.parents[i] != 0):
-            raise ValueError(f"joint {pm.names[i]!r} is a {shortname} that is not the "
-                             f"root joint; cgadyn supports a {of_kind(kind).label} joint only "
-                             f"as the first joint, child of the universe")
+        if of_kind(kind).floating and pm.parents[i] != 0:
+            raise ValueError(f"joint {pm.names[i]!r} is a {shortname} whose parent is not "
+                             f"the universe; cgadyn supports a {of_kind(kind).label} joint "
+                             f"only as the root of a tree (a child of the universe)")
         kinds.append(kind)
     return kinds
 
@@ -163,7 +163,7 @@ def from_pinocchio(pin_model, name: str | None = None, check_inertia: bool = Tru
     (``Model.armature``, ``Model.damping``).
 
     Raises ``ValueError`` naming a joint that cgadyn does not support (its name, its
-    Pinocchio type and what is supported), a free flyer that is not the root joint, joints
+    Pinocchio type and what is supported), a free flyer whose parent is not the universe, joints
     not in depth-first order, a negative armature or damping, a gravity other than
     cgadyn's default,
     and (with ``check_inertia``) a body whose inertia is not physically valid.
