@@ -11,9 +11,10 @@ The joint types converted (``SUPPORTED``): revolute about any axis (``JointModel
 ``RY``, ``RZ``, ``RevoluteUnaligned``), unbounded revolute (``RUBX``, ``RUBY``, ``RUBZ``,
 ``RevoluteUnboundedUnaligned``), prismatic (``PX``, ``PY``, ``PZ``,
 ``PrismaticUnaligned``), spherical (``Spherical``, anywhere in the tree: q its quaternion
-``(x, y, z, w)`` as Pinocchio's) and a free flyer (``FreeFlyer``) as the root joint. Any
-other joint (planar, translation, helical, universal, composite, mimic, ...) is refused by
-name.
+``(x, y, z, w)`` as Pinocchio's), planar (``Planar``: q ``(x, y, cos θ, sin θ)``),
+translation (``Translation``), helical (``HX``, ``HY``, ``HZ``, ``HelicalUnaligned``, with
+their pitch) and a free flyer (``FreeFlyer``) as the root joint. Any other joint
+(universal, spherical ZYX, composite, mimic, ...) is refused by name.
 
 Configurations: an unbounded revolute joint takes two numbers ``(cos θ, sin θ)`` in
 Pinocchio's q and one angle θ in cgadyn's, so for a model with such joints ``nq`` differs
@@ -42,15 +43,26 @@ _SUPPORTED_TEXT = ", ".join(
 _HUGE = 1e300  # Pinocchio's "no limit" is ±DBL_MAX
 
 
-def _axis(joint, axis: str, q0: np.ndarray) -> np.ndarray:
-    """The unit axis of a one-dof joint in its joint frame: the angular (revolute) or linear
-    (prismatic) part of its motion subspace ``S``, as Pinocchio computes it (the Python
-    bindings do not expose every joint's axis, ``RevoluteUnboundedUnaligned``'s among
-    them). ``q0``: any configuration of the model."""
+def _subspace(joint, q0: np.ndarray) -> np.ndarray:
+    """A one-dof joint's motion subspace ``S = [linear, angular]`` (6,), as Pinocchio
+    computes it (the Python bindings do not expose every joint's axis,
+    ``RevoluteUnboundedUnaligned``'s among them). ``q0``: any configuration of the model."""
     data = joint.createData()
     joint.calc(data, q0)
-    S = np.asarray(data.S, dtype=float).reshape(6)  # [linear, angular]
+    return np.asarray(data.S, dtype=float).reshape(6)
+
+
+def _axis(joint, axis: str, q0: np.ndarray) -> np.ndarray:
+    """The unit axis of a one-dof joint in its joint frame: the angular (revolute, helical)
+    or linear (prismatic) part of its motion subspace ``S``."""
+    S = _subspace(joint, q0)
     return S[:3].copy() if axis == "prismatic" else S[3:].copy()
+
+
+def _pitch(joint, q0: np.ndarray) -> float:
+    """A helical joint's pitch h, from its ``S = [h a, a]``."""
+    S = _subspace(joint, q0)
+    return float(S[:3] @ S[3:] / (S[3:] @ S[3:]))
 
 
 _UNIT = 1e-12
@@ -182,6 +194,7 @@ def from_pinocchio(pin_model, name: str | None = None, check_inertia: bool = Tru
     lower, upper = _unbounded(pm.lowerPositionLimit), _unbounded(pm.upperPositionLimit)
     velocity, effort = _unbounded(pm.velocityLimit), _unbounded(pm.effortLimit)
     axes = np.zeros((n, 3))
+    pitch = np.zeros(n)
     q0 = pin.neutral(pm)
     q_lower, q_upper = [], []
     body_mass = np.zeros(n)
@@ -198,6 +211,8 @@ def from_pinocchio(pin_model, name: str | None = None, check_inertia: bool = Tru
         if record.axis is not None:
             axes[j] = _checked_axis(pm.names[j + 1], joint.shortname(), record.axis,
                                     _axis(joint, record.axis, q0))
+        if record.axis == "helical":
+            pitch[j] = _pitch(joint, q0)
         inertia = pm.inertias[j + 1]
         body_mass[j], body_com[j], body_rot[j] = inertia.mass, inertia.lever, inertia.inertia
         _check_finite(pm.names[j + 1], body_mass[j], body_com[j], body_rot[j])
@@ -228,6 +243,7 @@ def from_pinocchio(pin_model, name: str | None = None, check_inertia: bool = Tru
             check_inertia=check_inertia,
             armature=np.asarray(pm.armature, dtype=float),
             damping=np.asarray(pm.damping, dtype=float),
+            pitch=pitch,
             **link_args,
         )
     except ValueError as exc:
