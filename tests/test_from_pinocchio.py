@@ -285,8 +285,7 @@ def test_cli_validates_an_mjcf_file(capsys):
 
 
 @pytest.mark.parametrize("make, shortname", [
-    (lambda pm: pin.JointModelPlanar(), "JointModelPlanar"),
-    (lambda pm: pin.JointModelTranslation(), "JointModelTranslation"),
+    (lambda pm: pin.JointModelComposite(pin.JointModelRX()), "JointModelComposite"),
     (lambda pm: pin.JointModelMimic(pm.joints[1], 2.0, 0.1), "JointModelMimic"),
 ])
 def test_unsupported_joint_refused_by_name(make, shortname):
