@@ -93,6 +93,8 @@ _LAZY = {
     "World": "cgadyn.contact",
     "Contacts": "cgadyn.contact",
     "ground_contacts": "cgadyn.contact",
+    "contact_step": "cgadyn.contact",
+    "ContactStep": "cgadyn.contact",
     "contact_problem": "cgadyn.contact",
     "solve_contacts": "cgadyn.contact",
     "ContactSolveInfo": "cgadyn.contact",

@@ -7,9 +7,11 @@ from .model import Collision, CollisionModel, collision_distances, collision_mod
 from .problem import contact_problem
 from .shapes import Box, Capsule, ConvexMesh, Cylinder, MeshSimplified, Plane, Shape, Sphere
 from .solve import ContactSolveInfo, solve_contacts
+from .step import ContactStep, contact_step
 from .world import Contacts, World, ground_contacts
 
-__all__ = ["Box", "Capsule", "Collision", "CollisionModel", "ContactSolveInfo", "Contacts",
-           "ConvexMesh", "Cylinder", "MeshSimplified", "Plane", "Shape", "Sphere", "World",
-           "collision_distances", "collision_model", "collision_poses", "contact_problem",
-           "ground_contacts", "shape_distance", "solve_contacts"]
+__all__ = ["Box", "Capsule", "Collision", "CollisionModel", "ContactSolveInfo", "ContactStep",
+           "Contacts", "ConvexMesh", "Cylinder", "MeshSimplified", "Plane", "Shape", "Sphere",
+           "World", "collision_distances", "collision_model", "collision_poses",
+           "contact_problem", "contact_step", "ground_contacts", "shape_distance",
+           "solve_contacts"]
