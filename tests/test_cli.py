@@ -41,6 +41,19 @@ def test_validate_panda_table(capsys):
     assert "FAIL" not in out and out.count("  pass") == len(oracle.CHECKS)
 
 
+def test_validate_runs_sample_by_sample(monkeypatch):
+    """validate's cgadyn side takes the one-sample entries, never a batch entry: a cold
+    validate then compiles no parallel batch entry and no lane group."""
+    from cgadyn.algorithms import calls
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("validate called a batch entry")
+
+    monkeypatch.setattr(calls.Entry, "many", refuse)
+    result = validate_robot("panda", samples=3)
+    assert result["pass"] and set(result["checks"]) == {c.key for c in oracle.CHECKS}
+
+
 def test_validate_json_floating_base(capsys):
     code, out, _ = run(capsys, "validate", "solo12", "--samples", "3", "--seed", "3", "--json")
     assert code == 0

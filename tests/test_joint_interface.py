@@ -111,7 +111,8 @@ def test_each_record_is_consistent(record):
     if record.random is not None:
         record.random(rng, q, 1.0)
     if record.quaternion >= 0:
-        assert np.linalg.norm(q[record.quaternion:record.quaternion + 4]) == \
+        unit = q[record.quaternion:record.quaternion + record.unit_length]
+        assert np.linalg.norm(unit) == \
             pytest.approx(1.0, abs=1e-15)
     qp = record.to_pinocchio(q)
     assert qp.shape == (record.pinocchio_nq,)

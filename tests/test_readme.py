@@ -23,3 +23,8 @@ def test_readme_examples_run():
     weight = 9.81 * namespace["cgadyn"].total_mass(solo)
     assert abs(namespace["forces"][2::3].sum() - weight) <= 1e-12 * weight
     assert np.abs(namespace["qdd"]).max() <= 1e-10
+    # solo12 stood on the ground by contact_step: only its feet touch, carrying about its
+    # weight (the PD posture still sways a little)
+    step = namespace["step"]
+    assert len(step.contacts) and np.all(step.forces[:, 2] >= 0.0)
+    assert abs(step.forces[:, 2].sum() - weight) <= 0.05 * weight

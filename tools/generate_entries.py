@@ -82,18 +82,23 @@ def entries(alg) -> str:
         "", "",
         "@native(SIGNATURE)",
         f"def {alg.name}_native(pk, x, f, nf, o, options):",
-        f'    """``{alg.name}_single`` on raw pointers, for ``cgadyn._native``."""',
-        "    packed = packed_array(pk)",
-        "    m = unpack(packed)",
+        f'    """``{alg.name}_single`` on raw pointers, for ``cgadyn._native``: its body written',
+        f"    out, so that a first call compiles ``{alg.core}`` into this C function only, not",
+        f'    into ``{alg.name}_single`` as well."""',
+        "    m = unpack(packed_array(pk))",
     ]
-    call = [f"carray(x[{i}], {shape((dim,))})" for i, (_, dim) in enumerate(alg.inputs)]
-    call += ["carray(f, (nf, 6))"] if alg.forces else []
-    call += [f"carray(o[{i}], {shape(dims)})" for i, dims in enumerate(alg.outputs)]
-    call += [f"options[{i}]" for i in range(len(options))]
-    lines.append(f"    return {alg.name}_single(")
-    lines.append("        packed,")
-    lines += [f"        {c}," for c in call[:-1]]
-    lines.append(f"        {call[-1]})")
+    local = inputs + (["wrenches"] if alg.forces else []) + outputs + options
+    value = [f"carray(x[{i}], {shape((dim,))})" for i, (_, dim) in enumerate(alg.inputs)]
+    value += ["carray(f, (nf, 6))"] if alg.forces else []
+    value += [f"carray(o[{i}], {shape(dims)})" for i, dims in enumerate(alg.outputs)]
+    value += [f"options[{i}]" for i in range(len(options))]
+    lines += [f"    {name} = {v}" for name, v in zip(local, value, strict=True)]
+    lines += [
+        f"    size = {ws}",
+        "    if size <= STACK_FLOATS:",
+        f"        return {core}(m, {', '.join(local)}, stack_buffer(size))",
+        f"    return {core}(m, {', '.join(local)}, np.empty(size))",
+    ]
     checks = [f"{x}.shape[1] != m.{dim}" for x, dim in alg.inputs]
     checks += [f"{x}.shape[0] != batch" for x in inputs[1:]]
     checks += [f"{o}.shape[0] != batch" for o in outputs]

@@ -13,10 +13,14 @@ temporary directory), in fresh ``NUMBA_CACHE_DIR`` and ``CGADYN_CACHE_DIR`` dire
 - ``cold validate`` (with ``--validate``): ``cgadyn validate`` on the default robot, with the
   time until its first line on stderr.
 
+With ``--breakdown``, also where the cold compilation goes (``compile_breakdown.py``: numba's
+compile events, CPU seconds of the process) for a first ``aba`` and a cold ``validate``, per
+kind of compiled function, each tree in a fresh cache directory.
+
 Writes ``validation/results/startup.{md,json}``.
 
     python validation/startup.py [--baseline REV] [--variant NAME=VALUE] [--validate]
-                                 [--repeats N]
+                                 [--breakdown] [--repeats N]
 """
 
 from __future__ import annotations
@@ -128,6 +132,99 @@ def measure(src: Path, tmp: Path, tag: str, with_validate: bool) -> dict[str, fl
     return row
 
 
+KINDS = (
+    ("cores (`<name>_core`, one sample)", lambda f: f.endswith("_core")),
+    ("one-sample entries (`_single`, `_native`)",
+     lambda f: ".entries." in f and f.endswith(("_single", "_native"))),
+    ("parallel batch entries (`_batch`)", lambda f: ".entries." in f and f.endswith("_batch")),
+    ("lane groups (`*_lanes`)", lambda f: "_lanes." in f),
+    ("everything else", lambda f: True),
+)
+"""How the breakdown sorts compiled functions, the first kind that matches."""
+
+BREAKDOWN = Path(__file__).with_name("compile_breakdown.py")
+
+
+def breakdown(src: Path, tmp: Path, tag: str, workload: str) -> dict:
+    """``compile_breakdown.py workload`` in fresh cache directories: its JSON."""
+    cache = tmp / f"breakdown-{tag}-{workload}-{time.monotonic_ns()}"
+    cache.mkdir(parents=True)
+    run = subprocess.run([sys.executable, str(BREAKDOWN), workload],
+                         env=env(src, cache) | {"CGADYN_PROGRESS": "0"},
+                         capture_output=True, text=True, check=True, cwd=cache)
+    shutil.rmtree(cache, ignore_errors=True)
+    return json.loads(run.stdout.strip().splitlines()[-1])
+
+
+def kind(function: str) -> str:
+    return next(name for name, test in KINDS if test(function))
+
+
+def breakdown_table(found: dict[str, dict[str, dict]]) -> list[str]:
+    """Per kind of function: specialisations compiled and their exclusive CPU seconds, for
+    each tree and workload; then, for each, what it compiled from Python."""
+    cols = [(tag, w) for tag, per in found.items() for w in per]
+    lines = ["| kind: count, CPU s | " + " | ".join(f"{w}, {tag}" for tag, w in cols) + " |",
+             "|---|" + "---:|" * len(cols)]
+    for name, _ in KINDS:
+        cells = []
+        for tag, w in cols:
+            recs = [r for r in found[tag][w]["records"] if kind(r["function"]) == name]
+            cells.append(f"{len(recs)}, {sum(r['exclusive'] for r in recs):.1f}")
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    cells = []
+    for tag, w in cols:
+        recs = found[tag][w]["records"]
+        cells.append(f"{len(recs)}, {sum(r['exclusive'] for r in recs):.1f}")
+    lines.append("| all compiled | " + " | ".join(cells) + " |")
+    lines.append("| whole process (CPU s; its compilations only if unfinished) | " + " | ".join(
+        f"{found[tag][w]['cpu']:.1f}" for tag, w in cols) + " |")
+    for tag, w in cols:
+        top = [r for r in found[tag][w]["records"] if r["depth"] == 0 and r["inclusive"] >= 0.5]
+        lines += ["", f"`{w}`, {tag}: what it compiled from Python, in order (CPU s, with the "
+                      "functions compiled inside):", ""]
+        lines += [f"- {r['inclusive']:.1f} `{r['function'].removeprefix('cgadyn.')}`"
+                  for r in top]
+    return lines
+
+
+BREAKDOWN_TEXT = (
+    "numba's compile events (`validation/compile_breakdown.py`) in a fresh cache: per kind of "
+    "compiled function, the specialisations compiled and the CPU seconds of the process spent "
+    "compiling them (exclusive of the functions compiled inside them). CPU time still grows "
+    "with the load of the machine (the same core has taken 2.5 times the CPU seconds in one "
+    "run as in another at the same time): compare the kinds within a column, and the counts "
+    "across columns.")
+
+
+def tabulate_records(records: list[str]) -> int:
+    """``--records``: the breakdown section alone, from runs recorded before."""
+    found: dict[str, dict[str, dict]] = {}
+    for record in records:
+        label, workload_file = record.split("=", 1)
+        workload, _, path = workload_file.partition(":")
+        lines = [json.loads(x) for x in Path(path).read_text().splitlines() if x.strip()]
+        data = lines[-1] if "workload" in lines[-1] else {  # a run stopped before its end
+            "workload": workload, "records": lines, "unfinished": True,
+            "cpu": sum(r["exclusive"] for r in lines)}  # its compilations only
+        found.setdefault(label + (" (unfinished)" if data.get("unfinished") else ""),
+                         {})[workload] = data
+    machine = f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores"
+    when = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+    lines = ["# First runs: where the cold compilation goes", "",
+             "Generated by `python validation/startup.py "
+             + " ".join(f"--records '{r.partition('=')[0]}=...'" for r in records)
+             + f"` on {when}, {machine}, from `compile_breakdown.py` runs each in fresh "
+             "cache directories, old and new run at the same time (other jobs were running). "
+             + BREAKDOWN_TEXT, "", *breakdown_table(found), ""]
+    OUT.mkdir(exist_ok=True)
+    (OUT / "startup.md").write_text("\n".join(lines))
+    (OUT / "startup.json").write_text(json.dumps({"machine": machine, "date": when,
+                                                  "breakdown": found}, indent=1) + "\n")
+    print("\n".join(lines))
+    return 0
+
+
 def table(results: dict[str, list[dict]]) -> list[str]:
     keys = list(next(iter(results.values()))[0])
     tags = list(results)
@@ -145,11 +242,19 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--baseline", help="a git revision to measure in the same run")
     parser.add_argument("--validate", action="store_true", help="also a cold cgadyn validate")
+    parser.add_argument("--breakdown", action="store_true",
+                        help="also where a cold aba and a cold validate spend compiling")
     parser.add_argument("--repeats", type=int, default=1)
     parser.add_argument("--variant", action="append", default=[], metavar="NAME=VALUE",
                         help="also this checkout with an environment variable set "
                              "(e.g. CGADYN_INLINE=llvm); may be repeated")
+    parser.add_argument("--records", action="append", default=[],
+                        metavar="LABEL=WORKLOAD:FILE",
+                        help="only tabulate the output of a compile_breakdown.py run made "
+                             "before (in a fresh cache), under LABEL; may be repeated")
     args = parser.parse_args()
+    if args.records:
+        return tabulate_records(args.records)
     head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
                           capture_output=True, text=True).stdout.strip()
     with tempfile.TemporaryDirectory(prefix="cgadyn-startup-") as t:
@@ -168,6 +273,14 @@ def main() -> int:
                 row = measure(src, tmp, f"{r}-{i}", args.validate)
                 print(tag, json.dumps(row), flush=True)
                 results[tag].append(row)
+        found: dict[str, dict[str, dict]] = {tag: {} for tag in trees}
+        if args.breakdown:
+            for workload in ("aba", "validate"):
+                for i, (tag, (src, extra)) in enumerate(trees.items()):
+                    EXTRA.clear()
+                    EXTRA.update(extra)
+                    found[tag][workload] = breakdown(src, tmp, str(i), workload)
+                    print(tag, workload, round(found[tag][workload]["cpu"], 1), flush=True)
     machine = f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores"
     when = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     lines = ["# First runs: cold and warm", "",
@@ -179,10 +292,14 @@ def main() -> int:
              f"{machine} (medians of {args.repeats}; other jobs may have been running). "
              "Seconds; each column in its own fresh cache directories.", "", *table(results),
              ""]
+    if args.breakdown:
+        lines += ["## Where the cold compilation goes", "", BREAKDOWN_TEXT, "",
+                  *breakdown_table(found), ""]
     OUT.mkdir(exist_ok=True)
     (OUT / "startup.md").write_text("\n".join(lines))
     (OUT / "startup.json").write_text(json.dumps({"machine": machine, "date": when,
-                                                  "results": results}, indent=1) + "\n")
+                                                  "results": results, "breakdown": found},
+                                                 indent=1) + "\n")
     print("\n".join(lines))
     return 0
 

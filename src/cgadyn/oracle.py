@@ -67,6 +67,7 @@ def pinocchio_of(model):
     (``mujoco_oracle``)."""
     import pinocchio as pin
 
+    from .cga.conventions import motion_from_twist
     from .multibody.joints import TYPES
 
     pm = pin.Model()
@@ -76,7 +77,11 @@ def pinocchio_of(model):
         record = TYPES[int(model.joint_types[j])]
         kind = getattr(pin, record.pinocchio[-1])
         try:
-            joint = kind(model.axis_vectors[j]) if record.axis is not None else kind()
+            if record.axis == "helical":
+                motion = motion_from_twist(model.axes[j])
+                joint = kind(model.axis_vectors[j], float(motion[:3] @ motion[3:]))
+            else:
+                joint = kind(model.axis_vectors[j]) if record.axis is not None else kind()
         except TypeError:  # RevoluteUnboundedUnaligned takes no axis in Python: about z,
             joint = getattr(pin, record.pinocchio[-2])()  # in a frame turned onto the axis
             turn[j] = pin.SE3(pin.Quaternion.FromTwoVectors(

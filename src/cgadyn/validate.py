@@ -141,6 +141,19 @@ def constrained_row(robot, model, pm, states, limit: np.ndarray) -> tuple[str, d
         return label, _failed(exc, undefined=not np.all(np.isfinite(ref)))
 
 
+def _one_by_one(mine, model, states, leaves) -> np.ndarray:
+    """``mine`` (a check's cgadyn side) on each sample as a batch of one, stacked: a batch of
+    one runs through the algorithm's one-sample entry, so that a cold ``validate`` compiles
+    each core with its small C entry and not with a parallel batch entry as well (nor the
+    lane groups of the derivatives and M⁻¹: ``validation/results/startup.md``). The
+    numbers are the cores' own, which the batches repeat to rounding
+    (``tests/test_dynamics.py``, ``tests/test_derivatives.py``)."""
+    return np.concatenate([
+        mine(model, oracle.States(*(x[i:i + 1] for x in (states.q, states.v, states.a,
+                                                           states.tau))), leaves)
+        for i in range(states.q.shape[0])])
+
+
 def _row(mine: np.ndarray, reference: np.ndarray, limit: np.ndarray) -> dict:
     samples = reference.shape[0]
     diff = np.abs(np.asarray(mine) - reference).reshape(samples, -1)
@@ -188,7 +201,8 @@ def validate_robot(robot, samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SE
     frames = oracle._frames(pm, leaves)
     data = pm.createData()
     qp = oracle.pin_configuration(model, states.q)
-    cond = oracle.conditioning(model, states.q)
+    cond = np.concatenate([oracle.conditioning(model, states.q[i:i + 1])
+                           for i in range(samples)])
     rows = {}
     for check in oracle.CHECKS:
         limit = tolerance * (cond if check.scaled else np.ones(samples))
@@ -199,7 +213,7 @@ def validate_robot(robot, samples: int = DEFAULT_SAMPLES, seed: int = DEFAULT_SE
             ref = np.stack([check.theirs(pm, data, qp[i], states, i, frames)
                             for i in range(samples)])
         try:
-            rows[check.key] = _row(check.mine(model, states, leaves), ref, limit)
+            rows[check.key] = _row(_one_by_one(check.mine, model, states, leaves), ref, limit)
         except ValueError as exc:  # reported in the table with its reason, not hidden
             rows[check.key] = _failed(exc, undefined=not np.all(np.isfinite(ref)))
     constrained = constrained_row(robot, model, pm, states, tolerance * cond)

@@ -58,18 +58,19 @@ def _coordinate(model, name: str, k: int) -> str:
 def _quaternion(model, arrays: dict, joint: int, sample) -> ValueError:
     """The first configuration among ``arrays`` whose quaternion of ``joint`` is off."""
     record = TYPES[int(model.joint_types[joint])]
-    o = record.quaternion
+    o, n = record.quaternion, record.unit_length
     i = int(model.idx_q[joint]) + o
     for name, q in arrays.items():
         x = q[sample] if sample is not None else q
-        norm = float(np.linalg.norm(x[i:i + 4])) if name.startswith("q") else 1.0
+        norm = float(np.linalg.norm(x[i:i + n])) if name.startswith("q") else 1.0
         if not abs(norm - 1.0) <= QUATERNION_TOLERANCE:
             break
-    where = f"{name}[{sample}, {i}:{i + 4}]" if sample is not None else f"{name}[{i}:{i + 4}]"
-    return ValueError(f"{where}, the quaternion ({', '.join(record.q_names[o:o + 4])}) of "
+    where = f"{name}[{sample}, {i}:{i + n}]" if sample is not None else f"{name}[{i}:{i + n}]"
+    what = "quaternion" if n == 4 else "unit vector"
+    return ValueError(f"{where}, the {what} ({', '.join(record.q_names[o:o + n])}) of "
                       f"{record.label} joint "
                       f"{model.joint_names[joint]!r}, has norm {norm:.6g}; expected a unit "
-                      f"quaternion (cgadyn.normalize(model, q) normalises q)")
+                      f"{what} (cgadyn.normalize(model, q) normalises q)")
 
 
 def _subtree(model, joint: int) -> str:

@@ -77,10 +77,12 @@ def force_from_wrench(wrench) -> np.ndarray:
     return motion_from_twist(wrench)
 
 
-def twist_from_axis(kind: str, axis) -> np.ndarray:
+def twist_from_axis(kind: str, axis, pitch: float = 0.0) -> np.ndarray:
     """Unit screw axis ``B`` of a joint whose axis passes through the frame origin.
 
-    ``kind`` is ``'revolute'`` (or ``'continuous'``: a line) or ``'prismatic'`` (a direction).
+    ``kind`` is ``'revolute'`` (or ``'continuous'``: a line), ``'prismatic'`` (a direction)
+    or ``'helical'`` (the screw ``L + pitch d`` of the line L and its direction d: the
+    motion ``[pitch a, a]``).
     """
     a = _vec(axis, 3, "joint axis")
     n = float(np.linalg.norm(a))
@@ -91,7 +93,10 @@ def twist_from_axis(kind: str, axis) -> np.ndarray:
         return twist_from_motion(np.concatenate([np.zeros(3), a]))
     if kind == "prismatic":
         return twist_from_motion(np.concatenate([a, np.zeros(3)]))
-    raise ValueError(f"unknown joint kind {kind!r}; expected revolute, continuous or prismatic")
+    if kind == "helical":
+        return twist_from_motion(np.concatenate([float(pitch) * a, a]))
+    raise ValueError(f"unknown joint kind {kind!r}; expected revolute, continuous, prismatic "
+                     f"or helical")
 
 
 # --- motors --------------------------------------------------------------------------------

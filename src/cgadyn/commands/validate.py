@@ -31,7 +31,8 @@ def add_parser(sub) -> None:
         "validate", help="compare every algorithm with Pinocchio (the paper's Table 1)",
         description="Run every algorithm (dynamics, Jacobians, kinematics, derivatives, "
         "centroidal quantities, the configuration manifold) on random states in cgadyn "
-        "(batched) and Pinocchio and print the relative errors. q: joints uniform within "
+        "(one sample at a time; the tests check that batches repeat it) and Pinocchio and "
+        "print the relative errors. q: joints uniform within "
         "their limits, a free-flyer base in the unit box with a uniformly random rotation; "
         "v, a, tau standard normal. Exit status 1 if a check fails.")
     p.add_argument("robot", nargs="?", metavar="ROBOT",
@@ -79,7 +80,7 @@ def format_result(result: dict) -> str:
         f"cgadyn validate: {result['robot']}, {result['base']} base, nq {result['nq']}, nv "
         f"{result['nv']}, {result['samples']} samples, seed {result['seed']} | cgadyn "
         f"{v['cgadyn']}, pinocchio {v['pinocchio']}, numpy {v['numpy']}, numba {v['numba']}",
-        f"cgadyn (batched) against Pinocchio"
+        f"cgadyn (one sample at a time) against Pinocchio"
         f"{' and MuJoCo' if any(k in result['checks'] for k in mujoco_oracle.CHECKS) else ''}"
         f"; the paper's Table 1 used 1000 samples",
         f"{result['relative_error']}; tolerance {result['tolerance']:.0e}",

@@ -1,10 +1,17 @@
-"""Contact, its first step: collision shapes as CGA objects, on links, and their signed
-distances (docs/contact.md). No contact forces yet."""
+"""Contact: collision shapes as CGA objects, on links, their signed distances, the ground
+and the contact points with it, the frictional contact problem with its solvers, ADMM and
+PGS, and the velocity-level step that joins them (docs/contact.md)."""
 
 from .api import shape_distance
 from .model import Collision, CollisionModel, collision_distances, collision_model, collision_poses
+from .problem import contact_problem
 from .shapes import Box, Capsule, ConvexMesh, Cylinder, MeshSimplified, Plane, Shape, Sphere
+from .solve import ContactSolveInfo, solve_contacts
+from .step import ContactStep, contact_step
+from .world import Contacts, World, ground_contacts
 
-__all__ = ["Box", "Capsule", "Collision", "CollisionModel", "ConvexMesh", "Cylinder",
-           "MeshSimplified", "Plane", "Shape", "Sphere", "collision_distances",
-           "collision_model", "collision_poses", "shape_distance"]
+__all__ = ["Box", "Capsule", "Collision", "CollisionModel", "ContactSolveInfo", "ContactStep",
+           "Contacts", "ConvexMesh", "Cylinder", "MeshSimplified", "Plane", "Shape", "Sphere",
+           "World", "collision_distances", "collision_model", "collision_poses",
+           "contact_problem", "contact_step", "ground_contacts", "shape_distance",
+           "solve_contacts"]

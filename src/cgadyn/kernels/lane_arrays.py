@@ -209,6 +209,33 @@ def _neg(x):
     return None
 
 
+@intrinsic
+def _select_nonnegative(typingctx, x, a, b):
+    def codegen(context, builder, signature, args):
+        zero = ir.Constant(args[0].type, None)  # every lane 0.0
+        return builder.select(builder.fcmp_ordered(">=", args[0], zero), args[1], args[2])
+
+    return x(x, x, x), codegen
+
+
+def select_nonnegative(x, a, b):
+    """``a`` where ``x >= 0``, else ``b``: of numbers, or lane by lane of ``Lanes`` (one
+    vector select, where a number's branch would split the lanes). For a kernel that picks
+    between two formulas, each exact on its half of the domain (the planar joint's half
+    angle, ``joints.planar``)."""
+    out = np.where(np.asarray(x) >= 0.0, a, b)
+    return out if out.ndim else float(out)
+
+
+@overload(select_nonnegative)
+def _select(x, a, b):
+    if isinstance(x, Lanes):
+        return lambda x, a, b: _select_nonnegative(x, a, b)
+    if isinstance(x, types.Float):
+        return lambda x, a, b: a if x >= 0.0 else b
+    return None
+
+
 if numba.config.DISABLE_JIT:  # pure Python: numpy does the arithmetic of W numbers
 
     class _PyLaneArray:

@@ -6,10 +6,13 @@
 
 from cgadyn.multibody.joints import (
     FREE_FLYER,
+    HELICAL,
+    PLANAR,
     PRISMATIC,
     REVOLUTE,
     REVOLUTE_UNBOUNDED,
     SPHERICAL,
+    TRANSLATION,
 )
 from cgadyn.multibody.model import Model, build_model, merge_inertias
 from cgadyn.multibody.registry import load, robot_path, robots
@@ -17,11 +20,14 @@ from cgadyn.multibody.urdf import load_urdf
 
 __all__ = [
     "FREE_FLYER",
+    "HELICAL",
     "Model",
+    "PLANAR",
     "PRISMATIC",
     "REVOLUTE",
     "REVOLUTE_UNBOUNDED",
     "SPHERICAL",
+    "TRANSLATION",
     "build_model",
     "load",
     "load_urdf",

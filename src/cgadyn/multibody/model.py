@@ -345,11 +345,23 @@ class Model:
     def _check_axes(self):
         """Joint axes pass through the joint frame's origin (URDF's convention): a revolute
         axis is a line with no moment part, a prismatic one a direction (the record's
-        ``axis``). The recursions rely on it (``kernels.motors.joint_frame_motor``)."""
+        ``axis``), a helical one a line plus its pitch times its own direction (``[h a, a]``,
+        checked by ``v × ω = 0``). The recursions rely on it
+        (``kernels.motors.joint_frame_motor``)."""
+        from cgadyn.cga.conventions import motion_from_twist
+
         axis = [TYPES[int(t)].axis for t in self.joint_types]
         direction = np.array([a == "prismatic" for a in axis], dtype=bool)
         stray = np.where(direction[:, None], self.axes[:, :3], self.axes[:, 3:])
         stray[[a is None for a in axis]] = 0.0
+        for j in np.flatnonzero([a == "helical" for a in axis]):
+            motion = motion_from_twist(self.axes[j])
+            off = np.cross(motion[:3], motion[3:])
+            if np.any(np.abs(off) > 1e-12 * max(1.0, float(np.abs(motion).max()))):
+                raise ValueError(f"Model.axes[{j}] (joint {self.joint_names[j]!r}, helical) = "
+                                 f"{self.axes[j].tolist()}: expected a screw [h a, a] along "
+                                 f"its own axis a through the joint frame's origin")
+            stray[j] = 0.0
         for j in np.flatnonzero(np.any(stray != 0.0, axis=1)):
             kind, used, unused = ((axis[j], "3:", ":3") if direction[j] else
                                   (axis[j], ":3", "3:"))
@@ -584,6 +596,7 @@ def build_model(
     damping=None,
     stiffness=None,
     spring_reference=None,
+    pitch=None,
 ) -> Model:
     """Build a :class:`Model` from raw physical data; computes the CGA fields.
 
@@ -592,7 +605,8 @@ def build_model(
     a zero axis raises ``ValueError``); ``body_*`` the merged bodies in the joint frames.
     Links default to one per joint (named after the joint) plus the root link.
     ``armature``, ``damping``, ``stiffness`` (nv,) and ``spring_reference`` (nq,) default
-    to zero and the neutral configuration (``Model``).
+    to zero and the neutral configuration (``Model``). ``pitch`` (n,), default zero: the
+    pitch of each helical joint (length per radian; read only for those).
     """
     from cgadyn.cga.conventions import (
         inertia_from_parameters,
@@ -640,8 +654,12 @@ def build_model(
     link_placement_matrices = np.asarray(link_placement_matrices, dtype=float).reshape(nl, 4, 4)
 
     placements = np.array([motor_from_matrix(T) for T in placement_matrices]).reshape(n, 8)
-    axes = np.array([np.zeros(6) if r.axis is None else twist_from_axis(r.axis, a)
-                     for r, a in zip(records, axis_vectors, strict=True)]).reshape(n, 6)
+    pitch = np.zeros(n) if pitch is None else np.asarray(pitch, dtype=float).reshape(n)
+    if not np.all(np.isfinite(pitch)):
+        raise ValueError(f"pitch must be finite numbers (n,), got {pitch.tolist()}")
+    axes = np.array([np.zeros(6) if r.axis is None else twist_from_axis(r.axis, a, h)
+                     for r, a, h in zip(records, axis_vectors, pitch, strict=True)]
+                    ).reshape(n, 6)
     inertias = np.array([inertia_from_parameters(m, c, i, check_inertia)
                          for m, c, i in zip(body_mass, body_com, body_rot, strict=True)]
                          ).reshape(n, 6, 6)

@@ -7,7 +7,8 @@ places every body. ``from_mujoco`` reads what it compiled, whole:
 - **Joints**, with MuJoCo's names and order (so that q is MuJoCo's qpos and v its qvel,
   except for a free joint's layout, below): ``hinge`` becomes a revolute joint (an
   unbounded one when the joint is not limited), ``slide`` a prismatic joint, ``free`` the
-  free flyer (the first joint, of a top-level body), ``ball`` a spherical joint about its
+  free flyer (of a top-level body: the root of its own tree; a model may float several
+  bodies, a robot and the objects it handles), ``ball`` a spherical joint about its
   anchor ``jnt_pos`` (qpos ``[qw, qx, qy, qz]``, cgadyn's ``[qx, qy, qz, qw]``; qvel the
   angular velocity in the body frame, as cgadyn's). A ball joint's cone limit (``range``)
   is not kept: cgadyn's model has no cone constraint (its quaternion's limits are [-1, 1]).
@@ -110,11 +111,10 @@ def _check_model(mj, where: str) -> None:
             raise ValueError(f"{where}: ball joint {name!r} has the reference qpos0 "
                              f"{mj.qpos0[mj.jnt_qposadr[j]:mj.jnt_qposadr[j] + 4].tolist()}; "
                              f"cgadyn's spherical joint expects the identity [1, 0, 0, 0]")
-        if kind == "free" and (j != 0 or mj.body_parentid[body] != 0):
-            raise ValueError(f"{where}: joint {name!r} is a free joint that is not the "
-                             f"first joint of the model (or not in a top-level body); cgadyn "
-                             f"supports one floating base, the first joint, so models with "
-                             f"several free bodies are not supported yet")
+        if kind == "free" and mj.body_parentid[body] != 0:
+            raise ValueError(f"{where}: joint {name!r} is a free joint of a body that is "
+                             f"not a child of the world; cgadyn's free joints float "
+                             f"top-level bodies only (each the root of its own tree)")
         if kind == "free" and np.any(mj.jnt_pos[j] != 0.0):
             raise ValueError(f"{where}: free joint {name!r} has pos "
                              f"{mj.jnt_pos[j].tolist()}; expected the body's origin (0 0 0)")
@@ -148,9 +148,9 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
     """The cgadyn :class:`Model` of a compiled MuJoCo model (``mujoco.MjModel``), as the
     module's docstring describes. ``name`` defaults to the model's (``<mujoco model>``).
 
-    Raises ``ValueError`` naming a free joint that is not the first joint of a top-level
-    body, a ball joint whose ``qpos0`` is not the identity, or (with ``check_inertia``) a
-    body whose inertia is not physical; warns of a gravity other than cgadyn's default
+    Raises ``ValueError`` naming a free joint of a body that is not a top-level one, a ball
+    joint whose ``qpos0`` is not the identity, or (with ``check_inertia``) a body whose
+    inertia is not physical; warns of a gravity other than cgadyn's default
     (calls take ``gravity=``).
     """
     try:

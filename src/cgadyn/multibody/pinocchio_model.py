@@ -11,9 +11,15 @@ The joint types converted (``SUPPORTED``): revolute about any axis (``JointModel
 ``RY``, ``RZ``, ``RevoluteUnaligned``), unbounded revolute (``RUBX``, ``RUBY``, ``RUBZ``,
 ``RevoluteUnboundedUnaligned``), prismatic (``PX``, ``PY``, ``PZ``,
 ``PrismaticUnaligned``), spherical (``Spherical``, anywhere in the tree: q its quaternion
-``(x, y, z, w)`` as Pinocchio's) and a free flyer (``FreeFlyer``) as the root joint. Any
-other joint (planar, translation, helical, universal, composite, mimic, ...) is refused by
-name.
+``(x, y, z, w)`` as Pinocchio's), planar (``Planar``: q ``(x, y, cos θ, sin θ)``),
+translation (``Translation``), helical (``HX``, ``HY``, ``HZ``, ``HelicalUnaligned``, with
+their pitch) and free flyers (``FreeFlyer``), each the root of a tree (a child of the
+universe: a robot's floating base, a free object beside it). A universal
+(``Universal``) or spherical ZYX (``SphericalZYX``) joint, whose motion subspace turns with
+q, becomes the chain of revolute joints it is (``CHAINS``): one per coordinate, through
+massless bodies, the last named after the joint and carrying its body, the others
+``<name>.axis1``, ``<name>.axis2``; q and v are Pinocchio's, the joints one or two more.
+Any other joint (composite, mimic, ...) is refused by name.
 
 Configurations: an unbounded revolute joint takes two numbers ``(cos θ, sin θ)`` in
 Pinocchio's q and one angle θ in cgadyn's, so for a model with such joints ``nq`` differs
@@ -35,22 +41,44 @@ SUPPORTED = {name: record.kind for name, record in PINOCCHIO.items()}
 """Pinocchio's joint types that cgadyn models, and the joint kind each becomes (each joint
 type's record, ``multibody.joints``, names its Pinocchio types)."""
 
+CHAINS = {"JointModelUniversal": 2, "JointModelSphericalZYX": 3}
+"""Pinocchio's joints whose motion subspace turns with q (``S(q)`` in the child frame, and
+a bias acceleration ``Ṡ(q) q̇``), with how many coordinates each has. Each is the chain of
+revolute joints it composes, ``M_J(q) = exp(q1 B1 / 2) exp(q2 B2 / 2) ...`` (eq. 6: the
+universal joint's two axes, the Z, Y, X axes of the ZYX Euler angles), and converts to that
+chain: one revolute joint per coordinate, through massless bodies, the axes the columns of
+``S`` at q = 0. Its q and v are Pinocchio's (both joints' v is q̇, their configuration
+space a vector space); the chain's velocity-product terms are the joint's bias ``Ṡ q̇``."""
+
 _SUPPORTED_TEXT = ", ".join(
-    f"{r.label} ({', '.join(r.pinocchio)}){' as the root joint' if r.floating else ''}"
-    for r in TYPES)
+    f"{r.label} ({', '.join(r.pinocchio)}){' as the root of a tree' if r.floating else ''}"
+    for r in TYPES) + ", and as chains of revolute joints " + ", ".join(CHAINS)
 
 _HUGE = 1e300  # Pinocchio's "no limit" is ±DBL_MAX
 
 
-def _axis(joint, axis: str, q0: np.ndarray) -> np.ndarray:
-    """The unit axis of a one-dof joint in its joint frame: the angular (revolute) or linear
-    (prismatic) part of its motion subspace ``S``, as Pinocchio computes it (the Python
-    bindings do not expose every joint's axis, ``RevoluteUnboundedUnaligned``'s among
-    them). ``q0``: any configuration of the model."""
+def _subspace(joint, q0: np.ndarray, c: int = 0) -> np.ndarray:
+    """Column c of a joint's motion subspace ``S = [linear, angular]`` (6,) at ``q0``, as
+    Pinocchio computes it (the Python bindings do not expose every joint's axis,
+    ``RevoluteUnboundedUnaligned``'s among them). ``q0``: the model's neutral
+    configuration (where a joint of ``CHAINS`` has its chain's axes as columns)."""
     data = joint.createData()
     joint.calc(data, q0)
-    S = np.asarray(data.S, dtype=float).reshape(6)  # [linear, angular]
+    return np.asarray(data.S, dtype=float).reshape(6, -1)[:, c]
+
+
+def _axis(joint, axis: str, q0: np.ndarray, c: int = 0) -> np.ndarray:
+    """The unit axis of a one-dof joint (or of coordinate c of a joint of ``CHAINS``) in its
+    joint frame: the angular (revolute, helical) or linear (prismatic) part of its motion
+    subspace ``S``."""
+    S = _subspace(joint, q0, c)
     return S[:3].copy() if axis == "prismatic" else S[3:].copy()
+
+
+def _pitch(joint, q0: np.ndarray) -> float:
+    """A helical joint's pitch h, from its ``S = [h a, a]``."""
+    S = _subspace(joint, q0)
+    return float(S[:3] @ S[3:] / (S[3:] @ S[3:]))
 
 
 _UNIT = 1e-12
@@ -80,21 +108,26 @@ def _unbounded(values) -> np.ndarray:
     return out
 
 
-def _kinds(pm) -> list[str]:
-    """The cgadyn joint kind of every joint of ``pm`` (universe excluded), or a
-    ``ValueError`` naming the first joint that cgadyn cannot model."""
+def _kinds(pm) -> list[tuple[int, str, int, int]]:
+    """``(Pinocchio's joint index, cgadyn joint kind, c, count)`` of every cgadyn joint: one
+    per joint of ``pm`` (universe excluded), or ``count`` revolute joints ``c = 0, 1, ...``
+    for a joint of ``CHAINS``; a ``ValueError`` names the first joint that cgadyn cannot
+    model."""
     kinds = []
     for i in range(1, pm.njoints):
         shortname = pm.joints[i].shortname()
+        if shortname in CHAINS:
+            kinds += [(i, "revolute", c, CHAINS[shortname]) for c in range(CHAINS[shortname])]
+            continue
         kind = SUPPORTED.get(shortname)
         if kind is None:
             raise ValueError(f"joint {pm.names[i]!r} is a {shortname}, which cgadyn does not "
                              f"support; supported joints: {_SUPPORTED_TEXT}")
-        if of_kind(kind).floating and (i != 1 or pm.parents[i] != 0):
-            raise ValueError(f"joint {pm.names[i]!r} is a {shortname} that is not the "
-                             f"root joint; cgadyn supports a {of_kind(kind).label} joint only "
-                             f"as the first joint, child of the universe")
-        kinds.append(kind)
+        if of_kind(kind).floating and pm.parents[i] != 0:
+            raise ValueError(f"joint {pm.names[i]!r} is a {shortname} whose parent is not "
+                             f"the universe; cgadyn supports a {of_kind(kind).label} joint "
+                             f"only as the root of a tree (a child of the universe)")
+        kinds.append((i, kind, 0, 1))
     return kinds
 
 
@@ -129,19 +162,20 @@ def _check_inertia(joint: str, mass: float, rotational) -> None:
                          f"check_inertia=False to accept it, as Pinocchio does)")
 
 
-def _links(pm):
+def _links(pm, last: dict[int, int]):
     """``(names, joint, placements, root)`` of the links: Pinocchio's ``BODY`` frames, each
-    in the frame of its parent joint (``-1``: the world); ``None`` when there is none."""
+    in the frame of its parent joint (``-1``: the world; ``last``: the cgadyn joint of each
+    Pinocchio joint, the last of a chain's); ``None`` when there is none."""
     import pinocchio as pin
 
     bodies = [f for f in pm.frames if f.type == pin.FrameType.BODY]
     if not bodies:
         return None
     names = [f.name for f in bodies]
-    joint = [int(f.parentJoint) - 1 for f in bodies]
+    joint = [last.get(int(f.parentJoint), -1) for f in bodies]
     placements = np.array([f.placement.homogeneous for f in bodies]).reshape(-1, 4, 4)
-    root_joint = 0 if pm.njoints > 1 and PINOCCHIO[pm.joints[1].shortname()].floating \
-        else -1
+    first = PINOCCHIO.get(pm.joints[1].shortname()) if pm.njoints > 1 else None
+    root_joint = 0 if first is not None and first.floating else -1
     root = next((f.name for f, j in zip(bodies, joint, strict=True) if j == root_joint),
                 "universe")
     return names, joint, placements, root
@@ -163,7 +197,7 @@ def from_pinocchio(pin_model, name: str | None = None, check_inertia: bool = Tru
     (``Model.armature``, ``Model.damping``).
 
     Raises ``ValueError`` naming a joint that cgadyn does not support (its name, its
-    Pinocchio type and what is supported), a free flyer that is not the root joint, joints
+    Pinocchio type and what is supported), a free flyer whose parent is not the universe, joints
     not in depth-first order, a negative armature or damping, a gravity other than
     cgadyn's default,
     and (with ``check_inertia``) a body whose inertia is not physically valid.
@@ -176,34 +210,46 @@ def from_pinocchio(pin_model, name: str | None = None, check_inertia: bool = Tru
         raise ValueError(f"from_pinocchio expects a pinocchio.Model, got "
                          f"{type(pin_model).__name__}")
     pm = pin_model
-    kinds = _kinds(pm)
+    pieces = _kinds(pm)
+    kinds = [kind for _, kind, _, _ in pieces]
     _check_dynamics(pm)
     n = len(kinds)
+    last = {i: j for j, (i, _, _, _) in enumerate(pieces)}  # a chain's last joint
+    names, parents, placements = [], [], np.zeros((n, 4, 4))
     lower, upper = _unbounded(pm.lowerPositionLimit), _unbounded(pm.upperPositionLimit)
     velocity, effort = _unbounded(pm.velocityLimit), _unbounded(pm.effortLimit)
     axes = np.zeros((n, 3))
+    pitch = np.zeros(n)
     q0 = pin.neutral(pm)
     q_lower, q_upper = [], []
     body_mass = np.zeros(n)
     body_com = np.zeros((n, 3))
     body_rot = np.zeros((n, 3, 3))
-    for j, kind in enumerate(kinds):
-        joint, i, record = pm.joints[j + 1], pm.idx_qs[j + 1], of_kind(kind)
+    for j, (k, kind, c, count) in enumerate(pieces):
+        joint, i, record = pm.joints[k], pm.idx_qs[k] + c, of_kind(kind)
+        nq = record.pinocchio_nq if count == 1 else 1
+        names.append(pm.names[k] if c == count - 1 else f"{pm.names[k]}.axis{c + 1}")
+        parents.append(j - 1 if c > 0 else last.get(int(pm.parents[k]), -1))
+        placements[j] = pm.jointPlacements[k].homogeneous if c == 0 else np.eye(4)
         if record.pinocchio_nq != record.nq:  # (cos, sin) in Pinocchio, one angle in cgadyn
             q_lower += [-np.inf] * record.nq
             q_upper += [np.inf] * record.nq
         else:
-            q_lower += lower[i:i + joint.nq].tolist()
-            q_upper += upper[i:i + joint.nq].tolist()
+            q_lower += lower[i:i + nq].tolist()
+            q_upper += upper[i:i + nq].tolist()
         if record.axis is not None:
-            axes[j] = _checked_axis(pm.names[j + 1], joint.shortname(), record.axis,
-                                    _axis(joint, record.axis, q0))
-        inertia = pm.inertias[j + 1]
+            axes[j] = _checked_axis(pm.names[k], joint.shortname(), record.axis,
+                                    _axis(joint, record.axis, q0, c))
+        if record.axis == "helical":
+            pitch[j] = _pitch(joint, q0)
+        if c < count - 1:
+            continue  # a massless body inside a chain
+        inertia = pm.inertias[k]
         body_mass[j], body_com[j], body_rot[j] = inertia.mass, inertia.lever, inertia.inertia
-        _check_finite(pm.names[j + 1], body_mass[j], body_com[j], body_rot[j])
+        _check_finite(pm.names[k], body_mass[j], body_com[j], body_rot[j])
         if check_inertia:
-            _check_inertia(pm.names[j + 1], body_mass[j], body_rot[j])
-    links = _links(pm)
+            _check_inertia(pm.names[k], body_mass[j], body_rot[j])
+    links = _links(pm, last)
     link_args = {} if links is None else dict(
         link_names=links[0], link_joint=links[1], link_placement_matrices=links[2],
         root_link=links[3])
@@ -212,11 +258,10 @@ def from_pinocchio(pin_model, name: str | None = None, check_inertia: bool = Tru
     try:
         model = build_model(
             name=pm.name if name is None else name,
-            joint_names=list(pm.names)[1:],
+            joint_names=names,
             joint_kinds=kinds,
-            parents=[int(p) - 1 for p in list(pm.parents)[1:]],
-            placement_matrices=np.array([pm.jointPlacements[j].homogeneous
-                                         for j in range(1, n + 1)]).reshape(n, 4, 4),
+            parents=parents,
+            placement_matrices=placements,
             axis_vectors=axes,
             body_mass=body_mass,
             body_com=body_com,
@@ -228,6 +273,7 @@ def from_pinocchio(pin_model, name: str | None = None, check_inertia: bool = Tru
             check_inertia=check_inertia,
             armature=np.asarray(pm.armature, dtype=float),
             damping=np.asarray(pm.damping, dtype=float),
+            pitch=pitch,
             **link_args,
         )
     except ValueError as exc:

@@ -29,18 +29,21 @@ def aba_derivatives_single(packed, q, v, tau, f, o0, o1, o2):
 
 @native(SIGNATURE)
 def aba_derivatives_native(pk, x, f, nf, o, options):
-    """``aba_derivatives_single`` on raw pointers, for ``cgadyn._native``."""
-    packed = packed_array(pk)
-    m = unpack(packed)
-    return aba_derivatives_single(
-        packed,
-        carray(x[0], (m.nq,)),
-        carray(x[1], (m.nv,)),
-        carray(x[2], (m.nv,)),
-        carray(f, (nf, 6)),
-        carray(o[0], (m.nv, m.nv)),
-        carray(o[1], (m.nv, m.nv)),
-        carray(o[2], (m.nv, m.nv)))
+    """``aba_derivatives_single`` on raw pointers, for ``cgadyn._native``: its body written
+    out, so that a first call compiles ``aba_derivatives_core`` into this C function only, not
+    into ``aba_derivatives_single`` as well."""
+    m = unpack(packed_array(pk))
+    q = carray(x[0], (m.nq,))
+    v = carray(x[1], (m.nv,))
+    tau = carray(x[2], (m.nv,))
+    wrenches = carray(f, (nf, 6))
+    o0 = carray(o[0], (m.nv, m.nv))
+    o1 = carray(o[1], (m.nv, m.nv))
+    o2 = carray(o[2], (m.nv, m.nv))
+    size = workspace_size(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return aba_derivatives_core(m, q, v, tau, wrenches, o0, o1, o2, stack_buffer(size))
+    return aba_derivatives_core(m, q, v, tau, wrenches, o0, o1, o2, np.empty(size))
 
 
 @parallel

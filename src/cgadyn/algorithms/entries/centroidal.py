@@ -27,14 +27,17 @@ def centroidal_single(packed, q, o0, o1):
 
 @native(SIGNATURE)
 def centroidal_native(pk, x, f, nf, o, options):
-    """``centroidal_single`` on raw pointers, for ``cgadyn._native``."""
-    packed = packed_array(pk)
-    m = unpack(packed)
-    return centroidal_single(
-        packed,
-        carray(x[0], (m.nq,)),
-        carray(o[0], (6, m.nv)),
-        carray(o[1], (3,)))
+    """``centroidal_single`` on raw pointers, for ``cgadyn._native``: its body written
+    out, so that a first call compiles ``centroidal_core`` into this C function only, not
+    into ``centroidal_single`` as well."""
+    m = unpack(packed_array(pk))
+    q = carray(x[0], (m.nq,))
+    o0 = carray(o[0], (6, m.nv))
+    o1 = carray(o[1], (3,))
+    size = workspace_size(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return centroidal_core(m, q, o0, o1, stack_buffer(size))
+    return centroidal_core(m, q, o0, o1, np.empty(size))
 
 
 @parallel

@@ -27,15 +27,18 @@ def com_single(packed, q, v, a, o0):
 
 @native(SIGNATURE)
 def com_native(pk, x, f, nf, o, options):
-    """``com_single`` on raw pointers, for ``cgadyn._native``."""
-    packed = packed_array(pk)
-    m = unpack(packed)
-    return com_single(
-        packed,
-        carray(x[0], (m.nq,)),
-        carray(x[1], (m.nv,)),
-        carray(x[2], (m.nv,)),
-        carray(o[0], (3, 3)))
+    """``com_single`` on raw pointers, for ``cgadyn._native``: its body written
+    out, so that a first call compiles ``com_core`` into this C function only, not
+    into ``com_single`` as well."""
+    m = unpack(packed_array(pk))
+    q = carray(x[0], (m.nq,))
+    v = carray(x[1], (m.nv,))
+    a = carray(x[2], (m.nv,))
+    o0 = carray(o[0], (3, 3))
+    size = workspace_size(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return com_core(m, q, v, a, o0, stack_buffer(size))
+    return com_core(m, q, v, a, o0, np.empty(size))
 
 
 @parallel

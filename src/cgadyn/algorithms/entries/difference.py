@@ -27,14 +27,17 @@ def difference_single(packed, q0, q1, o0):
 
 @native(SIGNATURE)
 def difference_native(pk, x, f, nf, o, options):
-    """``difference_single`` on raw pointers, for ``cgadyn._native``."""
-    packed = packed_array(pk)
-    m = unpack(packed)
-    return difference_single(
-        packed,
-        carray(x[0], (m.nq,)),
-        carray(x[1], (m.nq,)),
-        carray(o[0], (m.nv,)))
+    """``difference_single`` on raw pointers, for ``cgadyn._native``: its body written
+    out, so that a first call compiles ``difference_core`` into this C function only, not
+    into ``difference_single`` as well."""
+    m = unpack(packed_array(pk))
+    q0 = carray(x[0], (m.nq,))
+    q1 = carray(x[1], (m.nq,))
+    o0 = carray(o[0], (m.nv,))
+    size = workspace_size(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return difference_core(m, q0, q1, o0, stack_buffer(size))
+    return difference_core(m, q0, q1, o0, np.empty(size))
 
 
 @parallel

@@ -27,14 +27,17 @@ def energy_single(packed, q, v, o0):
 
 @native(SIGNATURE)
 def energy_native(pk, x, f, nf, o, options):
-    """``energy_single`` on raw pointers, for ``cgadyn._native``."""
-    packed = packed_array(pk)
-    m = unpack(packed)
-    return energy_single(
-        packed,
-        carray(x[0], (m.nq,)),
-        carray(x[1], (m.nv,)),
-        carray(o[0], (2,)))
+    """``energy_single`` on raw pointers, for ``cgadyn._native``: its body written
+    out, so that a first call compiles ``energy_core`` into this C function only, not
+    into ``energy_single`` as well."""
+    m = unpack(packed_array(pk))
+    q = carray(x[0], (m.nq,))
+    v = carray(x[1], (m.nv,))
+    o0 = carray(o[0], (2,))
+    size = workspace_size(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return energy_core(m, q, v, o0, stack_buffer(size))
+    return energy_core(m, q, v, o0, np.empty(size))
 
 
 @parallel

@@ -27,14 +27,17 @@ def integrate_single(packed, q, v, o0):
 
 @native(SIGNATURE)
 def integrate_native(pk, x, f, nf, o, options):
-    """``integrate_single`` on raw pointers, for ``cgadyn._native``."""
-    packed = packed_array(pk)
-    m = unpack(packed)
-    return integrate_single(
-        packed,
-        carray(x[0], (m.nq,)),
-        carray(x[1], (m.nv,)),
-        carray(o[0], (m.nq,)))
+    """``integrate_single`` on raw pointers, for ``cgadyn._native``: its body written
+    out, so that a first call compiles ``integrate_core`` into this C function only, not
+    into ``integrate_single`` as well."""
+    m = unpack(packed_array(pk))
+    q = carray(x[0], (m.nq,))
+    v = carray(x[1], (m.nv,))
+    o0 = carray(o[0], (m.nq,))
+    size = workspace_size(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return integrate_core(m, q, v, o0, stack_buffer(size))
+    return integrate_core(m, q, v, o0, np.empty(size))
 
 
 @parallel

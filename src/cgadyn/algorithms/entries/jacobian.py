@@ -27,15 +27,18 @@ def jacobian_single(packed, q, o0, link, frame):
 
 @native(SIGNATURE)
 def jacobian_native(pk, x, f, nf, o, options):
-    """``jacobian_single`` on raw pointers, for ``cgadyn._native``."""
-    packed = packed_array(pk)
-    m = unpack(packed)
-    return jacobian_single(
-        packed,
-        carray(x[0], (m.nq,)),
-        carray(o[0], (6, m.nv)),
-        options[0],
-        options[1])
+    """``jacobian_single`` on raw pointers, for ``cgadyn._native``: its body written
+    out, so that a first call compiles ``jacobian_core`` into this C function only, not
+    into ``jacobian_single`` as well."""
+    m = unpack(packed_array(pk))
+    q = carray(x[0], (m.nq,))
+    o0 = carray(o[0], (6, m.nv))
+    link = options[0]
+    frame = options[1]
+    size = workspace_size(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return jacobian_core(m, q, o0, link, frame, stack_buffer(size))
+    return jacobian_core(m, q, o0, link, frame, np.empty(size))
 
 
 @parallel

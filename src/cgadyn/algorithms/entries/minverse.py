@@ -29,13 +29,16 @@ def minverse_single(packed, q, o0):
 
 @native(SIGNATURE)
 def minverse_native(pk, x, f, nf, o, options):
-    """``minverse_single`` on raw pointers, for ``cgadyn._native``."""
-    packed = packed_array(pk)
-    m = unpack(packed)
-    return minverse_single(
-        packed,
-        carray(x[0], (m.nq,)),
-        carray(o[0], (m.nv, m.nv)))
+    """``minverse_single`` on raw pointers, for ``cgadyn._native``: its body written
+    out, so that a first call compiles ``minverse_core`` into this C function only, not
+    into ``minverse_single`` as well."""
+    m = unpack(packed_array(pk))
+    q = carray(x[0], (m.nq,))
+    o0 = carray(o[0], (m.nv, m.nv))
+    size = workspace_size(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return minverse_core(m, q, o0, stack_buffer(size))
+    return minverse_core(m, q, o0, np.empty(size))
 
 
 @parallel

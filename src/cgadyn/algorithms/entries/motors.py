@@ -27,14 +27,17 @@ def motors_single(packed, q, o0, o1):
 
 @native(SIGNATURE)
 def motors_native(pk, x, f, nf, o, options):
-    """``motors_single`` on raw pointers, for ``cgadyn._native``."""
-    packed = packed_array(pk)
-    m = unpack(packed)
-    return motors_single(
-        packed,
-        carray(x[0], (m.nq,)),
-        carray(o[0], (m.n, 8)),
-        carray(o[1], (m.nl, 8)))
+    """``motors_single`` on raw pointers, for ``cgadyn._native``: its body written
+    out, so that a first call compiles ``motors_core`` into this C function only, not
+    into ``motors_single`` as well."""
+    m = unpack(packed_array(pk))
+    q = carray(x[0], (m.nq,))
+    o0 = carray(o[0], (m.n, 8))
+    o1 = carray(o[1], (m.nl, 8))
+    size = workspace_size(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return motors_core(m, q, o0, o1, stack_buffer(size))
+    return motors_core(m, q, o0, o1, np.empty(size))
 
 
 @parallel

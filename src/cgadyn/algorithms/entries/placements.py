@@ -27,13 +27,16 @@ def placements_single(packed, q, o0):
 
 @native(SIGNATURE)
 def placements_native(pk, x, f, nf, o, options):
-    """``placements_single`` on raw pointers, for ``cgadyn._native``."""
-    packed = packed_array(pk)
-    m = unpack(packed)
-    return placements_single(
-        packed,
-        carray(x[0], (m.nq,)),
-        carray(o[0], (m.nl, 4, 4)))
+    """``placements_single`` on raw pointers, for ``cgadyn._native``: its body written
+    out, so that a first call compiles ``placements_core`` into this C function only, not
+    into ``placements_single`` as well."""
+    m = unpack(packed_array(pk))
+    q = carray(x[0], (m.nq,))
+    o0 = carray(o[0], (m.nl, 4, 4))
+    size = workspace_size(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return placements_core(m, q, o0, stack_buffer(size))
+    return placements_core(m, q, o0, np.empty(size))
 
 
 @parallel

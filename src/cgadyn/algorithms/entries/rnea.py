@@ -27,16 +27,19 @@ def rnea_single(packed, q, v, a, f, o0):
 
 @native(SIGNATURE)
 def rnea_native(pk, x, f, nf, o, options):
-    """``rnea_single`` on raw pointers, for ``cgadyn._native``."""
-    packed = packed_array(pk)
-    m = unpack(packed)
-    return rnea_single(
-        packed,
-        carray(x[0], (m.nq,)),
-        carray(x[1], (m.nv,)),
-        carray(x[2], (m.nv,)),
-        carray(f, (nf, 6)),
-        carray(o[0], (m.nv,)))
+    """``rnea_single`` on raw pointers, for ``cgadyn._native``: its body written
+    out, so that a first call compiles ``rnea_core`` into this C function only, not
+    into ``rnea_single`` as well."""
+    m = unpack(packed_array(pk))
+    q = carray(x[0], (m.nq,))
+    v = carray(x[1], (m.nv,))
+    a = carray(x[2], (m.nv,))
+    wrenches = carray(f, (nf, 6))
+    o0 = carray(o[0], (m.nv,))
+    size = workspace_size(m.n, m.nq, m.nv, m.nl)
+    if size <= STACK_FLOATS:
+        return rnea_core(m, q, v, a, wrenches, o0, stack_buffer(size))
+    return rnea_core(m, q, v, a, wrenches, o0, np.empty(size))
 
 
 @parallel

@@ -3,7 +3,8 @@
 As in Featherstone's ``jcalc``, adding a joint type means adding a case here, and nowhere
 else but its tests and the converters (``docs/joints.md``). A joint type is
 
-- a file of its own (``revolute``, ``prismatic``, ``free_flyer``, ``spherical``): its
+- a file of its own (``revolute``, ``prismatic``, ``free_flyer``, ``spherical``,
+  ``planar``, ``translation``, ``helical``): its
   code, its compiled joint motor ``M_J(q)`` and manifold maps ⊕/⊖, and its record
   (``record.JointType``: sizes, motion subspace, limits, neutral and random configurations,
   quaternion, actuation, speeds, Pinocchio's and MuJoCo's layouts);
@@ -22,6 +23,10 @@ type                    nq_j  nv_j  M_J(q_j) and S_j
 ``SPHERICAL``           4     3     the rotor ``R(x, y, z, w)`` of ``q_j = (x, y, z, w)``;
                                     ``S_j`` the three unit rotation twists, so ``v_j`` is
                                     ``ω`` in the child's frame (the free flyer's rotation)
+``PLANAR``              4     3     ``T(x, y, 0) R_z(θ)`` of ``(x, y, cos θ, sin θ)``;
+                                    ``S_j`` the unit twists of vx, vy, ωz (SE(2))
+``TRANSLATION``         3     3     ``T(q)``; ``S_j`` the three unit translations
+``HELICAL``             1     1     ``exp(q B / 2)``, B the screw ``L + h d`` (pitch h)
 ======================  ====  ====  ====================================================
 """
 
@@ -41,6 +46,8 @@ from .dispatch import (
     unit_axes,
 )
 from .free_flyer import FREE_FLYER
+from .helical import HELICAL
+from .planar import PLANAR
 from .prismatic import PRISMATIC
 from .record import JointType
 from .revolute import REVOLUTE, REVOLUTE_UNBOUNDED
@@ -56,11 +63,13 @@ from .table import (
     TYPES,
     of_kind,
 )
+from .translation import TRANSLATION
 
 __all__ = [
-    "ACTUATED", "ADDITIVE", "FREE_FLYER", "JOINT_KINDS", "KIND_TYPE", "NQ", "NV", "PRISMATIC",
-    "QUATERNION_AT", "QUATERNION_TOLERANCE", "REVOLUTE", "REVOLUTE_UNBOUNDED", "SPEEDS",
-    "SPHERICAL", "TYPES", "TYPE_NAMES", "JointType", "free_root", "is_additive",
+    "ACTUATED", "ADDITIVE", "FREE_FLYER", "HELICAL", "JOINT_KINDS", "KIND_TYPE", "NQ", "NV",
+    "PLANAR", "PRISMATIC", "QUATERNION_AT", "QUATERNION_TOLERANCE", "REVOLUTE",
+    "REVOLUTE_UNBOUNDED", "SPEEDS", "SPHERICAL", "TRANSLATION", "TYPES", "TYPE_NAMES",
+    "JointType", "free_root", "is_additive",
     "joint_difference", "joint_integrate", "joint_motors", "joint_power", "joint_scalars",
     "joint_twist", "of_kind", "quaternion_error", "unit_axes",
 ]

@@ -2,7 +2,7 @@
 
 As in Featherstone's ``jcalc``, every function that depends on a joint's type switches on
 it here and calls the type's own code (``revolute``, ``prismatic``, ``free_flyer``,
-``spherical``); the
+``spherical``, ``planar``, ``translation``, ``helical``); the
 algorithms call these and nothing else about joints. A joint j moves its body relative to
 the body of its parent λ(j) by the motor (eqs. 5-6)
 
@@ -36,16 +36,22 @@ from .free_flyer import (
     quaternion_difference,
     quaternion_integrate,
 )
+from .helical import HELICAL, helical_motor
+from .planar import PLANAR, planar_difference, planar_integrate, planar_motor
 from .prismatic import PRISMATIC, prismatic_motor
 from .revolute import REVOLUTE_UNBOUNDED, revolute_motor
 from .spherical import SPHERICAL, spherical_motor
 from .table import NV, TYPES
+from .translation import TRANSLATION, translation_motor
 
 ADDITIVE = tuple(r.additive for r in TYPES)
 """Whether ``q ⊕ v = q + v`` coordinate by coordinate, by type (the records' column, a
 constant in compiled code)."""
 QUATERNION_AT = tuple(r.quaternion for r in TYPES)
 """The offset of a unit quaternion in a joint's configuration, -1 for none, by type."""
+UNIT_LENGTH = tuple(r.unit_length for r in TYPES)
+"""How many coordinates that unit block has (4 for a quaternion, 2 for ``(cos θ, sin θ)``),
+by type."""
 QUATERNION_TOLERANCE = 1e-3
 """A quaternion whose norm differs from 1 by more than this is refused; a smaller difference
 is normalised away (as after many steps of integration)."""
@@ -79,7 +85,7 @@ def joint_motors(m, q, c, s, tmp, out):
     ``Model``), so a revolute joint's motor is a rotor and a prismatic joint's a
     translator, and the product with ``X_j`` is the cheaper one each allows. Free flyers
     take a second loop: as a third branch of the first, their code more than doubles its
-    time.
+    time; so do the other types (a helical joint's screw, a planar, a translation joint).
     """
     for j in range(m.n):
         t = m.types[j]
@@ -96,6 +102,13 @@ def joint_motors(m, q, c, s, tmp, out):
             motor_mul(m.placements[j], tmp, out[j])
         elif t == SPHERICAL:
             spherical_motor(m.placements[j], q, m.iq[j], tmp, out[j])
+        elif t == HELICAL:
+            i = m.iq[j]
+            helical_motor(m.placements[j], m.S, m.iv[j], q[i], c[i], s[i], tmp, out[j])
+        elif t == PLANAR:
+            planar_motor(m.placements[j], q, m.iq[j], tmp, out[j])
+        elif t == TRANSLATION:
+            translation_motor(m.placements[j], q, m.iq[j], tmp, out[j])
 
 
 @inline
@@ -123,7 +136,8 @@ def joint_integrate(m, j, q, v, tmp, out):
     """``out_j = q_j ⊕ v_j``, moving joint j's configuration along its velocity for unit
     time: ``q + v`` for a one-dof joint; ``M exp(V / 2)`` for a free flyer (eq. 6), the
     body twist V applied in the body's frame (Pinocchio's ``integrate``), and ``R exp(V / 2)``
-    for a spherical joint, V its rotation. ``tmp``: (3, 8)."""
+    for a spherical joint, V its rotation, and ``M exp(V / 2)`` of SE(2) for a planar joint;
+    ``q + v`` coordinate by coordinate for an additive joint. ``tmp``: (3, 8)."""
     i, t = m.iq[j], m.types[j]
     if t == FREE_FLYER:
         joint_twist(m, j, v, tmp[2])  # V = S v, the body twist
@@ -131,8 +145,13 @@ def joint_integrate(m, j, q, v, tmp, out):
     elif t == SPHERICAL:
         joint_twist(m, j, v, tmp[2])  # V = S v, the rotation in the child's frame
         quaternion_integrate(q, i, 0, tmp, out)
+    elif t == PLANAR:
+        joint_twist(m, j, v, tmp[2])  # V = S v, the planar twist in the child's frame
+        planar_integrate(q, i, tmp, out)
     else:
-        out[i] = q[i] + v[m.iv[j]]
+        k = m.iv[j]
+        for c in range(m.iv[j + 1] - k):
+            out[i + c] = q[i + c] + v[k + c]
 
 
 @inline
@@ -140,15 +159,22 @@ def joint_difference(m, j, q0, q1, tmp, out):
     """``out_j = q1_j ⊖ q0_j``, the velocity that moves q0 to q1 in unit time (the inverse of
     ``joint_integrate``): ``q1 - q0``, wrapped to (-π, π] for an unbounded revolute joint;
     for a free flyer the logarithm of ``~M0 M1`` (``free_flyer_difference``), for a spherical
-    joint that of ``~R0 R1`` (its ω). ``tmp``: (3, 8)."""
+    joint that of ``~R0 R1`` (its ω), for a planar joint that of SE(2)
+    (``planar_difference``); ``q1 - q0`` coordinate by coordinate for another additive
+    joint. ``tmp``: (3, 8)."""
     i, k, t = m.iq[j], m.iv[j], m.types[j]
     if t == FREE_FLYER:
         free_flyer_difference(q0, q1, i, k, tmp, out)
     elif t == SPHERICAL:
         quaternion_difference(q0, q1, i, 0, k, tmp, out)
-    else:
+    elif t == PLANAR:
+        planar_difference(q0, q1, i, k, tmp, out)
+    elif t == REVOLUTE_UNBOUNDED:
         d = q1[i] - q0[i]
-        out[k] = math.atan2(math.sin(d), math.cos(d)) if t == REVOLUTE_UNBOUNDED else d
+        out[k] = math.atan2(math.sin(d), math.cos(d))
+    else:
+        for c in range(m.iv[j + 1] - k):
+            out[k + c] = q1[i + c] - q0[i + c]
 
 
 @inline
@@ -170,7 +196,8 @@ def free_root(parent, joint_type):
 
 @inline
 def quaternion_error(m, q):
-    """The first joint whose unit quaternion (``table.QUATERNION_AT``) has a norm not within
+    """The first joint whose unit quaternion (``QUATERNION_AT``, ``UNIT_LENGTH`` long: a
+    planar joint's ``(cos θ, sin θ)`` too) has a norm not within
     ``QUATERNION_TOLERANCE`` of 1, or -1."""
     if m.flat:
         return -1
@@ -178,7 +205,10 @@ def quaternion_error(m, q):
         o = QUATERNION_AT[m.types[j]]
         if o >= 0:
             i = m.iq[j] + o
-            norm = math.sqrt(q[i] ** 2 + q[i + 1] ** 2 + q[i + 2] ** 2 + q[i + 3] ** 2)
+            norm2 = 0.0
+            for c in range(UNIT_LENGTH[m.types[j]]):
+                norm2 += q[i + c] ** 2
+            norm = math.sqrt(norm2)
             if not abs(norm - 1.0) <= QUATERNION_TOLERANCE:
                 return j
     return -1

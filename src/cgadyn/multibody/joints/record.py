@@ -49,7 +49,10 @@ class JointType:
     subtree may be computed in its own frame where a quantity is invariant).
     additive: whether ``q ⊕ v = q + v`` coordinate by coordinate (then ``nq == nv``, and
     limits are boxes on the coordinates).
-    quaternion: the offset in ``q_j`` of a unit quaternion ``(x, y, z, w)``, -1 for none.
+    quaternion: the offset in ``q_j`` of a unit quaternion ``(x, y, z, w)``, -1 for none;
+    unit_length: how many coordinates that unit block has, 4 for a quaternion, 2 for a
+    planar joint's ``(cos θ, sin θ)`` (a unit complex number, the quaternion of a rotation
+    in the plane): checked and normalised alike.
     axis: ``"revolute"`` (a line) or ``"prismatic"`` (a direction) for a joint about or
     along one axis, ``None`` for a joint without one.
     neutral: ``q_j`` at rest (Pinocchio's ``neutral``).
@@ -87,6 +90,7 @@ class JointType:
     q_names: tuple[str, ...] = ()
     v_names: tuple[str, ...] = ()
     quaternion: int = -1
+    unit_length: int = 4
     axis: str | None = None
     limits: Callable = _kept
     random: Callable | None = None

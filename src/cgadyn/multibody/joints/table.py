@@ -11,11 +11,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import free_flyer, prismatic, revolute, spherical
+from . import free_flyer, helical, planar, prismatic, revolute, spherical, translation
 from .record import JointType
 
 TYPES: tuple[JointType, ...] = tuple(sorted(
-    (*revolute.TYPES, *prismatic.TYPES, *free_flyer.TYPES, *spherical.TYPES), key=lambda r: r.code))
+    (*revolute.TYPES, *prismatic.TYPES, *free_flyer.TYPES, *spherical.TYPES, *planar.TYPES,
+     *translation.TYPES, *helical.TYPES), key=lambda r: r.code))
 """The record of every joint type, indexed by its code."""
 assert tuple(r.code for r in TYPES) == tuple(range(len(TYPES))), "codes 0, 1, 2, ..."
 
@@ -85,10 +86,11 @@ def layout(model, velocity: bool) -> str:
     return "joint order " + ", ".join(parts)
 
 
-def quaternions(model) -> list[tuple[int, int]]:
-    """``(joint, first index in q)`` of every unit quaternion of a configuration."""
-    return [(j, s.start + joint.quaternion) for j, joint, s, _ in joints_of(model)
-            if joint.quaternion >= 0]
+def quaternions(model) -> list[tuple[int, int, int]]:
+    """``(joint, first index in q, length)`` of every unit quaternion of a configuration
+    (and of every planar joint's ``(cos θ, sin θ)``, of length 2)."""
+    return [(j, s.start + joint.quaternion, joint.unit_length)
+            for j, joint, s, _ in joints_of(model) if joint.quaternion >= 0]
 
 
 def neutral(model) -> np.ndarray:
@@ -127,15 +129,16 @@ def random_configuration(model, rng: np.random.Generator, box: float) -> np.ndar
 
 
 def normalize(model, q: np.ndarray) -> np.ndarray:
-    """``q`` (a new array, (..., nq)) with every unit quaternion scaled to unit length."""
-    for j, i in quaternions(model):
-        quat = q[..., i:i + 4]
+    """``q`` (a new array, (..., nq)) with every unit quaternion (and planar ``(cos θ,
+    sin θ)``) scaled to unit length."""
+    for j, i, n in quaternions(model):
+        quat = q[..., i:i + n]
         norm = np.linalg.norm(quat, axis=-1, keepdims=True)
         if not np.all(norm > 0.0) or not np.all(np.isfinite(norm)):
-            raise ValueError(f"q[..., {i}:{i + 4}] (the quaternion of joint "
+            raise ValueError(f"q[..., {i}:{i + n}] (the unit coordinates of joint "
                              f"{model.joint_names[j]!r}) is zero or not finite: it has no "
                              f"direction to normalise")
-        q[..., i:i + 4] = quat / norm
+        q[..., i:i + n] = quat / norm
     return q
 
 

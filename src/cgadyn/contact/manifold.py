@@ -1,0 +1,163 @@
+"""The contact points of a shape resting on a plane, compiled (docs/contact.md, K21-K22).
+
+A sphere touches a plane at one point; a box lying on a face, a cylinder standing on a cap
+or a convex mesh on a flat side touch it over a patch, which one point cannot hold still:
+a contact solver needs the corners of the patch. ``plane_contacts`` gives every shape's
+candidate points, each with its signed distance ``X · π`` to the plane (K1, K21), keeps
+those closer than a margin (so that a contact is found one step before it closes) and
+reduces them to at most ``MAX_CONTACTS`` that span the patch (K22). It allocates nothing
+and returns the number of contacts written.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .._jit import serial
+from .distance import plane_distance, rotate, rotate_back, to_world
+from .shapes import BOX, CAPSULE, CYLINDER, MESH, SPHERE
+
+MAX_CONTACTS = 4
+"""At most this many contact points per shape and plane (the corners of a patch)."""
+CANDIDATES = 64
+"""Scratch rows for candidate points: a convex mesh's vertices (``shapes.MAX_VERTICES``),
+a box's 8 corners, a cylinder's 8 rim points, a capsule's 2 ends, a sphere's 1."""
+OUT = 4
+"""Each contact's row in ``out``: ``[x, y, z, d]``, the point on the shape and its signed
+distance to the plane (negative: a penetration)."""
+
+
+@serial
+def _candidate(cand, c, x0, x1, x2, n0, n1, n2, delta, r):
+    """Row ``c`` of ``cand``: the point ``x - r n`` of a sphere of radius ``r`` centred at
+    ``x`` (``r = 0``: the point ``x``) and its distance ``X · π - r`` (K1, K21)."""
+    cand[c, 0] = x0 - r * n0
+    cand[c, 1] = x1 - r * n1
+    cand[c, 2] = x2 - r * n2
+    cand[c, 3] = plane_distance(x0, x1, x2, n0, n1, n2, delta) - r
+    return c + 1
+
+
+@serial
+def candidates(kind, size, vertices, T, n0, n1, n2, delta, cand):
+    """The shape's candidate points against the plane ``π = n + δ e∞`` (K21): a sphere's
+    lowest point; a capsule's two end spheres' lowest points; a box's eight corners; on
+    each of a cylinder's two rims, the lowest point and the three a quarter-turn apart; a
+    convex mesh's vertices. Returns their number."""
+    c = 0
+    if kind == SPHERE or kind == CAPSULE:
+        h = size[1] if kind == CAPSULE else 0.0
+        for s in range(2 if kind == CAPSULE else 1):
+            z = h if s == 0 else -h
+            x0, x1, x2 = to_world(T, 0.0, 0.0, z)
+            c = _candidate(cand, c, x0, x1, x2, n0, n1, n2, delta, size[0])
+    elif kind == BOX:
+        for s in range(8):
+            x0, x1, x2 = to_world(T, size[0] if s & 1 else -size[0],
+                                  size[1] if s & 2 else -size[1], size[2] if s & 4 else -size[2])
+            c = _candidate(cand, c, x0, x1, x2, n0, n1, n2, delta, 0.0)
+    elif kind == CYLINDER:
+        l0, l1, _ = rotate_back(T, -n0, -n1, -n2)  # the plane's inward normal, in the shape
+        rho = math.sqrt(l0 * l0 + l1 * l1)
+        u0, u1 = (l0 / rho, l1 / rho) if rho > 1e-12 else (1.0, 0.0)
+        for s in range(2):
+            z = size[1] if s == 0 else -size[1]
+            for k in range(4):  # u, its quarter turns: the lowest rim point and three more
+                a0, a1 = (u0, u1) if k == 0 else (-u1, u0) if k == 1 else \
+                    (-u0, -u1) if k == 2 else (u1, -u0)
+                x0, x1, x2 = to_world(T, size[0] * a0, size[0] * a1, z)
+                c = _candidate(cand, c, x0, x1, x2, n0, n1, n2, delta, 0.0)
+    elif kind == MESH:
+        for i in range(min(vertices.shape[0], cand.shape[0])):
+            x0, x1, x2 = to_world(T, vertices[i, 0], vertices[i, 1], vertices[i, 2])
+            c = _candidate(cand, c, x0, x1, x2, n0, n1, n2, delta, 0.0)
+    return c
+
+
+@serial
+def _area2(cand, i, j, k, n0, n1, n2):
+    """Twice the signed area of the triangle ``(i, j, k)`` seen along the normal ``n``."""
+    a0, a1, a2 = cand[j, 0] - cand[i, 0], cand[j, 1] - cand[i, 1], cand[j, 2] - cand[i, 2]
+    b0, b1, b2 = cand[k, 0] - cand[i, 0], cand[k, 1] - cand[i, 1], cand[k, 2] - cand[i, 2]
+    return (a1 * b2 - a2 * b1) * n0 + (a2 * b0 - a0 * b2) * n1 + (a0 * b1 - a1 * b0) * n2
+
+
+@serial
+def _write(out, m, cand, i):
+    for j in range(OUT):
+        out[m, j] = cand[i, j]
+    return m + 1
+
+
+@serial
+def reduce_patch(cand, count, margin, n0, n1, n2, out):
+    """At most four of the ``count`` candidates closer than ``margin``, spanning the patch
+    (K22): the deepest; the one farthest from it; the one making the largest triangle with
+    those two; the one adding the largest area to that triangle. Duplicates (a point no
+    farther than 1e-9 from the chosen ones, or no area added) are not kept. Writes them to
+    ``out`` and returns their number."""
+    first = -1
+    for i in range(count):
+        if cand[i, 3] < margin and (first < 0 or cand[i, 3] < cand[first, 3]):
+            first = i
+    if first < 0:
+        return 0
+    m = _write(out, 0, cand, first)
+    second, best = -1, 1e-18
+    for i in range(count):
+        if cand[i, 3] < margin:
+            d0, d1 = cand[i, 0] - cand[first, 0], cand[i, 1] - cand[first, 1]
+            d2 = cand[i, 2] - cand[first, 2]
+            s = d0 * d0 + d1 * d1 + d2 * d2
+            if s > best:
+                second, best = i, s
+    if second < 0:
+        return m
+    m = _write(out, m, cand, second)
+    third, best = -1, 1e-18
+    for i in range(count):
+        if cand[i, 3] < margin:
+            s = abs(_area2(cand, first, second, i, n0, n1, n2))
+            if s > best:
+                third, best = i, s
+    if third < 0:
+        return m
+    m = _write(out, m, cand, third)
+    sign = 1.0 if _area2(cand, first, second, third, n0, n1, n2) > 0.0 else -1.0
+    fourth, best = -1, 1e-18
+    for i in range(count):
+        if cand[i, 3] < margin:
+            # the area a point adds outside each edge of the triangle (counter-clockwise
+            # about n after ``sign``): positive only beyond that edge
+            s = max(-sign * _area2(cand, first, second, i, n0, n1, n2),
+                    -sign * _area2(cand, second, third, i, n0, n1, n2),
+                    -sign * _area2(cand, third, first, i, n0, n1, n2))
+            if s > best:
+                fourth, best = i, s
+    if fourth >= 0:
+        m = _write(out, m, cand, fourth)
+    return m
+
+
+@serial
+def plane_contacts(kind, size, vertices, T, sb, Tb, margin, cand, out):
+    """The contacts of shape ``(kind, size, vertices)`` at pose ``T`` with the plane of
+    size ``sb`` (``n``, ``δ`` in its frame) at pose ``Tb``: at most ``MAX_CONTACTS`` rows
+    ``[x, y, z, d]`` in ``out`` (K21, K22), the plane's world normal pointing out of it.
+    Returns their number."""
+    n0, n1, n2 = rotate(Tb, sb[0], sb[1], sb[2])
+    delta = sb[3] + n0 * Tb[0, 3] + n1 * Tb[1, 3] + n2 * Tb[2, 3]
+    count = candidates(kind, size, vertices, T, n0, n1, n2, delta, cand)
+    return reduce_patch(cand, count, margin, n0, n1, n2, out)
+
+
+@serial
+def shapes_on_plane(kinds, sizes, vertices, offsets, poses, active, sb, Tb, margin, cand,
+                    out, counts):
+    """``plane_contacts`` of every shape ``k`` with ``active[k]`` against one plane, into
+    ``out[k]`` (``MAX_CONTACTS`` rows each), their number into ``counts[k]``."""
+    for k in range(kinds.shape[0]):
+        counts[k] = 0
+        if active[k]:
+            counts[k] = plane_contacts(kinds[k], sizes[k], vertices[offsets[k]:offsets[k + 1]],
+                                       poses[k], sb, Tb, margin, cand, out[k])

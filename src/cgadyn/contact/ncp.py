@@ -1,0 +1,50 @@
+"""What both contact solvers share (``docs/contact.md``, K11, K19): the layout of their
+settings and report, the velocity ``σ = (G + R) λ + g`` (K11) and the stopping rule (K19).
+
+A problem of ``nc`` contacts has ``m = 3 nc`` rows, each contact's ``(t₁, t₂, n)``; ``R`` is
+the diagonal of the compliance (zero for rigid contacts).
+"""
+
+from __future__ import annotations
+
+from .._jit import inline
+
+ABS_TOL, REL_TOL, MAX_ITER, WARM, PROX, POWER_INIT, POWER_STEP, RATIO = range(8)
+"""Offsets in ``settings``: the absolute and relative tolerances, the iteration limit,
+whether ``λ`` holds a warm start (1) or not (0), then ADMM's proximal weight ``η``, the
+spectral rule's initial power ``p₀``, its step and the primal/dual ratio that triggers it
+(K17)."""
+SETTINGS = 8
+
+ITERATIONS, PRIMAL, DUAL, COMPLEMENTARITY, CONVERGED, RHO = range(6)
+"""Offsets in ``info``: iterations done, the three residuals (K19) at the returned ``λ``,
+1.0 where they passed the stopping rule, ADMM's last penalty ``ρ`` (0 for PGS)."""
+INFO = 6
+
+
+@inline
+def velocity(G, R, g, lam, sigma):
+    """``σ = (G + R) λ + g`` (K11); returns ``(‖σ‖∞, ‖(G + R) λ‖∞, ‖λ‖∞)``, the scales of
+    the stopping rule (K19)."""
+    m = g.shape[0]
+    smax = gl = lmax = 0.0
+    for r in range(m):
+        acc = R[r] * lam[r]
+        for c in range(m):
+            acc += G[r, c] * lam[c]
+        sigma[r] = acc + g[r]
+        smax = max(smax, abs(sigma[r]))
+        gl = max(gl, abs(acc))
+        lmax = max(lmax, abs(lam[r]))
+    return smax, gl, lmax
+
+
+@inline
+def passes(settings, primal, dual, comp, gmax, gl, lmax):
+    """The stopping rule (K19): each residual below the absolute tolerance, or below the
+    relative one times its scale: ``‖λ‖∞`` for the primal residual, ``max(‖g‖∞, ‖(G + R)
+    λ‖∞)`` for the dual one, their product for the complementarity."""
+    a, r = settings[ABS_TOL], settings[REL_TOL]
+    sd = max(gmax, gl)
+    return (primal <= a or primal <= r * lmax) and (dual <= a or dual <= r * sd) and \
+        (comp <= a or comp <= r * lmax * sd)

@@ -1,0 +1,87 @@
+"""Projected Gauss-Seidel on the Coulomb cones, contact by contact (``docs/contact.md``, K18,
+K19): the second solver, for comparison, with ``admm_solve``'s interface and scratch."""
+
+from __future__ import annotations
+
+import math
+
+from .._jit import inline, serial
+from ..algorithms.status import NONFINITE_INPUT, NONFINITE_RESULT, OK, fault
+from .admm import SIGMA, TMP
+from .cone import ncp_residuals, project
+from .ncp import (
+    COMPLEMENTARITY,
+    CONVERGED,
+    DUAL,
+    ITERATIONS,
+    MAX_ITER,
+    PRIMAL,
+    RHO,
+    WARM,
+    passes,
+    velocity,
+)
+
+
+@inline
+def _block_row(G, R, g, lam, r):
+    """Row ``r`` of ``σ = (G + R) λ + g`` (K11)."""
+    acc = g[r] + R[r] * lam[r]
+    for c in range(g.shape[0]):
+        acc += G[r, c] * lam[c]
+    return acc
+
+
+@serial
+def pgs_solve(G, g, mu, R, settings, lam, info, C, w):
+    """Solve the NCP (K13) by sweeps over the contacts (K18): for contact ``i`` the normal
+    force ``λ_N ← max(0, λ_N - σ_N / A_NN)``, then the tangential one ``λ_T ← λ_T - σ_T /
+    L_T`` cut to the disc ``‖λ_T‖ <= μ λ_N`` (``A = G + R``, ``L_T`` the largest eigenvalue of
+    the contact's tangential 2 x 2 block); ``C`` is unused. A status."""
+    m = g.shape[0]
+    nc = mu.shape[0]
+    sigma, tmp = w[SIGMA], w[TMP]
+    gmax = 0.0
+    for r in range(m):
+        gmax = max(gmax, abs(g[r]))
+        if not (math.isfinite(g[r]) and math.isfinite(R[r])):
+            return fault(NONFINITE_INPUT, -1)
+        for c in range(m):
+            if not math.isfinite(G[r, c]):
+                return fault(NONFINITE_INPUT, -1)
+    for i in range(nc):
+        if settings[WARM] != 0.0:
+            project(mu[i], lam, 3 * i, lam, 3 * i)
+        else:
+            lam[3 * i], lam[3 * i + 1], lam[3 * i + 2] = 0.0, 0.0, 0.0
+    _, gl, lmax = velocity(G, R, g, lam, sigma)
+    primal, dual, comp = ncp_residuals(mu, lam, sigma, tmp)
+    ok = passes(settings, primal, dual, comp, gmax, gl, lmax)
+    it = 0
+    limit = int(settings[MAX_ITER])
+    while not ok and it < limit:
+        it += 1
+        for i in range(nc):
+            o = 3 * i
+            ann = G[o + 2, o + 2] + R[o + 2]
+            if ann > 0.0:  # the normal force (K18)
+                lam[o + 2] = max(0.0, lam[o + 2] - _block_row(G, R, g, lam, o + 2) / ann)
+            a, b, d = G[o, o] + R[o], G[o, o + 1], G[o + 1, o + 1] + R[o + 1]
+            big = 0.5 * (a + d) + math.sqrt(0.25 * (a - d) ** 2 + b * b)
+            if big > 0.0:  # the tangential force, cut to the disc (K18)
+                s0 = _block_row(G, R, g, lam, o)
+                s1 = _block_row(G, R, g, lam, o + 1)
+                t0, t1 = lam[o] - s0 / big, lam[o + 1] - s1 / big
+                t = math.sqrt(t0 * t0 + t1 * t1)
+                cap = mu[i] * lam[o + 2]
+                scale = cap / t if t > cap else 1.0
+                lam[o], lam[o + 1] = scale * t0, scale * t1
+        _, gl, lmax = velocity(G, R, g, lam, sigma)
+        primal, dual, comp = ncp_residuals(mu, lam, sigma, tmp)
+        if not math.isfinite(dual):
+            return fault(NONFINITE_RESULT, -1)
+        ok = passes(settings, primal, dual, comp, gmax, gl, lmax)
+    info[ITERATIONS], info[PRIMAL], info[DUAL], info[COMPLEMENTARITY] = it, primal, dual, comp
+    info[CONVERGED] = 1.0 if ok else 0.0
+    info[RHO] = 0.0
+    return OK

@@ -1,0 +1,38 @@
+"""``contact_problem``: the Delassus matrix and free velocity of a velocity-level step with
+point contacts (``docs/contact.md``, K20), from the operators of ``cgadyn.constraints``."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..algorithms.api import aba
+from ..constraints.model import check_constraints
+from ..constraints.operators import constraint_jacobian, delassus
+
+
+def contact_problem(model, q, v, tau, dt: float, constraints) -> tuple[np.ndarray, np.ndarray]:
+    """``(G, g)`` of the contact problem (K11) of one step of length ``dt`` from ``(q, v)``
+    under ``tau``: ``G = J M⁻¹ Jᵀ`` (C7) and ``g = J v_free`` with ``v_free = v + dt M⁻¹(τ -
+    h)`` (K20), for point ``Constraint``s in ``"local_world_aligned"`` frame, each a contact
+    whose rows are the world's ``(x, y, z)`` at the point: the normal is the world's z (the
+    last row, as ``solve_contacts`` reads it), the ground's normal for a floor ``z = const``.
+    Batches of ``q, v, tau`` give (B, m, m) and (B, m). ``σ = G λ + g`` is then the contact
+    points' velocity after the step, ``v⁺ = v_free + M⁻¹ Jᵀ λ``, with ``λ`` the impulses."""
+    constraints = check_constraints(model, constraints)
+    for k, c in enumerate(constraints):
+        if c.kind != "point" or c.frame != "local_world_aligned":
+            raise ValueError(f"constraint {k} ({c.name}) must be a point constraint in "
+                             f"'local_world_aligned' frame to be a contact (its rows the "
+                             f"world's x, y and z, the normal z), got kind {c.kind!r}, frame "
+                             f"{c.frame!r}")
+    try:
+        step = float(dt)
+    except (TypeError, ValueError):
+        step = float("nan")
+    if not np.isfinite(step) or step <= 0.0:
+        raise ValueError(f"dt must be a finite number > 0, got {dt!r}")
+    J = constraint_jacobian(model, q, constraints)
+    G = delassus(model, q, constraints)
+    v_free = np.asarray(v, dtype=float) + step * aba(model, q, v, tau)  # K20
+    g = np.einsum("...rk,...k->...r", J, v_free)
+    return G, g

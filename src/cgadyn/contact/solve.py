@@ -1,0 +1,158 @@
+"""``solve_contacts``: the frictional contact problem (K11-K13) of given ``G``, ``g``, ``μ``
+solved by ADMM (K16-K17) or PGS (K18), one problem or a batch in one compiled call; inputs
+checked, statuses worded (``docs/contact.md``)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from .._threads import PARALLEL_LOCK
+from ..algorithms.status import DELASSUS_SINGULAR, NONFINITE_INPUT, OK, decode
+from . import ncp
+from .admm import SCRATCH_ROWS
+from .solver import ADMM, PGS, solve_batch, solve_one
+
+SOLVERS = {"admm": ADMM, "pgs": PGS}
+SYMMETRY = 1e-9
+"""G is refused as not symmetric where ``|G - Gᵀ|∞ > SYMMETRY · max(1, |G|∞)``."""
+
+
+@dataclass(frozen=True)
+class ContactSolveInfo:
+    """How the forces were found (arrays of shape (B,) for a batch): ``iterations``, the
+    residuals at the returned forces (K19) ``primal`` (ADMM: ``‖x - z‖∞``, the distance of the
+    linear step from the cones; PGS: 0), ``dual`` (``‖σ̃ - P_K*(σ̃)‖∞``), ``complementarity``
+    (``max_i |λ_i · σ̃_i|``), ``converged`` (the stopping rule passed) and ``rho`` (ADMM's last
+    penalty)."""
+
+    iterations: int | np.ndarray
+    primal: float | np.ndarray
+    dual: float | np.ndarray
+    complementarity: float | np.ndarray
+    converged: bool | np.ndarray
+    rho: float | np.ndarray
+
+
+def _array(x, name: str) -> np.ndarray:
+    try:
+        a = np.asarray(x, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be an array of numbers, got {type(x).__name__}") from None
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} contains NaN or inf")
+    return a
+
+
+def _per_row(x, name: str, batch: tuple, m: int, size: int, what: str) -> np.ndarray:
+    """``x`` as a (B..., size) array: a number for all, (size,) for all problems, or one row
+    per problem."""
+    a = _array(x, name)
+    if a.ndim == 0:
+        a = np.full(size, float(a))
+    if a.shape not in ((size,), batch + (size,)):
+        raise ValueError(f"{name} must be a number, ({size},) ({what}) or {batch + (size,)} "
+                         f"for G of shape {batch + (m, m)}, got shape {a.shape}")
+    return np.ascontiguousarray(np.broadcast_to(a, batch + (size,)))
+
+
+def _settings(tolerance, relative_tolerance, max_iterations, warm: bool,
+              proximal) -> np.ndarray:
+    for name, value in (("tolerance", tolerance), ("relative_tolerance", relative_tolerance),
+                        ("proximal", proximal)):
+        if not isinstance(value, int | float | np.floating | np.integer) or \
+                not np.isfinite(value) or value < 0:
+            raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+    if proximal <= 0:
+        raise ValueError(f"proximal must be > 0 (ADMM's proximal weight η), got {proximal!r}")
+    if isinstance(max_iterations, bool) or not isinstance(max_iterations, int | np.integer) \
+            or max_iterations < 0:
+        raise ValueError(f"max_iterations must be an integer >= 0, got {max_iterations!r}")
+    s = np.zeros(ncp.SETTINGS)
+    s[ncp.ABS_TOL], s[ncp.REL_TOL], s[ncp.MAX_ITER] = tolerance, relative_tolerance, \
+        max_iterations
+    s[ncp.WARM], s[ncp.PROX] = float(warm), proximal
+    s[ncp.POWER_INIT], s[ncp.POWER_STEP], s[ncp.RATIO] = 0.2, 0.05, 10.0
+    return s
+
+
+def _explain(status: int, batch: bool) -> str:
+    code, _, sample = decode(status)
+    where = f"problem {sample}: " if batch else ""
+    if code == DELASSUS_SINGULAR:
+        return (f"{where}G + R + (ρ + η) I has no Cholesky factor: G is not positive "
+                f"semi-definite (a Delassus matrix J M⁻¹ Jᵀ always is)")
+    if code == NONFINITE_INPUT:
+        return f"{where}an input holds NaN or inf"
+    return f"{where}the iterations diverged (a non-finite residual)"
+
+
+def solve_contacts(G, g, mu, compliance=None, solver: str = "admm", tolerance: float = 1e-10,
+                   max_iterations: int = 1000, warm_start=None, relative_tolerance: float = 0.0,
+                   proximal: float = 1e-6) -> tuple[np.ndarray, ContactSolveInfo]:
+    """The contact forces ``λ`` (m,) of the NCP ``K_μ ∋ λ ⊥ σ + Γ(σ) ∈ K_μ*`` with
+    ``σ = (G + R) λ + g`` (K11-K13; ``docs/contact.md``), and a ``ContactSolveInfo``.
+
+    ``G`` (m, m) the Delassus matrix (symmetric, positive semi-definite, maybe singular),
+    ``g`` (m,) the free velocity, ``m = 3 nc``, each contact's rows ``(t₁, t₂, n)`` (normal
+    last, Pinocchio's order); ``mu`` a number or (nc,) friction coefficients >= 0;
+    ``compliance`` the diagonal of ``R`` (a number, (m,)); ``solver`` ``"admm"`` (K16-K17) or
+    ``"pgs"`` (K18); the stopping rule (K19) takes each residual below ``tolerance`` or below
+    ``relative_tolerance`` times its scale; ``warm_start`` (m,) forces to start from (projected
+    on the cones); ``proximal`` ADMM's proximal weight ``η``. Batches: ``G`` (B, m, m), the
+    others (B, ...) or shared, solved in one parallel compiled call. A problem that does not
+    converge within ``max_iterations`` is returned with ``converged`` False, not raised.
+    """
+    if solver not in SOLVERS:
+        raise ValueError(f"solver must be one of {sorted(SOLVERS)}, got {solver!r}")
+    Ga = _array(G, "G")
+    if Ga.ndim not in (2, 3) or Ga.shape[-1] != Ga.shape[-2] or Ga.shape[-1] % 3:
+        raise ValueError(f"G must be (m, m) or (B, m, m) with m = 3 × contacts, got shape "
+                         f"{Ga.shape}")
+    m = Ga.shape[-1]
+    nc, batch = m // 3, Ga.shape[:-2]
+    asym = np.abs(Ga - np.swapaxes(Ga, -1, -2)).max(initial=0.0)
+    if asym > SYMMETRY * max(1.0, np.abs(Ga).max(initial=0.0)):
+        raise ValueError(f"G must be symmetric (a Delassus matrix J M⁻¹ Jᵀ), but |G - Gᵀ| "
+                         f"reaches {asym:.3g}")
+    ga = _array(g, "g")
+    if ga.shape not in ((m,), batch + (m,)):
+        raise ValueError(f"g must be ({m},) or {batch + (m,)} for G of shape {Ga.shape}, got "
+                         f"shape {ga.shape}")
+    mua = _per_row(mu, "mu", batch, m, nc, "one friction coefficient per contact")
+    if np.any(mua < 0):
+        raise ValueError(f"mu must be >= 0 (friction coefficients), got {np.min(mua):.6g}")
+    R = _per_row(0.0 if compliance is None else compliance, "compliance", batch, m, m,
+                 "the diagonal of R")
+    if np.any(R < 0):
+        raise ValueError(f"compliance must be >= 0, got {np.min(R):.6g}")
+    lam = np.zeros(batch + (m,))
+    if warm_start is not None:
+        w = _array(warm_start, "warm_start")
+        if w.shape not in ((m,), batch + (m,)):
+            raise ValueError(f"warm_start must be ({m},) or {batch + (m,)}, got shape "
+                             f"{w.shape}")
+        lam[...] = w
+    s = _settings(tolerance, relative_tolerance, max_iterations, warm_start is not None,
+                  proximal)
+    info = np.zeros(batch + (ncp.INFO,))
+    Gc = np.ascontiguousarray(Ga)
+    gc = np.ascontiguousarray(np.broadcast_to(ga, batch + (m,)))
+    code = SOLVERS[solver]
+    if batch:
+        with PARALLEL_LOCK:
+            status = solve_batch(code, Gc, gc, mua, R, s, lam, info, numba.get_num_threads())
+    else:
+        status = solve_one(code, Gc, gc, mua, R, s, lam, info, np.empty((m, m)),
+                           np.empty((SCRATCH_ROWS, max(m, 6))))
+    if status != OK:
+        raise ValueError(_explain(int(status), bool(batch)))
+    it = info[..., ncp.ITERATIONS].astype(np.int64)
+    conv = info[..., ncp.CONVERGED] != 0.0
+    pick = (lambda a: a) if batch else (lambda a: a.item())
+    return lam, ContactSolveInfo(pick(it), pick(info[..., ncp.PRIMAL]),
+                                 pick(info[..., ncp.DUAL]),
+                                 pick(info[..., ncp.COMPLEMENTARITY]), pick(conv),
+                                 pick(info[..., ncp.RHO]))

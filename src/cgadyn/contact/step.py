@@ -1,0 +1,140 @@
+"""One velocity-level time step with frictional contact on the ground (docs/contact.md,
+K20, K23-K25).
+
+``contact_step`` joins the pieces of ``cgadyn.contact``: the contact points of the robot's
+shapes with the ground (K21-K22), each a point constraint of its link held in the ground's
+frame ``(t₁, t₂, n)``, the contact problem of the step (K20, K23), its forces by ADMM or PGS
+(K11-K19), the velocity after the step and the configuration moved on the manifold with it
+(K24, semi-implicit Euler). It is the step of Carpentier et al. (RSS 2024) and of
+Pinocchio's and MuJoCo's simulators, called from Python: one step, one configuration.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .world import Contacts, World, ground_contacts
+
+__all__ = ["ContactStep", "contact_step", "ground_frame"]
+
+
+def ground_frame(normal) -> np.ndarray:
+    """The rows ``(t₁, t₂, n)`` of the contact frame of a ground with unit normal ``n``:
+    ``t₁`` the world's x made orthogonal to ``n`` (the world's y where x is along ``n``),
+    ``t₂ = n × t₁``; for a level ground the world's own axes."""
+    n = np.asarray(normal, dtype=float)
+    x = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    t1 = x - (x @ n) * n
+    t1 /= np.linalg.norm(t1)
+    return np.array([t1, np.cross(n, t1), n])
+
+
+@dataclass(frozen=True)
+class ContactStep:
+    """The result of ``contact_step``: the state after the step ``q``, ``v``; the contacts
+    found at the start of the step (``contacts``) and the force of each on the robot in the
+    world frame (``forces`` (K, 3), the impulse over ``dt``); the solver's report
+    (``info``, a ``ContactSolveInfo``; None without contacts) and which solver gave the
+    forces (``solver``)."""
+
+    q: np.ndarray
+    v: np.ndarray
+    contacts: Contacts = field(repr=False)
+    forces: np.ndarray = field(repr=False)
+    info: object = None
+    solver: str = ""
+
+
+def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = None,
+                 margin: float = 1e-3, stabilization: float = 0.2, solver: str = "admm",
+                 tolerance: float = 1e-10, max_iterations: int = 1000,
+                 passive: bool = True) -> ContactStep:
+    """One step of length ``dt`` from ``(q, v)`` under the joint torques ``tau`` (nv,)
+    with the ground of ``world`` (default ``World()``) touched by the shapes of
+    ``collisions`` (``collision_model(model, ...)``):
+
+    1. the contacts closer than ``margin`` plus the distance a point may travel in the step
+       (``|v| dt``, an angular speed counted at a reach of 1 m) (K21-K22), each a point of
+       its link;
+    2. the contact problem (K20, K23): ``G = J M⁻¹ Jᵀ`` and ``g = J v_free`` in each
+       contact's frame ``(t₁, t₂, n)`` (``ground_frame``), with the normal velocity allowed
+       to close an open gap within the step (``g_N + d / dt`` for ``d > 0``) and a
+       penetration corrected by a fraction ``stabilization`` per step (``g_N +
+       stabilization · d / dt`` for ``d < 0``);
+    3. the impulses ``λ`` in the friction cones of ``World.friction`` by ``solver``
+       (``"admm"`` or ``"pgs"``, ``solve_contacts``); where ADMM does not converge (it may
+       cycle on redundant contacts with sliding, docs/contact.md), PGS goes on from its
+       last forces;
+    4. ``v⁺ = v_free + M⁻¹ Jᵀ λ`` and ``q⁺ = q ⊕ dt v⁺`` (K24).
+
+    ``passive``: add the joints' damping and spring torques (``passive_torques``) as
+    ``simulate`` does. Raises ``ValueError`` where the solver does not converge within
+    ``max_iterations`` (naming its residuals) or for bad input.
+    """
+    from ..algorithms import aba, integrate, link_placements
+    from ..algorithms.passive import passive_torques
+    from ..constraints.model import Constraint
+    from ..constraints.operators import constraint_jacobian, delassus
+    from .model import _collisions
+    from .solve import solve_contacts
+
+    world = World() if world is None else world
+    try:
+        step = float(dt)
+    except (TypeError, ValueError):
+        step = float("nan")
+    if not np.isfinite(step) or step <= 0.0:
+        raise ValueError(f"dt must be a finite number > 0, got {dt!r}")
+    if not (isinstance(stabilization, (int, float)) and 0.0 <= stabilization <= 1.0):
+        raise ValueError(f"stabilization must be a number in [0, 1], got {stabilization!r}")
+    q = np.asarray(q, dtype=float)
+    v, tau = np.asarray(v, dtype=float), np.asarray(tau, dtype=float)
+    for name, x, size in (("v", v, model.nv), ("tau", tau, model.nv)):
+        if x.shape != (size,):
+            raise ValueError(f"{name}: expected shape ({size},) for {model.name!r}, got "
+                             f"{x.shape}")
+    cm = _collisions(collisions, model)
+    torque = tau + passive_torques(model, q, v) if passive else tau
+    v_free = v + step * aba(model, q, v, torque)  # K20
+    # a gap that the step may close is a contact: the margin grows by how far a point can
+    # move in one step (|v| dt, an angular speed counted at a reach of 1 m)
+    contacts = ground_contacts(model, cm, q, world, margin + step * float(np.linalg.norm(
+        np.concatenate([v, v_free]))))
+    if len(contacts) == 0:
+        return ContactStep(integrate(model, q, step * v_free), v_free, contacts,
+                           np.zeros((0, 3)))
+    links = link_placements(model, q)
+    frame = ground_frame(world.ground_normal)
+    constraints = []
+    for k in range(len(contacts)):  # each contact a point of its link, held where it is
+        at = np.eye(4)
+        at[:3, 3] = contacts.point[k]
+        constraints.append(Constraint(model, "point", int(contacts.link[k]),
+                                      placement=np.linalg.inv(links[contacts.link[k]]) @ at,
+                                      other_placement=at))
+    nc = len(contacts)
+    R = np.kron(np.eye(nc), frame)  # world rows to contact rows (t₁, t₂, n) per contact
+    J = R @ constraint_jacobian(model, q, constraints)
+    G = R @ delassus(model, q, constraints) @ R.T
+    g = J @ v_free
+    d = contacts.distance
+    g[2::3] += np.where(d > 0.0, d, stabilization * d) / step  # K23
+    lam, info = solve_contacts(G, g, contacts.friction, solver=solver, tolerance=tolerance,
+                               max_iterations=max_iterations)
+    used = solver
+    if not info.converged and solver == "admm":  # PGS from ADMM's last forces (K18)
+        lam, info = solve_contacts(G, g, contacts.friction, solver="pgs",
+                                   tolerance=tolerance, max_iterations=max_iterations,
+                                   warm_start=lam)
+        used = "pgs"
+    if not info.converged:
+        raise ValueError(f"the contact solver ({used}) did not converge in "
+                         f"{info.iterations} iterations (residuals: dual {info.dual:.2e}, "
+                         f"complementarity {info.complementarity:.2e}); raise "
+                         f"max_iterations or the tolerance")
+    impulse = J.T @ lam  # joint impulses of the contacts
+    v_next = v_free + aba(model, q, np.zeros(model.nv), impulse, gravity=np.zeros(3))  # K24
+    forces = (lam.reshape(nc, 3) @ frame) / step  # in the world frame
+    return ContactStep(integrate(model, q, step * v_next), v_next, contacts, forces, info, used)
