@@ -160,16 +160,17 @@ def _closed_loop(m, q, v, u, f, ctrl, con, qdd, sc, work):
     return _dynamics(m, q, v, tau, f, con, qdd, sc, work)
 
 
-@inline
+@serial
 def _dynamics(m, q, v, tau, f, con, qdd, sc, work):
-    """``qdd = ABA(q, v, τ)`` without constraints; with them (``con = (pack, settings,
-    cwork)``: ``constraints.core``'s pack and settings, its workspace) the constrained
-    dynamics ``M q̈ = τ - h + Jᵀ λ``, ``J q̈ = -γ`` (C6, C7), λ in ``sc.lam``. A status:
-    ``CONSTRAINTS_CONFLICT`` at the worst row where the proximal solve ends with no
-    solution."""
-    cons, settings, cwork = con
-    if cons[1] == 0.0:  # no constraint rows
+    """``qdd = ABA(q, v, τ)`` without constraints (``con`` None); with them (``con = (pack,
+    settings, cwork)``: ``constraints.core``'s pack and settings, its workspace) the
+    constrained dynamics ``M q̈ = τ - h + Jᵀ λ``, ``J q̈ = -γ`` (C6, C7), λ in ``sc.lam``. A
+    status: ``CONSTRAINTS_CONFLICT`` at the worst row where the proximal solve ends with no
+    solution. Compiled apart from its callers, for ``con`` None or a tuple: numba removes
+    the branch of the other, so a rollout without constraints never compiles their core."""
+    if con is None:
         return aba_core(m, q, v, tau, f, qdd, work)
+    cons, settings, cwork = con
     status = constraint_core(m, cons, q, v, tau, settings, FORWARD, sc.J, sc.gam, sc.G, qdd,
                              sc.lam, sc.info, cwork, work, work, f)  # CRBA, then RNEA: shared
     if status == OK and sc.info[INFO - 1] >= 0.0:
@@ -177,15 +178,16 @@ def _dynamics(m, q, v, tau, f, con, qdd, sc, work):
     return status
 
 
-@inline
+@serial
 def _record(m, con, v, status, sc):
     """``sc.X``: the position error (C5's e), the velocity error ``J v`` and the force λ of
     each row at the state whose dynamics ``_dynamics`` just solved with ``status``; NaN
-    where it failed."""
+    where it failed. Nothing without constraints (``con`` None: pruned as in
+    ``_dynamics``)."""
+    if con is None:
+        return
     cons, settings, cwork = con
     nr = int(cons[1])
-    if nr == 0:
-        return
     X = sc.X
     if status != OK:
         for i in range(3):
@@ -198,6 +200,23 @@ def _record(m, con, v, status, sc):
         for k in range(m.nv):
             acc += sc.J[r, k] * v[k]
         X[0, r], X[1, r], X[2, r] = e[r], acc, sc.lam[r]
+
+
+@serial
+def _rows_of(cons):
+    """The constraint rows of a pack (``constraints.core``); 0 for none (``cons`` None)."""
+    if cons is None:
+        return 0
+    return int(cons[1])
+
+
+@serial
+def _bind(cons, settings, cwork):
+    """``_dynamics``'s ``con``: None without constraints, else their pack, settings and
+    workspace."""
+    if cons is None:
+        return None
+    return (cons, settings, cwork)
 
 
 @inline
@@ -217,37 +236,43 @@ def _advance(m, q, v, h, tmp, dq, out):
 @inline
 def step(m, method, q, v, u, f, ctrl, con, dt, qn, vn, a, sc, work):
     """One step of ``method`` from ``(q, v)`` to ``(qn, vn)``; ``a = q̈(q, v)`` (and ``sc.X``
-    the constraints' record of ``(q, v)``, ``_record``). A status."""
+    the constraints' record of ``(q, v)``, ``_record``). A status.
+
+    Every method evaluates its stages in one loop (one for the Euler methods, four for
+    RK4) and moves ``q`` once at the end: each kernel appears once in the compiled loop."""
     K, Ka, tau, dq, tmp, qs = sc.K, sc.Ka, sc.tau, sc.dq, sc.tmp, sc.qs
-    status = closed_loop_acceleration(m, q, v, u, f, ctrl, con, a, sc, work)
-    _record(m, con, v, status, sc)
-    if status != OK:
-        return status
+    for i in range(4 if method == RK4 else 1):
+        h = dt if i == 3 else 0.5 * dt
+        if i == 0:
+            for k in range(m.nv):
+                K[0, k] = v[k]
+        else:
+            _advance(m, q, K[i - 1], h, tmp, dq, qs)  # q ⊕ c_i h v_{i-1}
+            for k in range(m.nv):
+                K[i, k] = v[k] + h * Ka[i - 1, k]  # v_i = v + c_i h q̈_{i-1}
+        status = closed_loop_acceleration(m, q if i == 0 else qs, K[i], u, f, ctrl, con, Ka[i],
+                                          sc, work)
+        if i == 0:
+            for k in range(m.nv):
+                a[k] = Ka[0, k]
+            _record(m, con, v, status, sc)
+        if status != OK:
+            return status
+    w = dt
     if method == EULER:
-        _advance(m, q, v, dt, tmp, dq, qn)
         for k in range(m.nv):
+            tau[k] = v[k]
             vn[k] = v[k] + dt * a[k]
     elif method == SEMI_IMPLICIT_EULER:
         for k in range(m.nv):
             vn[k] = v[k] + dt * a[k]
-        _advance(m, q, vn, dt, tmp, dq, qn)
+            tau[k] = vn[k]
     else:
-        for k in range(m.nv):
-            K[0, k] = v[k]
-            Ka[0, k] = a[k]
-        for i in range(1, 4):
-            h = dt if i == 3 else 0.5 * dt
-            _advance(m, q, K[i - 1], h, tmp, dq, qs)  # q ⊕ c_i h v_{i-1}
-            for k in range(m.nv):
-                K[i, k] = v[k] + h * Ka[i - 1, k]  # v_i = v + c_i h q̈_{i-1}
-            status = closed_loop_acceleration(m, qs, K[i], u, f, ctrl, con, Ka[i], sc, work)
-            if status != OK:
-                return status
         w = dt / 6.0
         for k in range(m.nv):
             tau[k] = K[0, k] + 2.0 * K[1, k] + 2.0 * K[2, k] + K[3, k]
             vn[k] = v[k] + w * (Ka[0, k] + 2.0 * Ka[1, k] + 2.0 * Ka[2, k] + Ka[3, k])
-        _advance(m, q, tau, w, tmp, dq, qn)
+    _advance(m, q, tau, w, tmp, dq, qn)  # q ⊕ dt v, q ⊕ dt v⁺ or RK4's weighted sum
     if not (finite(qn) and finite(vn)):
         return fault(NONFINITE_RESULT, -1)
     return _within_bounds(m, vn, ctrl[1])
@@ -286,8 +311,9 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, se
     one row held over every step where it has one;
     ``f`` wrenches (0, 1 or B, n, 6); ``coords`` (COORDS, nv) per velocity coordinate (``KP``,
     ``KD``, ``ACTUATED``, ``SPEED_BOUND``); ``q_ref`` (B, nq), ``v_ref`` (B, nv); ``every``
-    the states kept (``kept_row``); ``cons`` the constraints' pack (``constraints.core``,
-    ``[0, 0]`` for none) and ``settings`` their solve's. Writes the kept states into ``Q``
+    the states kept (``kept_row``); ``cons`` the constraints' pack (``constraints.core``;
+    None for none, which compiles a loop without them) and ``settings`` their solve's (None
+    with ``cons``). Writes the kept states into ``Q``
     (B, rows, nq), ``V``, ``A`` (B, rows, nv), the constraints' record of each (``_record``)
     into ``X`` (B, rows, 3, nr), and per rollout the steps ``completed`` and the ``status`` (0, or
     the fault that stopped it). The acceleration at the last state takes the last open-loop
@@ -296,13 +322,14 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, se
     after it.
     """
     m = unpack(packed)
-    nr = int(cons[1])
+    nr = _rows_of(cons)
     size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
     csize = heap_size(m.n, m.nq, m.nv, m.nl, nr)
     for b in prange(q0.shape[0]):
-        # the buffers are arguments of the call that carves them: alive while it runs
-        _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, settings,
-                 dt, steps, every, Q, V, A, X, completed, status, np.empty(size),
+        # the buffers are arguments of the call that carves them: alive while it runs; b as
+        # int64, the type the loop's first typing gives it (else _rollout compiles twice)
+        _rollout(packed, np.int64(b), method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
+                 settings, dt, steps, every, Q, V, A, X, completed, status, np.empty(size),
                  np.empty(csize))
 
 
@@ -316,11 +343,11 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
     buffers are this function's arguments, alive until it returns."""
     mb = unpack(packed)
     held = u.shape[1]
-    nr = int(cons[1])
+    nr = _rows_of(cons)
     shared = core_workspace_size(mb.n, mb.nq, mb.nv, mb.nl)
     work, o = ws.carve(ws.data_pointer(heap), 0, (shared,))  # bare: no reference counts
     cwork = ws.carve(ws.data_pointer(heap), o, (heap.shape[0] - shared,))[0]
-    con = (cons, settings, cwork)
+    con = _bind(cons, settings, cwork)
     sc = workspace(ws.data_pointer(buf), mb, nr)
     for k in range(mb.nv):
         sc.zero[k] = 0.0

@@ -166,10 +166,11 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     X = np.full(shape + (3, p.nr), np.nan)
     completed = np.zeros(B, dtype=np.int64)
     status = np.zeros(B, dtype=np.int64)
-    cons = np.array(p.array, dtype=float)
+    # without rows None: the loop compiled without the constraint core (rollout._dynamics)
+    cons, solve = (np.array(p.array, dtype=float), settings) if p.nr else (None, None)
     with PARALLEL_LOCK:
         rollouts(packed, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, q_ref, v_ref,
-                 cons, settings, dt, steps, every, Q, V, A, X, completed, status)
+                 cons, solve, dt, steps, every, Q, V, A, X, completed, status)
     message = _message(model, status, completed, dt, steps, batch, coords, A, p)
     if message:
         warnings.warn(message, SimulationDiverged, stacklevel=2)
