@@ -29,6 +29,9 @@ DIVERGED = 6
 DELASSUS_SINGULAR = 7
 """Constraints: the Delassus matrix is singular at a row (reported in the joint's place);
 Python names the constraint (``constraints.solve``)."""
+CONSTRAINTS_CONFLICT = 8
+"""A rollout: the proximal solve of the constraint forces ended with a row (reported in the
+joint's place) violated past ``constraints.core.CONFLICT``: the set has no solution."""
 
 JOINT_UNIT = 256
 SAMPLE_UNIT = 1 << 24

@@ -80,6 +80,7 @@ WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py); n
     "af": ("nv",),  # the free acceleration
     "h": ("nv",),  # the bias forces h = C(q, v) v + g(q)
     "cols": ("nv",),  # the coordinates that move a constraint
+    "e": ("nr",),  # the position error of each row (C5): p₁ - p₂, or -log(~M₁ M₂)
 }
 
 
@@ -220,7 +221,8 @@ def _drift(m, cons, o, b1, b2, r0, g, k_):
             g[r0 + 1] += sg * (x[5, 1] + w3 * u1 - w1 * u3 + kd * u2)
             g[r0 + 2] += sg * (x[5, 2] + w1 * u2 - w2 * u1 + kd * u3)
         for i in range(3):
-            g[r0 + i] += kp * (p1[i] - p2[i])  # Kp (p₁ - p₂) (C5)
+            k_.e[r0 + i] = p1[i] - p2[i]
+            g[r0 + i] += kp * k_.e[r0 + i]  # Kp (p₁ - p₂) (C5)
         _rotate(R, g, r0, local)
         return
     for i in range(6):  # relative twist V₁ - V₂ into x[4], A₁ - A₂ (+ the bracket) into x[5]
@@ -258,6 +260,7 @@ def _drift(m, cons, o, b1, b2, r0, g, k_):
     _rotate(R, g, r0, local)
     _rotate(R, g, r0 + 3, local)
     for i in range(6):
+        k_.e[r0 + i] = x[1, i]
         g[r0 + i] += kp * x[1, i]
 
 

@@ -40,6 +40,17 @@ States are kept every ``every`` steps (state 0, every, 2 every, ...) and the las
 ``every = 0`` only the last. The loop steps in two state buffers of its own and writes only
 the states kept, so a long run needs memory for those alone.
 
+With constraints (``docs/constraints.md``, "Rollouts"), every stage's q̈ is the constrained
+dynamics instead of ABA, from the same torque (C6, C7):
+
+    M q̈ = τ - h + Jᵀ λ,   J q̈ = -γ   (γ with each constraint's corrector, C5)
+
+computed by ``constraints.core.constraint_core`` in the rollout's workspace; a singular
+Delassus matrix (``DELASSUS_SINGULAR``) or a proximal solve left with a violated row
+(``CONSTRAINTS_CONFLICT``) stops the rollout like a divergence. At each state kept the loop
+also keeps, per constraint row, the position error (C5's e), the velocity error ``J v`` and
+the force λ of that state (``X``).
+
 The loop over steps computes no energy: ``energies`` computes the kinetic and potential
 energy of every state reached afterwards, in one parallel call over all states, when a
 ``Trajectory``'s energy is first read (a rollout for control needs only q, v, q̈).
@@ -57,10 +68,14 @@ from ..algorithms._workspace import chunks
 from ..algorithms.aba import aba_core
 from ..algorithms.energy import energy_core
 from ..algorithms.rnea import rnea_core
-from ..algorithms.status import DIVERGED, NONFINITE_RESULT, OK, fault
+from ..algorithms.status import CONSTRAINTS_CONFLICT, DIVERGED, NONFINITE_RESULT, OK, fault
 from ..algorithms.work.aba import workspace_size as aba_workspace
+from ..algorithms.work.crba import workspace_size as crba_workspace
 from ..algorithms.work.energy import workspace_size as energy_workspace
 from ..algorithms.work.rnea import workspace_size as rnea_workspace
+from ..constraints.core import FORWARD, INFO, constraint_core
+from ..constraints.work.core import workspace as constraint_workspace
+from ..constraints.work.core import workspace_size as constraint_workspace_size
 from ..multibody.joints import joint_difference, joint_integrate
 from ..multibody.packed import unpack
 from .work.rollout import workspace, workspace_size
@@ -80,6 +95,12 @@ WORKSPACE = {  # one rollout's scratch, in order (tools/generate_workspaces.py)
     "qn": ("nq",),  # the next one
     "vn": ("nv",),
     "a": ("nv",),  # the acceleration
+    "J": ("nr", "nv"),  # the constraints' Jacobian (C1, C2)
+    "gam": ("nr",),  # their drift γ (C3-C5)
+    "G": ("nr", "nr"),  # the Delassus matrix (C7)
+    "lam": ("nr",),  # the forces λ
+    "info": (5,),  # the solve's report (constraints.core)
+    "X": (3, "nr"),  # at the step's state: the position error, J v and λ of each row
 }
 
 RK4, SEMI_IMPLICIT_EULER, EULER = 0, 1, 2
@@ -98,11 +119,12 @@ the only ones with springs: ``Model.stiffness``)."""
 
 
 @inline
-def closed_loop_acceleration(m, q, v, u, f, ctrl, qdd, sc, work):
-    """``qdd = ABA(q, v, u + τ_ctrl(q, v))`` (the module's first equations); ``ctrl`` the
-    controller ``(flags, coords (COORDS, nv), q_ref (nq), v_ref (nv))``. A status; ``qdd`` NaN
-    where it fails."""
-    status = _closed_loop(m, q, v, u, f, ctrl, qdd, sc, work)
+def closed_loop_acceleration(m, q, v, u, f, ctrl, con, qdd, sc, work):
+    """``qdd = ABA(q, v, u + τ_ctrl(q, v))`` (the module's first equations), or the
+    constrained dynamics of that torque; ``ctrl`` the controller ``(flags, coords (COORDS,
+    nv), q_ref (nq), v_ref (nv))``, ``con`` the constraints ``(pack, settings, workspace)``
+    (``_dynamics``). A status; ``qdd`` NaN where it fails."""
+    status = _closed_loop(m, q, v, u, f, ctrl, con, qdd, sc, work)
     if status != OK:
         for k in range(m.nv):
             qdd[k] = np.nan
@@ -110,11 +132,11 @@ def closed_loop_acceleration(m, q, v, u, f, ctrl, qdd, sc, work):
 
 
 @inline
-def _closed_loop(m, q, v, u, f, ctrl, qdd, sc, work):
+def _closed_loop(m, q, v, u, f, ctrl, con, qdd, sc, work):
     """``closed_loop_acceleration``, its ``qdd`` undefined where it fails."""
     flags, coords, q_ref, v_ref = ctrl
     if flags == 0:  # no feedback: τ = τ_ol
-        return aba_core(m, q, v, u, f, qdd, work)
+        return _dynamics(m, q, v, u, f, con, qdd, sc, work)
     tau, g, dq, zero, none, tmp = sc.tau, sc.g, sc.dq, sc.zero, sc.none, sc.tmp
     for k in range(m.nv):
         tau[k] = u[k]
@@ -135,7 +157,66 @@ def _closed_loop(m, q, v, u, f, ctrl, qdd, sc, work):
             if coords[STIFFNESS, k] != 0.0:
                 j = m.dof_joint[k]
                 tau[k] -= coords[STIFFNESS, k] * (q[m.iq[j] + k - m.iv[j]] - coords[SPRING, k])
-    return aba_core(m, q, v, tau, f, qdd, work)
+    return _dynamics(m, q, v, tau, f, con, qdd, sc, work)
+
+
+@serial
+def _dynamics(m, q, v, tau, f, con, qdd, sc, work):
+    """``qdd = ABA(q, v, τ)`` without constraints (``con`` None); with them (``con = (pack,
+    settings, cwork)``: ``constraints.core``'s pack and settings, its workspace) the
+    constrained dynamics ``M q̈ = τ - h + Jᵀ λ``, ``J q̈ = -γ`` (C6, C7), λ in ``sc.lam``. A
+    status: ``CONSTRAINTS_CONFLICT`` at the worst row where the proximal solve ends with no
+    solution. Compiled apart from its callers, for ``con`` None or a tuple: numba removes
+    the branch of the other, so a rollout without constraints never compiles their core."""
+    if con is None:
+        return aba_core(m, q, v, tau, f, qdd, work)
+    cons, settings, cwork = con
+    status = constraint_core(m, cons, q, v, tau, settings, FORWARD, sc.J, sc.gam, sc.G, qdd,
+                             sc.lam, sc.info, cwork, work, work, f)  # CRBA, then RNEA: shared
+    if status == OK and sc.info[INFO - 1] >= 0.0:
+        return fault(CONSTRAINTS_CONFLICT, int(sc.info[INFO - 1]))
+    return status
+
+
+@serial
+def _record(m, con, v, status, sc):
+    """``sc.X``: the position error (C5's e), the velocity error ``J v`` and the force λ of
+    each row at the state whose dynamics ``_dynamics`` just solved with ``status``; NaN
+    where it failed. Nothing without constraints (``con`` None: pruned as in
+    ``_dynamics``)."""
+    if con is None:
+        return
+    cons, settings, cwork = con
+    nr = int(cons[1])
+    X = sc.X
+    if status != OK:
+        for i in range(3):
+            for r in range(nr):
+                X[i, r] = np.nan
+        return
+    e = constraint_workspace(ws.data_pointer(cwork), m, nr).e
+    for r in range(nr):
+        acc = 0.0
+        for k in range(m.nv):
+            acc += sc.J[r, k] * v[k]
+        X[0, r], X[1, r], X[2, r] = e[r], acc, sc.lam[r]
+
+
+@serial
+def _rows_of(cons):
+    """The constraint rows of a pack (``constraints.core``); 0 for none (``cons`` None)."""
+    if cons is None:
+        return 0
+    return int(cons[1])
+
+
+@serial
+def _bind(cons, settings, cwork):
+    """``_dynamics``'s ``con``: None without constraints, else their pack, settings and
+    workspace."""
+    if cons is None:
+        return None
+    return (cons, settings, cwork)
 
 
 @inline
@@ -153,37 +234,45 @@ def _advance(m, q, v, h, tmp, dq, out):
 
 
 @inline
-def step(m, method, q, v, u, f, ctrl, dt, qn, vn, a, sc, work):
-    """One step of ``method`` from ``(q, v)`` to ``(qn, vn)``; ``a = q̈(q, v)``. A status."""
+def step(m, method, q, v, u, f, ctrl, con, dt, qn, vn, a, sc, work):
+    """One step of ``method`` from ``(q, v)`` to ``(qn, vn)``; ``a = q̈(q, v)`` (and ``sc.X``
+    the constraints' record of ``(q, v)``, ``_record``). A status.
+
+    Every method evaluates its stages in one loop (one for the Euler methods, four for
+    RK4) and moves ``q`` once at the end: each kernel appears once in the compiled loop."""
     K, Ka, tau, dq, tmp, qs = sc.K, sc.Ka, sc.tau, sc.dq, sc.tmp, sc.qs
-    status = closed_loop_acceleration(m, q, v, u, f, ctrl, a, sc, work)
-    if status != OK:
-        return status
+    for i in range(4 if method == RK4 else 1):
+        h = dt if i == 3 else 0.5 * dt
+        if i == 0:
+            for k in range(m.nv):
+                K[0, k] = v[k]
+        else:
+            _advance(m, q, K[i - 1], h, tmp, dq, qs)  # q ⊕ c_i h v_{i-1}
+            for k in range(m.nv):
+                K[i, k] = v[k] + h * Ka[i - 1, k]  # v_i = v + c_i h q̈_{i-1}
+        status = closed_loop_acceleration(m, q if i == 0 else qs, K[i], u, f, ctrl, con, Ka[i],
+                                          sc, work)
+        if i == 0:
+            for k in range(m.nv):
+                a[k] = Ka[0, k]
+            _record(m, con, v, status, sc)
+        if status != OK:
+            return status
+    w = dt
     if method == EULER:
-        _advance(m, q, v, dt, tmp, dq, qn)
         for k in range(m.nv):
+            tau[k] = v[k]
             vn[k] = v[k] + dt * a[k]
     elif method == SEMI_IMPLICIT_EULER:
         for k in range(m.nv):
             vn[k] = v[k] + dt * a[k]
-        _advance(m, q, vn, dt, tmp, dq, qn)
+            tau[k] = vn[k]
     else:
-        for k in range(m.nv):
-            K[0, k] = v[k]
-            Ka[0, k] = a[k]
-        for i in range(1, 4):
-            h = dt if i == 3 else 0.5 * dt
-            _advance(m, q, K[i - 1], h, tmp, dq, qs)  # q ⊕ c_i h v_{i-1}
-            for k in range(m.nv):
-                K[i, k] = v[k] + h * Ka[i - 1, k]  # v_i = v + c_i h q̈_{i-1}
-            status = closed_loop_acceleration(m, qs, K[i], u, f, ctrl, Ka[i], sc, work)
-            if status != OK:
-                return status
         w = dt / 6.0
         for k in range(m.nv):
             tau[k] = K[0, k] + 2.0 * K[1, k] + 2.0 * K[2, k] + K[3, k]
             vn[k] = v[k] + w * (Ka[0, k] + 2.0 * Ka[1, k] + 2.0 * Ka[2, k] + Ka[3, k])
-        _advance(m, q, tau, w, tmp, dq, qn)
+    _advance(m, q, tau, w, tmp, dq, qn)  # q ⊕ dt v, q ⊕ dt v⁺ or RK4's weighted sum
     if not (finite(qn) and finite(vn)):
         return fault(NONFINITE_RESULT, -1)
     return _within_bounds(m, vn, ctrl[1])
@@ -202,46 +291,64 @@ def _within_bounds(m, v, coords):
 @inline
 def core_workspace_size(n, nq, nv, nl):
     """The largest workspace of the cores a step calls, shared by them in turn."""
-    return max(aba_workspace(n, nq, nv, nl), rnea_workspace(n, nq, nv, nl))
+    return max(aba_workspace(n, nq, nv, nl), rnea_workspace(n, nq, nv, nl),
+               crba_workspace(n, nq, nv, nl))
+
+
+@inline
+def heap_size(n, nq, nv, nl, nr):
+    """The cores' shared workspace, then the constraint core's own (none without rows)."""
+    extra = constraint_workspace_size(n, nq, nv, nl, nr) if nr > 0 else 0
+    return core_workspace_size(n, nq, nv, nl) + extra
 
 
 @parallel
-def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, steps, every,
-             Q, V, A, completed, status):
+def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, settings, dt,
+             steps, every, Q, V, A, X, completed, status):
     """``B = q0.shape[0]`` rollouts of ``steps`` steps, in parallel.
 
     ``q0`` (B, nq), ``v0`` (B, nv); ``u`` the open-loop torques (1 or B, steps or 1, nv),
     one row held over every step where it has one;
     ``f`` wrenches (0, 1 or B, n, 6); ``coords`` (COORDS, nv) per velocity coordinate (``KP``,
     ``KD``, ``ACTUATED``, ``SPEED_BOUND``); ``q_ref`` (B, nq), ``v_ref`` (B, nv); ``every``
-    the states kept (``kept_row``). Writes the kept states into ``Q`` (B, rows, nq), ``V``,
-    ``A`` (B, rows, nv), and per rollout the steps ``completed`` and the ``status`` (0, or
+    the states kept (``kept_row``); ``cons`` the constraints' pack (``constraints.core``;
+    None for none, which compiles a loop without them) and ``settings`` their solve's (None
+    with ``cons``). Writes the kept states into ``Q``
+    (B, rows, nq), ``V``, ``A`` (B, rows, nv), the constraints' record of each (``_record``)
+    into ``X`` (B, rows, 3, nr), and per rollout the steps ``completed`` and the ``status`` (0, or
     the fault that stopped it). The acceleration at the last state takes the last open-loop
     torque. The outputs come in filled with NaN; a rollout that stops writes the last state
     it reached into the row of that state, or the next one (``stop_row``), and leaves NaN
     after it.
     """
     m = unpack(packed)
-    size = workspace_size(m.n, m.nq, m.nv, m.nl)
-    csize = core_workspace_size(m.n, m.nq, m.nv, m.nl)
+    nr = _rows_of(cons)
+    size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
+    csize = heap_size(m.n, m.nq, m.nv, m.nl, nr)
     for b in prange(q0.shape[0]):
-        # the buffers are arguments of the call that carves them: alive while it runs
-        _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, steps,
-                 every, Q, V, A, completed, status, np.empty(size), np.empty(csize))
+        # the buffers are arguments of the call that carves them: alive while it runs; b as
+        # int64, the type the loop's first typing gives it (else _rollout compiles twice)
+        _rollout(packed, np.int64(b), method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
+                 settings, dt, steps, every, Q, V, A, X, completed, status, np.empty(size),
+                 np.empty(csize))
 
 
 @serial
-def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, steps, every,
-             Q, V, A, completed, status, buf, heap):
+def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, settings, dt,
+             steps, every, Q, V, A, X, completed, status, buf, heap):
     """Rollout ``b`` of ``rollouts``, in the scratch ``buf`` (``workspace``) and the cores'
-    workspace ``heap`` (``core_workspace_size``). Bare views (``_views.carve``) are valid
-    only while the array they view lives, and compiled code frees a local array after its
-    last use, not at the end of its scope: so the two buffers are this function's
-    arguments, alive until it returns."""
+    workspace ``heap`` (``heap_size``: the shared one, then the constraint core's). Bare
+    views (``_views.carve``) are valid only while the array they view lives, and compiled
+    code frees a local array after its last use, not at the end of its scope: so the two
+    buffers are this function's arguments, alive until it returns."""
     mb = unpack(packed)
     held = u.shape[1]
-    work = ws.carve(ws.data_pointer(heap), 0, (heap.shape[0],))[0]  # bare: no reference counts
-    sc = workspace(ws.data_pointer(buf), mb)
+    nr = _rows_of(cons)
+    shared = core_workspace_size(mb.n, mb.nq, mb.nv, mb.nl)
+    work, o = ws.carve(ws.data_pointer(heap), 0, (shared,))  # bare: no reference counts
+    cwork = ws.carve(ws.data_pointer(heap), o, (heap.shape[0] - shared,))[0]
+    con = _bind(cons, settings, cwork)
+    sc = workspace(ws.data_pointer(buf), mb, nr)
     for k in range(mb.nv):
         sc.zero[k] = 0.0
     q, v, qn, vn, a = sc.q, sc.v, sc.qn, sc.vn, sc.a
@@ -250,6 +357,7 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, s
     Qb = _rows(Q[b], rows, mb.nq)
     Vb = _rows(V[b], rows, mb.nv)
     Ab = _rows(A[b], rows, mb.nv)
+    Xb = _rows(X[b], rows, 3 * nr)
     ub = _rows(u[0], held, mb.nv)  # shared by all rollouts, or
     if u.shape[0] > 1:
         ub = _rows(u[b], held, mb.nv)  # this rollout's own
@@ -268,10 +376,10 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, s
     s = OK
     done = 0
     for i in range(steps):
-        s = step(mb, method, q, v, ub[hold * i], fb, ctrl, dt, qn, vn, a, sc, work)
+        s = step(mb, method, q, v, ub[hold * i], fb, ctrl, con, dt, qn, vn, a, sc, work)
         r = kept_row(i, steps, every)
         if r >= 0:
-            _keep(q, v, a, Qb[r], Vb[r], Ab[r])
+            _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
         if s != OK:
             break
         for k in range(mb.nq):
@@ -280,12 +388,14 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, dt, s
             v[k] = vn[k]
         done = i + 1
     if s == OK:
-        s = closed_loop_acceleration(mb, q, v, ub[hold * (steps - 1)], fb, ctrl, a, sc, work)
+        s = closed_loop_acceleration(mb, q, v, ub[hold * (steps - 1)], fb, ctrl, con, a, sc,
+                                     work)
+        _record(mb, con, v, s, sc)
         r = kept_row(steps, steps, every)
-        _keep(q, v, a, Qb[r], Vb[r], Ab[r])
+        _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
     elif kept_row(done, steps, every) < 0:
         r = stop_row(done, every)
-        _keep(q, v, a, Qb[r], Vb[r], Ab[r])
+        _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
     completed[b] = done
     status[b] = s
 
@@ -315,14 +425,18 @@ def kept_rows(steps: int, every: int) -> int:
 
 
 @inline
-def _keep(q, v, a, Qr, Vr, Ar):
-    """Write a state and its acceleration (NaN where ``step`` could not compute it) into
-    its row."""
+def _keep(q, v, a, x, Qr, Vr, Ar, Xr):
+    """Write a state, its acceleration (NaN where ``step`` could not compute it) and its
+    constraints' record ``x`` (3, nr) into its row."""
     for k in range(q.shape[0]):
         Qr[k] = q[k]
     for k in range(v.shape[0]):
         Vr[k] = v[k]
         Ar[k] = a[k]
+    nr = x.shape[1]
+    for i in range(3):
+        for r in range(nr):
+            Xr[i * nr + r] = x[i, r]
 
 
 @inline

@@ -20,7 +20,17 @@ from ..algorithms.actuators import actuator_torques
 from ..algorithms.api import energy as _energy
 from ..algorithms.api import link_placements
 from ..algorithms.configuration import neutral
-from ..algorithms.status import DIVERGED, NONFINITE_RESULT, QUATERNION, SINGULAR, decode
+from ..algorithms.status import (
+    CONSTRAINTS_CONFLICT,
+    DELASSUS_SINGULAR,
+    DIVERGED,
+    NONFINITE_RESULT,
+    QUATERNION,
+    SINGULAR,
+    decode,
+)
+from ..constraints.model import pack
+from ..constraints.operators import checked_settings
 from ..multibody.joints.table import spring_deflection
 from ..multibody.packed import DEFAULT_GRAVITY
 from .controllers import PD, GravityCompensation, actuated_gains
@@ -60,8 +70,10 @@ MEMORY_SHARE = 0.8
 
 def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravity=None,
              f_ext=None, controller=None, record_every: int = 1,
-             final_only: bool = False, passive: bool = True, ctrl=None) -> Trajectory:
-    """Integrate ``q̈ = ABA(q, v, τ)`` for ``steps`` steps of ``dt`` seconds.
+             final_only: bool = False, passive: bool = True, ctrl=None, constraints=None,
+             damping: float = 0.0) -> Trajectory:
+    """Integrate ``q̈ = ABA(q, v, τ)``, or the constrained dynamics of ``constraints``, for
+    ``steps`` steps of ``dt`` seconds.
 
     ``q0`` (nq,) and ``v0`` (nv,) for one rollout, or (B, nq) / (B, nv) for B (either one
     may be shared by all); ``tau``: None, open-loop torques per step (steps, nv) or per
@@ -78,7 +90,14 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     as MuJoCo does (``False``: the rigid-body dynamics alone); ``ctrl``: None, or controls
     per step for the model's motors (``Model.actuators``), (steps, na) or (B, steps, na),
     held over each step: their torques (``cgadyn.actuator_torques``, MuJoCo's clamping)
-    are added to ``tau``, so that a Gymnasium policy's actions drive the rollout unchanged.
+    are added to ``tau``, so that a Gymnasium policy's actions drive the rollout unchanged;
+    ``constraints``: None, or a list of ``cgadyn.Constraint`` of this model (loop closures,
+    feet held, ``cgadyn.mujoco_constraints`` of an MJCF's equalities): every stage's q̈ then
+    solves ``M q̈ = τ - h + Jᵀ λ``, ``J q̈ = -γ`` (``cgadyn.constrained_dynamics``, C6), γ
+    with each constraint's Baumgarte ``corrector`` (C5), which pulls the drift of the
+    integration back (``docs/constraints.md``, "Rollouts"); ``damping``: as in
+    ``constrained_dynamics`` (0: a direct solve, a singular set stops the rollout; > 0:
+    proximal iterations, the least-norm forces of a redundant set).
 
     Returns a ``Trajectory`` of the states kept. A rollout that diverges (a joint turning
     more than half a turn in one step, a slide moving further than the robot is large, a
@@ -86,6 +105,10 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     ``Trajectory`` holds it up to there, says so (``diverged``, ``completed``, ``message``:
     the step, the rollout, the quantity), and a ``SimulationDiverged`` warning is issued
     (turn it into an error with ``warnings.simplefilter("error", SimulationDiverged)``).
+    A constrained rollout stops the same way, with its reason, where the constraints become
+    singular (a loop through a singular pose, with ``damping`` 0) or have no solution.
+    With constraints, the ``Trajectory`` also holds ``constraint_violation`` (the position
+    and velocity error of each constraint at each state kept) and ``forces`` (λ).
     A run whose states would not fit in the memory available is refused before it starts,
     with what to reduce.
 
@@ -105,7 +128,12 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
         raise ValueError(f"integrator must be one of {', '.join(map(repr, INTEGRATORS))}, "
                          f"got {integrator!r}")
     every = _every(record_every, final_only, steps)
+    p = pack(model, () if constraints is None else constraints)  # checked: type, model
+    settings = checked_settings(damping, None, 1e-12)
     server = _arrays.server((q0, v0, tau))
+    if server is not None and p.nr:
+        raise ValueError("simulate with constraints takes numpy states; dask arrays of "
+                         "states are not supported with constraints yet")
     if server is not None:  # dask arrays: chunks of rollouts, scheduled by dask
         return server.simulate(model, q0, v0, dt, steps, tau, dict(
             integrator=integrator, gravity=gravity, f_ext=f_ext, controller=controller,
@@ -118,9 +146,9 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     batch = _batch({"q0": q0, "v0": v0, "tau": u if u.ndim == 3 else None})
     B = batch or 1
     rows = kept_rows(steps, every)
-    _fits(model, B, steps, rows)
-    q0 = np.array(np.broadcast_to(q0, (B, model.nq)))  # own copies: one compiled signature
-    v0 = np.array(np.broadcast_to(v0, (B, model.nv)))
+    _fits(model, B, steps, rows, p.nr)
+    q0 = np.array(np.broadcast_to(q0, (B, model.nq)), order="C")  # own copies, C order:
+    v0 = np.array(np.broadcast_to(v0, (B, model.nv)), order="C")  # one compiled signature
     _energy(model, q0, v0, gravity)  # finite states, unit quaternions: its ValueError
     u = u.reshape((-1, u.shape[-2], model.nv))
     f = _inputs.external(model, f_ext, (B,) if batch else ())
@@ -135,12 +163,15 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
 
     shape = (B, rows)
     Q, V, A = (np.full(shape + (n,), np.nan) for n in (model.nq, model.nv, model.nv))
+    X = np.full(shape + (3, p.nr), np.nan)
     completed = np.zeros(B, dtype=np.int64)
     status = np.zeros(B, dtype=np.int64)
+    # without rows None: the loop compiled without the constraint core (rollout._dynamics)
+    cons, solve = (np.array(p.array, dtype=float), settings) if p.nr else (None, None)
     with PARALLEL_LOCK:
         rollouts(packed, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, q_ref, v_ref,
-                 dt, steps, every, Q, V, A, completed, status)
-    message = _message(model, status, completed, dt, steps, batch, coords, A)
+                 cons, solve, dt, steps, every, Q, V, A, X, completed, status)
+    message = _message(model, status, completed, dt, steps, batch, coords, A, p)
     if message:
         warnings.warn(message, SimulationDiverged, stacklevel=2)
     t = _times(dt, steps, every, rows)
@@ -149,14 +180,25 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
                      for c, d in zip(completed, diverged, strict=True)], dtype=np.int64)
     if not batch:
         end = int(last[0]) + 1
-        Q, V, A, t = Q[0, :end], V[0, :end], A[0, :end], t[:end].copy()
+        Q, V, A, X, t = Q[0, :end], V[0, :end], A[0, :end], X[0, :end], t[:end].copy()
         completed, diverged = int(completed[0]), bool(diverged[0])
         if diverged:
             t[-1] = completed * dt  # the last state it reached
     deferred = Deferred(lambda: _energies(packed, Q, V, last))
     return Trajectory(t=t, q=Q, v=V, a=A, kinetic=deferred, potential=deferred,
                       completed=completed, diverged=diverged,
-                      dt=dt, integrator=integrator, message=message)
+                      dt=dt, integrator=integrator, message=message,
+                      constraint_violation=_violation(X, p.starts), forces=X[..., 2, :])
+
+
+def _violation(X: np.ndarray, starts: np.ndarray) -> np.ndarray:
+    """(..., rows, nc, 2): the norms of each constraint's position error (C5's e) and
+    velocity error ``J v`` from the rows the loop kept ``X`` (..., rows, 3, nr)."""
+    out = np.empty(X.shape[:-2] + (len(starts) - 1, 2))
+    for c in range(len(starts) - 1):
+        rows = X[..., :2, starts[c]:starts[c + 1]]
+        out[..., c, :] = np.sqrt(np.sum(rows * rows, axis=-1))
+    return out
 
 
 def _energies(packed, Q, V, last):
@@ -194,8 +236,8 @@ def _times(dt: float, steps: int, every: int, rows: int) -> np.ndarray:
 
 def _last_row(done: int, steps: int, every: int) -> int:
     """The row holding the last state a stopped rollout reached (``rollout.rollouts``)."""
-    r = kept_row.py_func(done, steps, every)
-    return r if r >= 0 else stop_row.py_func(done, every)
+    r = getattr(kept_row, "py_func", kept_row)(done, steps, every)  # plain under NUMBA_DISABLE_JIT
+    return r if r >= 0 else getattr(stop_row, "py_func", stop_row)(done, every)
 
 
 def available_memory() -> int:
@@ -211,10 +253,11 @@ def available_memory() -> int:
     return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
 
 
-def _fits(model, B: int, steps: int, rows: int) -> None:
-    """Refuse, before anything is allocated, a run whose kept states (q, v, q̈ and the two
-    energies of each) would take more than ``MEMORY_SHARE`` of the memory available."""
-    per_row = 8 * (model.nq + 2 * model.nv + 2)
+def _fits(model, B: int, steps: int, rows: int, nr: int = 0) -> None:
+    """Refuse, before anything is allocated, a run whose kept states (q, v, q̈, the two
+    energies and the ``nr`` constraint rows' errors and forces of each) would take more than
+    ``MEMORY_SHARE`` of the memory available."""
+    per_row = 8 * (model.nq + 2 * model.nv + 2 + 3 * nr + 2 * nr)
     need, have = B * rows * per_row, int(MEMORY_SHARE * available_memory())
     if need <= have:
         return
@@ -341,11 +384,27 @@ def _controller(model, controller, q0: np.ndarray, B: int, coords: np.ndarray):
 _CAUSE = "the step dt is likely too large for the motion, or the gains or torques too strong"
 
 
+def _constraint_reason(code: int, row: int, p) -> str:
+    """Why the constraints stopped a rollout: a singular Delassus matrix or no solution, at
+    the constraint of ``row``."""
+    k = int(np.searchsorted(p.starts, max(row, 0), side="right") - 1)
+    which = f"constraint {k} ({p.constraints[k].name})"
+    if code == DELASSUS_SINGULAR:
+        return (f"the constraints became singular: {which} has rows that depend on the "
+                f"others' (the Delassus matrix G = J M⁻¹ Jᵀ lost rank, a loop through a "
+                f"singular pose or a redundant set); pass damping > 0 (e.g. 1e-8) for the "
+                f"least-norm forces of a redundant set")
+    return (f"the constraints have no solution: after the proximal iterations {which} is "
+            f"still violated (its rows conflict with those of the others)")
+
+
 def _reason(model, code: int, joint: int, k: int, coords: np.ndarray, dt: float,
-            initial: bool) -> str:
+            initial: bool, p=None) -> str:
     """Why a rollout stopped after ``k`` steps, in words: divergence (the quantity that blew
-    up, and the likely cause) or, when ABA failed on the ``initial`` state itself, a fault
-    of the model or of that state."""
+    up, and the likely cause), the constraints (``joint`` then holds their row), or, when
+    ABA failed on the ``initial`` state itself, a fault of the model or of that state."""
+    if code in (DELASSUS_SINGULAR, CONSTRAINTS_CONFLICT) and p is not None and p.nr:
+        return _constraint_reason(code, joint, p)
     name = f" {model.joint_names[joint]!r}" if joint >= 0 else ""
     if code == DIVERGED:
         dofs = model.joint_dofs(joint)
@@ -369,7 +428,7 @@ def _reason(model, code: int, joint: int, k: int, coords: np.ndarray, dt: float,
 
 
 def _message(model, status: np.ndarray, completed: np.ndarray, dt: float, steps: int,
-             batch: int, coords: np.ndarray, A: np.ndarray) -> str:
+             batch: int, coords: np.ndarray, A: np.ndarray, p=None) -> str:
     """What stopped the rollouts that stopped ("" if none did); ``A`` the accelerations
     kept, NaN in row 0 where ABA failed on a rollout's initial state."""
     stopped = np.flatnonzero(status)
@@ -379,7 +438,7 @@ def _message(model, status: np.ndarray, completed: np.ndarray, dt: float, steps:
     code, joint, _ = decode(int(status[first]))
     k = int(completed[first])
     initial = k == 0 and not np.isfinite(A[first, 0]).all()
-    reason = _reason(model, code, joint, k, coords, dt, initial)
+    reason = _reason(model, code, joint, k, coords, dt, initial, p)
     where = f"rollout {first} " if batch else ""
     more = f" ({stopped.size} of {batch} rollouts stopped)" if batch else ""
     return (f"simulation of {model.name!r}: {where}stopped after {k} of {steps} steps "

@@ -66,6 +66,15 @@ class Trajectory:
     k steps, the last state a stopped rollout reached fills the row after the last one it
     filled on the grid (at ``completed * dt``, which ``t`` of one rollout says).
 
+    With constraints (``simulate(..., constraints=...)``): ``constraint_violation``
+    (rows, nc, 2), or (B, rows, nc, 2), at each state kept and for each constraint, the norm
+    of its position error (column 0: ``|p₁ - p₂|`` in metres for a point; for a frame
+    ``|log(~M₁ M₂)|``, its rotation (rad) and translation (m) together) and of its velocity
+    error ``|J v|`` (column 1; m/s, or rad/s and m/s); ``forces`` (rows, nr), or
+    (B, rows, nr), the forces λ of that state, in ``constrained_dynamics``' layout (each
+    constraint's rows in its frame), so that ``M a + h = τ + Jᵀ λ``. Without constraints
+    they have nc = nr = 0 columns (None for dask rollouts).
+
     ``kinetic`` and ``potential`` from ``simulate`` are computed when one of them (or
     ``energy``) is first read, from the states ``q``, ``v`` then held, in one parallel
     compiled call over all states; the rollout itself computes no energy.
@@ -82,6 +91,8 @@ class Trajectory:
     dt: float
     integrator: str
     message: str = ""
+    constraint_violation: np.ndarray | None = None
+    forces: np.ndarray | None = None
 
     @property
     def energy(self) -> np.ndarray:

@@ -14,7 +14,7 @@ from ...kernels.lane_arrays import lane_array, lane_matrix, lane_tensor
 
 CoreWorkspace = namedtuple("CoreWorkspace", ("M", "Mw", "tmp8", "c", "s", "Sw", "Vb", "Ab", "E",
                                              "T", "tw", "x", "J", "g", "H", "MJt", "C", "b", "y",
-                                             "d", "af", "h", "cols"))
+                                             "d", "af", "h", "cols", "e"))
 
 
 @inline
@@ -42,7 +42,8 @@ def workspace_size(n, nq, nv, nl, nr):
         + nr
         + nv
         + nv
-        + nv)
+        + nv
+        + nr)
 
 
 @inline
@@ -72,8 +73,9 @@ def workspace(buf, m, nr):
     _af, o = carve(buf, o, (m.nv,))
     _h, o = carve(buf, o, (m.nv,))
     _cols, o = carve(buf, o, (m.nv,))
+    _e, o = carve(buf, o, (nr,))
     return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _J, _g, _H, _MJt,
-                         _C, _b, _y, _d, _af, _h, _cols)
+                         _C, _b, _y, _d, _af, _h, _cols, _e)
 
 
 @inline
@@ -127,5 +129,7 @@ def lane_workspace(buf, m, nr):
     o += m.nv
     _cols = lane_array(buf, o)
     o += m.nv
+    _e = lane_array(buf, o)
+    o += nr
     return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _J, _g, _H, _MJt,
-                         _C, _b, _y, _d, _af, _h, _cols)
+                         _C, _b, _y, _d, _af, _h, _cols, _e)

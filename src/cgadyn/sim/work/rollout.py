@@ -13,11 +13,12 @@ from ..._views import carve
 from ...kernels.lane_arrays import lane_array, lane_matrix
 
 RolloutWorkspace = namedtuple("RolloutWorkspace", ("K", "Ka", "tau", "g", "dq", "zero", "none",
-                                                   "tmp", "qs", "q", "v", "qn", "vn", "a"))
+                                                   "tmp", "qs", "q", "v", "qn", "vn", "a", "J",
+                                                   "gam", "G", "lam", "info", "X"))
 
 
 @inline
-def workspace_size(n, nq, nv, nl):
+def workspace_size(n, nq, nv, nl, nr):
     """The floats the workspace takes, for a model of these sizes."""
     return (4 * nv
         + 4 * nv
@@ -32,11 +33,17 @@ def workspace_size(n, nq, nv, nl):
         + nv
         + nq
         + nv
-        + nv)
+        + nv
+        + nr * nv
+        + nr
+        + nr * nr
+        + nr
+        + 5
+        + 3 * nr)
 
 
 @inline
-def workspace(buf, m):
+def workspace(buf, m, nr):
     """The workspace's arrays carved from the pointer ``buf``."""
     o = 0
     _K, o = carve(buf, o, (4, m.nv))
@@ -53,11 +60,18 @@ def workspace(buf, m):
     _qn, o = carve(buf, o, (m.nq,))
     _vn, o = carve(buf, o, (m.nv,))
     _a, o = carve(buf, o, (m.nv,))
-    return RolloutWorkspace(_K, _Ka, _tau, _g, _dq, _zero, _none, _tmp, _qs, _q, _v, _qn, _vn, _a)
+    _J, o = carve(buf, o, (nr, m.nv))
+    _gam, o = carve(buf, o, (nr,))
+    _G, o = carve(buf, o, (nr, nr))
+    _lam, o = carve(buf, o, (nr,))
+    _info, o = carve(buf, o, (5,))
+    _X, o = carve(buf, o, (3, nr))
+    return RolloutWorkspace(_K, _Ka, _tau, _g, _dq, _zero, _none, _tmp, _qs, _q, _v, _qn, _vn, _a,
+                            _J, _gam, _G, _lam, _info, _X)
 
 
 @inline
-def lane_workspace(buf, m):
+def lane_workspace(buf, m, nr):
     """The lane twin: the same arrays for ``W`` samples side by side in the flat
     array ``buf``, as arrays of ``Lanes`` at the same offsets."""
     o = 0
@@ -89,4 +103,17 @@ def lane_workspace(buf, m):
     o += m.nv
     _a = lane_array(buf, o)
     o += m.nv
-    return RolloutWorkspace(_K, _Ka, _tau, _g, _dq, _zero, _none, _tmp, _qs, _q, _v, _qn, _vn, _a)
+    _J = lane_matrix(buf, o, m.nv)
+    o += nr * m.nv
+    _gam = lane_array(buf, o)
+    o += nr
+    _G = lane_matrix(buf, o, nr)
+    o += nr * nr
+    _lam = lane_array(buf, o)
+    o += nr
+    _info = lane_array(buf, o)
+    o += 5
+    _X = lane_matrix(buf, o, nr)
+    o += 3 * nr
+    return RolloutWorkspace(_K, _Ka, _tau, _g, _dq, _zero, _none, _tmp, _qs, _q, _v, _qn, _vn, _a,
+                            _J, _gam, _G, _lam, _info, _X)
