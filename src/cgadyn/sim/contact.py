@@ -73,9 +73,10 @@ def slots(shapes: int) -> int:
     return C.MAX_CONTACTS * shapes
 
 
-def scratch_size(n: int, nq: int, nv: int, nl: int, shapes: int) -> int:
+@serial
+def scratch_size(n, nq, nv, nl, shapes):
     """Floats of one rollout's contact scratch (``carve_scratch``)."""
-    K = slots(shapes)
+    K = C.MAX_CONTACTS * shapes
     m = 3 * K
     return (shapes * 16 + shapes * C.MAX_CONTACTS * C.OUT + shapes + C.CANDIDATES * C.OUT
             + m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6) + K + ncp.INFO

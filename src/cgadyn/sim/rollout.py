@@ -253,7 +253,7 @@ def _keep_contacts(world, row):
     without a world."""
     if world is None:
         return
-    force, count = world[10], world[14]
+    (_, _, _, _, _, _, _, _, _, _, force, _, _, _, count, _, _) = world
     row[0] = count[0]
     for k in range(force.shape[0]):
         for i in range(3):
@@ -265,8 +265,9 @@ def _report(world, out):
     """The report of a contact step that failed (``sim.contact.REPORT``) into ``out``."""
     if world is None:
         return
+    (_, _, _, _, _, _, _, _, _, _, _, _, _, _, _, report, _) = world
     for i in range(out.shape[0]):
-        out[i] = world[15][i]
+        out[i] = report[i]
 
 
 @inline
