@@ -58,19 +58,27 @@ def test_the_compiled_step_is_contact_step_for_a_ball():
         assert np.abs(tr.q[k] - qk).max() < 1e-10 and np.abs(tr.v[k] - vk).max() < 1e-10
 
 
-def test_a_dropped_ball_rests_without_bouncing_carrying_its_weight():
-    """Dropped from 1 m (warm-started forces): no rise after touching, at rest at the end,
-    the ground's force its weight to 1e-6."""
+@pytest.mark.parametrize("warm", [False, True])
+def test_a_dropped_ball_rests_without_bouncing_carrying_its_weight(warm):
+    """Dropped from 1 m: no rise after touching, at rest at the end, the ground's force its
+    weight to 1e-6. From zero forces each step (as ``contact_step``) that holds at every
+    step; warm-started (K25), ADMM stops as soon as the stopping rule passes, whose
+    complementarity tolerance (1e-10 on λ·σ) leaves the force within 1e-4 of the weight at
+    each step and to 1e-6 on average over the last 0.2 s (the ball rising < 1e-10 m a
+    step, its speed < 1e-8 m/s: the correction β d / dt of a ~1e-11 m overlap)."""
     model, cm = _free(BALL)
     q = cgadyn.neutral(model)
     q[2] = 1.0
-    tr = _sim(model, cm, q, np.zeros(6), 700)
+    tr = _sim(model, cm, q, np.zeros(6), 700, contact_warm_start=warm)
     z = tr.q[:, 2]
     touch = int(np.argmax(tr.contact_count > 0))
     assert 0 < touch < 500
-    assert np.all(np.diff(z[touch + 1:]) <= 1e-12)
-    assert np.abs(tr.v[-1]).max() < 1e-9
-    assert tr.contact_forces[-1].sum(axis=0) == pytest.approx([0.0, 0.0, G], abs=1e-6)
+    assert np.all(np.diff(z[touch + 1:]) <= (1e-10 if warm else 1e-12))
+    assert np.abs(tr.v[-1]).max() < (1e-8 if warm else 1e-9)
+    lift = tr.contact_forces[-200:].sum(axis=1)
+    assert np.all(np.abs(lift[:, :2]) < 1e-9)
+    assert np.abs(lift[:, 2] - G).max() < (1e-4 if warm else 1e-6)
+    assert np.mean(lift[:, 2]) == pytest.approx(G, abs=1e-6)
     assert np.all(tr.contact_forces[-1, 1:] == 0.0)  # the unused slots hold zeros
 
 
@@ -121,7 +129,7 @@ def test_the_compiled_step_is_contact_step_for_solo12():
     """50 steps of solo12 landing under joint PD equal ``contact_step``'s (q, v to 1e-10)."""
     model, cm, q = _solo()
     q[2] += 0.002
-    pd = cgadyn.PD(kp=20.0, kd=0.5, q_ref=q)
+    pd = cgadyn.PD(kp=20.0, kd=0.5, q_ref=q, gravity_compensation=False)
     tr = _sim(model, cm, q, np.zeros(model.nv), 50, controller=pd, contact_warm_start=False)
 
     def tau(qk, vk):
@@ -141,7 +149,7 @@ def test_solo12_stands_for_five_seconds():
     last second, only the feet touch, and the ground carries its weight."""
     model, cm, q = _solo()
     tr = _sim(model, cm, q, np.zeros(model.nv), 5000,
-              controller=cgadyn.PD(kp=20.0, kd=0.5, q_ref=q))
+              controller=cgadyn.PD(kp=20.0, kd=0.5, q_ref=q, gravity_compensation=False))
     assert not tr.diverged, tr.message
     base = tr.q[-1001:, :3]
     assert np.max(np.linalg.norm(base - base[-1], axis=1)) < 1e-6
