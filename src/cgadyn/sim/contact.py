@@ -28,7 +28,7 @@ from ..algorithms import _workspace as ws
 from ..algorithms.crba import crba_core
 from ..algorithms.kinematics import link_motor
 from ..algorithms.ltdl import ltdl
-from ..algorithms.status import NONFINITE_RESULT, OK, SINGULAR, fault
+from ..algorithms.status import CONTACT_UNSOLVED, NONFINITE_RESULT, OK, SINGULAR, fault
 from ..constraints.core import _add_columns, _delassus, _world_columns
 from ..constraints.work.core import workspace as constraint_workspace
 from ..constraints.work.core import workspace_size as constraint_workspace_size
@@ -38,9 +38,6 @@ from ..contact.admm import SCRATCH_ROWS
 from ..contact.solver import ADMM, PGS, solve_one
 from ..kernels.rigid import motor_matrix
 
-CONTACT_UNSOLVED = 9
-"""A rollout: neither ADMM nor PGS solved a step's contact problem (``algorithms.status``
-numbering, after ``CONSTRAINTS_CONFLICT``)."""
 MARGIN, STABILIZATION, FRICTION, WARM = 0, 1, 2, 3
 PARAMS = 4
 """``params``: the margin, the stabilization, the ground's friction, warm start (1) or not;

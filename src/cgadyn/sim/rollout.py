@@ -374,11 +374,11 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, se
     compiles a loop without contact). Writes the kept states into ``Q``
     (B, rows, nq), ``V``, ``A`` (B, rows, nv), the constraints' record of each (``_record``)
     into ``X`` (B, rows, 3, nr), the contacts of each (``_keep_contacts``) into ``CF`` (B,
-    rows, 1 + 3 K), a failed contact step's report into ``CR`` (B, 3), and per rollout the steps ``completed`` and the ``status`` (0, or
-    the fault that stopped it). The acceleration at the last state takes the last open-loop
-    torque. The outputs come in filled with NaN; a rollout that stops writes the last state
-    it reached into the row of that state, or the next one (``stop_row``), and leaves NaN
-    after it.
+    rows, 1 + 3 K), a failed contact step's report into ``CR`` (B, 3), and per rollout the
+    steps ``completed`` and the ``status`` (0, or the fault that stopped it). The
+    acceleration at the last state takes the last open-loop torque. The outputs come in
+    filled with NaN; a rollout that stops writes the last state it reached into the row of
+    that state, or the next one (``stop_row``), and leaves NaN after it.
     """
     m = unpack(packed)
     nr = _rows_of(cons)

@@ -22,6 +22,7 @@ from ..algorithms.api import link_placements
 from ..algorithms.configuration import neutral
 from ..algorithms.status import (
     CONSTRAINTS_CONFLICT,
+    CONTACT_UNSOLVED,
     DELASSUS_SINGULAR,
     DIVERGED,
     NONFINITE_RESULT,
@@ -33,7 +34,7 @@ from ..constraints.model import pack
 from ..constraints.operators import checked_settings
 from ..multibody.joints.table import spring_deflection
 from ..multibody.packed import DEFAULT_GRAVITY
-from .contact import CONTACT_UNSOLVED, REPORT, slots, world_arrays
+from .contact import REPORT, slots, world_arrays
 from .controllers import PD, GravityCompensation, actuated_gains
 from .rollout import (
     ACTUATED,
