@@ -20,6 +20,7 @@ import warnings
 import numpy as np
 import pinocchio as pin
 import pytest
+from joint_cases import random_model
 
 import cgadyn
 from cgadyn import oracle
@@ -27,29 +28,6 @@ from cgadyn.multibody.joints import HELICAL, PLANAR, TRANSLATION, TYPES
 from cgadyn.validate import leaf_links
 
 TOL = 1e-10
-
-
-def _inertia(rng) -> pin.Inertia:
-    A = rng.normal(size=(3, 3))
-    return pin.Inertia(rng.uniform(0.5, 2.0), rng.normal(size=3) * 0.2,
-                       A @ A.T + 0.1 * np.eye(3))
-
-
-def _build(name: str, joints, seed: int) -> pin.Model:
-    """A Pinocchio model of ``joints`` ``(parent index, JointModel)`` (0: the universe, i:
-    the i-th joint), random placements and inertias, a ``BODY`` frame per joint and one for
-    the world (``base``)."""
-    rng = np.random.default_rng(seed)
-    pm = pin.Model()
-    pm.name = name
-    pm.addBodyFrame("base", 0, pin.SE3.Identity(), 0)
-    for i, (parent, joint) in enumerate(joints):
-        X = pin.SE3(pin.exp3(rng.normal(size=3)), rng.normal(size=3) * 0.3)
-        j = pm.addJoint(parent, joint, X, f"j{i}")
-        pm.appendBodyToJoint(j, _inertia(rng), pin.SE3.Identity())
-        pm.addBodyFrame(f"b{i}", j, pin.SE3(pin.exp3(rng.normal(size=3)),
-                                            rng.normal(size=3) * 0.2), 0)
-    return pm
 
 
 def _helical() -> pin.JointModel:
@@ -68,39 +46,39 @@ _JOINT = {
 _CODE = {"planar": PLANAR, "translation": TRANSLATION, "helical": HELICAL, "universal": -1}
 
 MODELS = {
-    "planar-chain": lambda: _build("chain", [
+    "planar-chain": lambda: random_model("chain", [
         (0, pin.JointModelRX()), (1, pin.JointModelPlanar()), (2, pin.JointModelRY()),
         (3, pin.JointModelPlanar())], 1),
-    "planar-tree": lambda: _build("tree", [
+    "planar-tree": lambda: random_model("tree", [
         (0, pin.JointModelPlanar()), (1, pin.JointModelSpherical()), (2, pin.JointModelRY()),
         (1, pin.JointModelPZ()), (4, pin.JointModelPlanar()), (5, pin.JointModelRUBZ())], 2),
-    "planar-floating": lambda: _build("floating", [
+    "planar-floating": lambda: random_model("floating", [
         (0, pin.JointModelFreeFlyer()), (1, pin.JointModelPlanar()), (2, pin.JointModelRZ())],
         3),
-    "translation-chain": lambda: _build("chain", [
+    "translation-chain": lambda: random_model("chain", [
         (0, pin.JointModelTranslation()), (1, pin.JointModelRX()),
         (2, pin.JointModelTranslation()), (3, pin.JointModelRY())], 4),
-    "translation-tree": lambda: _build("tree", [
+    "translation-tree": lambda: random_model("tree", [
         (0, pin.JointModelRZ()), (1, pin.JointModelTranslation()), (2, pin.JointModelRY()),
         (1, pin.JointModelSpherical()), (4, pin.JointModelTranslation())], 5),
-    "translation-floating": lambda: _build("floating", [
+    "translation-floating": lambda: random_model("floating", [
         (0, pin.JointModelFreeFlyer()), (1, pin.JointModelTranslation()),
         (2, pin.JointModelRZ())], 6),
-    "helical-chain": lambda: _build("chain", [
+    "helical-chain": lambda: random_model("chain", [
         (0, pin.JointModelHX(0.1)), (1, pin.JointModelRY()), (2, _helical()),
         (3, pin.JointModelHZ(-0.4))], 7),
-    "helical-tree": lambda: _build("tree", [
+    "helical-tree": lambda: random_model("tree", [
         (0, pin.JointModelHY(0.3)), (1, pin.JointModelRX()), (2, _helical()),
         (1, pin.JointModelHZ(0.05)), (4, pin.JointModelPlanar())], 8),
-    "helical-floating": lambda: _build("floating", [
+    "helical-floating": lambda: random_model("floating", [
         (0, pin.JointModelFreeFlyer()), (1, _helical()), (2, pin.JointModelHX(0.2))], 9),
-    "universal-chain": lambda: _build("chain", [
+    "universal-chain": lambda: random_model("chain", [
         (0, _universal()), (1, pin.JointModelRY()), (2, pin.JointModelSphericalZYX()),
         (3, pin.JointModelPX())], 10),
-    "universal-tree": lambda: _build("tree", [
+    "universal-tree": lambda: random_model("tree", [
         (0, pin.JointModelSphericalZYX()), (1, _universal()), (2, pin.JointModelRX()),
         (1, pin.JointModelSpherical()), (4, _universal())], 11),
-    "universal-floating": lambda: _build("floating", [
+    "universal-floating": lambda: random_model("floating", [
         (0, pin.JointModelFreeFlyer()), (1, pin.JointModelSphericalZYX()),
         (1, _universal()), (3, pin.JointModelPlanar())], 12),
 }
@@ -120,7 +98,7 @@ def test_the_record_matches_pinocchios_sizes(name):
     joint, record = make(), TYPES[code]
     assert (record.pinocchio_nq, record.nv) == (joint.nq, joint.nv)
     assert joint.shortname() in record.pinocchio and record.mujoco is None
-    pm = _build(name, [(0, joint)], 0)
+    pm = random_model(name, [(0, joint)], 0)
     assert np.array_equal(np.asarray(record.neutral), pin.neutral(pm))
 
 

@@ -12,6 +12,7 @@ import warnings
 import numpy as np
 import pinocchio as pin
 import pytest
+from joint_cases import random_model
 
 import cgadyn
 from cgadyn import oracle
@@ -21,44 +22,21 @@ from cgadyn.validate import leaf_links
 TOL = 1e-10
 
 
-def _inertia(rng) -> pin.Inertia:
-    A = rng.normal(size=(3, 3))
-    return pin.Inertia(rng.uniform(0.5, 2.0), rng.normal(size=3) * 0.2,
-                       A @ A.T + 0.1 * np.eye(3))
-
-
-def _build(name: str, joints, seed: int) -> pin.Model:
-    """A Pinocchio model of ``joints`` ``(parent index, JointModel)`` (0: the universe, i:
-    the i-th joint), random placements and inertias, a ``BODY`` frame per joint and one for
-    the world (``base``)."""
-    rng = np.random.default_rng(seed)
-    pm = pin.Model()
-    pm.name = name
-    pm.addBodyFrame("base", 0, pin.SE3.Identity(), 0)
-    for i, (parent, joint) in enumerate(joints):
-        X = pin.SE3(pin.exp3(rng.normal(size=3)), rng.normal(size=3) * 0.3)
-        j = pm.addJoint(parent, joint, X, f"j{i}")
-        pm.appendBodyToJoint(j, _inertia(rng), pin.SE3.Identity())
-        pm.addBodyFrame(f"b{i}", j, pin.SE3(pin.exp3(rng.normal(size=3)),
-                                            rng.normal(size=3) * 0.2), 0)
-    return pm
-
-
 def _unaligned() -> pin.JointModel:
     return pin.JointModelRevoluteUnaligned(np.array([0.6, 0.0, 0.8]))
 
 
 MODELS = {
-    "chain": lambda: _build("chain", [(0, pin.JointModelRX()), (1, pin.JointModelSpherical()),
-                                      (2, _unaligned()), (3, pin.JointModelSpherical())], 1),
-    "tree": lambda: _build("tree", [(0, pin.JointModelSpherical()),
-                                    (1, pin.JointModelSpherical()), (2, pin.JointModelRY()),
-                                    (1, pin.JointModelPZ()), (4, pin.JointModelSpherical()),
-                                    (5, pin.JointModelRUBZ())], 2),
-    "floating": lambda: _build("floating", [(0, pin.JointModelFreeFlyer()),
-                                            (1, pin.JointModelSpherical()),
-                                            (2, pin.JointModelRZ()),
-                                            (3, pin.JointModelSpherical())], 3),
+    "chain": lambda: random_model("chain", [(0, pin.JointModelRX()), (1, pin.JointModelSpherical()),
+                                            (2, _unaligned()), (3, pin.JointModelSpherical())], 1),
+    "tree": lambda: random_model("tree", [(0, pin.JointModelSpherical()),
+                                          (1, pin.JointModelSpherical()), (2, pin.JointModelRY()),
+                                          (1, pin.JointModelPZ()), (4, pin.JointModelSpherical()),
+                                          (5, pin.JointModelRUBZ())], 2),
+    "floating": lambda: random_model("floating", [(0, pin.JointModelFreeFlyer()),
+                                                  (1, pin.JointModelSpherical()),
+                                                  (2, pin.JointModelRZ()),
+                                                  (3, pin.JointModelSpherical())], 3),
 }
 
 

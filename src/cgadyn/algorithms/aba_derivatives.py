@@ -167,7 +167,7 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, work):
     return from_forward(m, tau, dq, dv, dtau, work)
 
 
-@inline
+@core
 def from_forward(m, tau, dq, dv, dtau, work):
     """``aba_derivatives_core`` after the forward pass at q̈ = 0, whose results are in the
     rnea derivatives' part of ``work``; a status."""
@@ -201,7 +201,7 @@ def from_forward(m, tau, dq, dv, dtau, work):
     return status
 
 
-@inline
+@core
 def from_inverse(m, tau, dq, dv, Minv, work):
     """``from_forward`` with M⁻¹ already in ``Minv`` (a batch has it from the
     articulated-body recursion on a group of samples, ``minverse_lanes``): q̈ = M⁻¹ (τ -

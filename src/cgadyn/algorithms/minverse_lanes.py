@@ -103,7 +103,7 @@ def minverse_group(m, q, Minv, start, stop, work):
     return OK
 
 
-@inline
+@core
 def group_inverse(m, Ql, Cl, Snl, Minv, b, work):
     """``Minv[b + l] = M(q[b + l])⁻¹`` for the ``W`` samples from ``b``, from their q and
     joint scalars c, s (nq) side by side, configurations already checked; in a workspace of

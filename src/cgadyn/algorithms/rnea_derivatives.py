@@ -92,7 +92,7 @@ def _pair(x, W, k):
             + x[4] * W[4, k] + x[5] * W[5, k])
 
 
-@inline
+@core
 def rnea_derivatives_forward(m, q, v, a, f, k_):
     """The forward pass: motors, axes, inertias and their rates, twists, accelerations,
     momenta and body wrenches, and the per-coordinate twists u, ψ, w; into the workspace
@@ -159,7 +159,7 @@ def forward_from_scalars(m, q, v, a, f, forces, k_):
         rigid_rate(Iw[j], V[j], Id[j])  # İ_j = V_j × I_j - I_j V_j× (D6)
 
 
-@inline
+@core
 def rnea_derivatives_backward(m, k_, dq, dv, da):
     """The backward pass: composites and P, Q, G, H (D7, D11), then the entries (D8-D10);
     ``da`` (0, nv) when M is not wanted. P, Q, G, H are kept by coefficient, as six rows
@@ -202,7 +202,7 @@ def composites(m, k_):
                 F[parent, i] += F[j, i]
 
 
-@inline
+@core
 def entries(m, k_, dq, dv, da):
     """The backward pass's second half: the entries (D8-D10) from P, Q, G, H and the
     per-coordinate twists S, u, ψ, w."""

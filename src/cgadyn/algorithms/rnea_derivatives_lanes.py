@@ -111,7 +111,7 @@ def _stream_out(r0, r1, r2, o0, o1, o2):
     stream_copy(r2, o2)
 
 
-@inline
+@core
 def forward_in_lanes(m, q, v, a, f, b, accelerated, samples, o, lanes, Ql, Vl, Al, Fl):
     """The forward pass of the samples ``b .. b + W`` on ``W`` samples at once in
     ``lanes``, then written into each sample's workspace: that of the rnea derivatives, at
