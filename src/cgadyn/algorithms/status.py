@@ -32,6 +32,9 @@ Python names the constraint (``constraints.solve``)."""
 CONSTRAINTS_CONFLICT = 8
 """A rollout: the proximal solve of the constraint forces ended with a row (reported in the
 joint's place) violated past ``constraints.core.CONFLICT``: the set has no solution."""
+CONTACT_UNSOLVED = 9
+"""A rollout with contact: neither ADMM nor PGS solved a step's contact problem
+(``sim.contact``)."""
 
 JOINT_UNIT = 256
 SAMPLE_UNIT = 1 << 24

@@ -78,6 +78,7 @@ from ..constraints.work.core import workspace as constraint_workspace
 from ..constraints.work.core import workspace_size as constraint_workspace_size
 from ..multibody.joints import joint_difference, joint_integrate
 from ..multibody.packed import unpack
+from .contact import carve_scratch, contact_velocity, scratch_size
 from .work.rollout import workspace, workspace_size
 
 WORKSPACE = {  # one rollout's scratch, in order (tools/generate_workspaces.py)
@@ -219,6 +220,56 @@ def _bind(cons, settings, cwork):
     return (cons, settings, cwork)
 
 
+@serial
+def _contact(m, world, q, v, a, dt, vn, work):
+    """``vn = v + dt a``, then the contact impulses of ``world`` on it (``sim.contact``);
+    nothing without a world (``world`` None: pruned, no contact code compiled)."""
+    if world is None:
+        return OK
+    for k in range(m.nv):
+        vn[k] = v[k] + dt * a[k]
+    return contact_velocity(m, world, q, v, vn, dt, work)
+
+
+@serial
+def _bind_world(world, buf, n, nq, nv, nl):
+    """None without a world, else it and this rollout's scratch (``carve_scratch``)."""
+    if world is None:
+        return None
+    return carve_scratch(world, buf, n, nq, nv, nl)
+
+
+@serial
+def _world_size(world, n, nq, nv, nl):
+    """Floats of a rollout's contact scratch; 0 without a world."""
+    if world is None:
+        return 0
+    return scratch_size(n, nq, nv, nl, world[0].shape[0])
+
+
+@serial
+def _keep_contacts(world, row):
+    """``row = [count, the forces of the slots (K, 3)]`` of the last contact step; nothing
+    without a world."""
+    if world is None:
+        return
+    (_, _, _, _, _, _, _, _, _, _, force, _, _, _, count, _, _) = world
+    row[0] = count[0]
+    for k in range(force.shape[0]):
+        for i in range(3):
+            row[1 + 3 * k + i] = force[k, i]
+
+
+@serial
+def _report(world, out):
+    """The report of a contact step that failed (``sim.contact.REPORT``) into ``out``."""
+    if world is None:
+        return
+    (_, _, _, _, _, _, _, _, _, _, _, _, _, _, _, report, _) = world
+    for i in range(out.shape[0]):
+        out[i] = report[i]
+
+
 @inline
 def _advance(m, q, v, h, tmp, dq, out):
     """``out = q ⊕ h v`` (``dq`` receives ``h v``)."""
@@ -234,12 +285,14 @@ def _advance(m, q, v, h, tmp, dq, out):
 
 
 @inline
-def step(m, method, q, v, u, f, ctrl, con, dt, qn, vn, a, sc, work):
+def step(m, method, q, v, u, f, ctrl, con, world, dt, qn, vn, a, sc, work):
     """One step of ``method`` from ``(q, v)`` to ``(qn, vn)``; ``a = q̈(q, v)`` (and ``sc.X``
     the constraints' record of ``(q, v)``, ``_record``). A status.
 
     Every method evaluates its stages in one loop (one for the Euler methods, four for
-    RK4) and moves ``q`` once at the end: each kernel appears once in the compiled loop."""
+    RK4) and moves ``q`` once at the end: each kernel appears once in the compiled loop.
+    With a ``world`` (semi-implicit Euler only) the contact impulses change ``v'`` before
+    ``q`` moves (``_contact``)."""
     K, Ka, tau, dq, tmp, qs = sc.K, sc.Ka, sc.tau, sc.dq, sc.tmp, sc.qs
     for i in range(4 if method == RK4 else 1):
         h = dt if i == 3 else 0.5 * dt
@@ -266,6 +319,10 @@ def step(m, method, q, v, u, f, ctrl, con, dt, qn, vn, a, sc, work):
     elif method == SEMI_IMPLICIT_EULER:
         for k in range(m.nv):
             vn[k] = v[k] + dt * a[k]
+        status = _contact(m, world, q, v, a, dt, vn, work)
+        if status != OK:
+            return status
+        for k in range(m.nv):
             tau[k] = vn[k]
     else:
         w = dt / 6.0
@@ -303,8 +360,8 @@ def heap_size(n, nq, nv, nl, nr):
 
 
 @parallel
-def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, settings, dt,
-             steps, every, Q, V, A, X, completed, status):
+def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, settings, world,
+             dt, steps, every, Q, V, A, X, CF, CR, completed, status):
     """``B = q0.shape[0]`` rollouts of ``steps`` steps, in parallel.
 
     ``q0`` (B, nq), ``v0`` (B, nv); ``u`` the open-loop torques (1 or B, steps or 1, nv),
@@ -313,29 +370,32 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, se
     ``KD``, ``ACTUATED``, ``SPEED_BOUND``); ``q_ref`` (B, nq), ``v_ref`` (B, nv); ``every``
     the states kept (``kept_row``); ``cons`` the constraints' pack (``constraints.core``;
     None for none, which compiles a loop without them) and ``settings`` their solve's (None
-    with ``cons``). Writes the kept states into ``Q``
+    with ``cons``); ``world`` the contact world (``sim.contact.world_arrays``; None, which
+    compiles a loop without contact). Writes the kept states into ``Q``
     (B, rows, nq), ``V``, ``A`` (B, rows, nv), the constraints' record of each (``_record``)
-    into ``X`` (B, rows, 3, nr), and per rollout the steps ``completed`` and the ``status`` (0, or
-    the fault that stopped it). The acceleration at the last state takes the last open-loop
-    torque. The outputs come in filled with NaN; a rollout that stops writes the last state
-    it reached into the row of that state, or the next one (``stop_row``), and leaves NaN
-    after it.
+    into ``X`` (B, rows, 3, nr), the contacts of each (``_keep_contacts``) into ``CF`` (B,
+    rows, 1 + 3 K), a failed contact step's report into ``CR`` (B, 3), and per rollout the
+    steps ``completed`` and the ``status`` (0, or the fault that stopped it). The
+    acceleration at the last state takes the last open-loop torque. The outputs come in
+    filled with NaN; a rollout that stops writes the last state it reached into the row of
+    that state, or the next one (``stop_row``), and leaves NaN after it.
     """
     m = unpack(packed)
     nr = _rows_of(cons)
     size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
     csize = heap_size(m.n, m.nq, m.nv, m.nl, nr)
+    wsize = _world_size(world, m.n, m.nq, m.nv, m.nl)
     for b in prange(q0.shape[0]):
         # the buffers are arguments of the call that carves them: alive while it runs; b as
         # int64, the type the loop's first typing gives it (else _rollout compiles twice)
         _rollout(packed, np.int64(b), method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
-                 settings, dt, steps, every, Q, V, A, X, completed, status, np.empty(size),
-                 np.empty(csize))
+                 settings, world, dt, steps, every, Q, V, A, X, CF, CR, completed, status,
+                 np.empty(size), np.empty(csize), np.empty(wsize))
 
 
 @serial
-def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, settings, dt,
-             steps, every, Q, V, A, X, completed, status, buf, heap):
+def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, settings,
+             world, dt, steps, every, Q, V, A, X, CF, CR, completed, status, buf, heap, wbuf):
     """Rollout ``b`` of ``rollouts``, in the scratch ``buf`` (``workspace``) and the cores'
     workspace ``heap`` (``heap_size``: the shared one, then the constraint core's). Bare
     views (``_views.carve``) are valid only while the array they view lives, and compiled
@@ -348,6 +408,7 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
     work, o = ws.carve(ws.data_pointer(heap), 0, (shared,))  # bare: no reference counts
     cwork = ws.carve(ws.data_pointer(heap), o, (heap.shape[0] - shared,))[0]
     con = _bind(cons, settings, cwork)
+    wd = _bind_world(world, wbuf, mb.n, mb.nq, mb.nv, mb.nl)
     sc = workspace(ws.data_pointer(buf), mb, nr)
     for k in range(mb.nv):
         sc.zero[k] = 0.0
@@ -358,6 +419,7 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
     Vb = _rows(V[b], rows, mb.nv)
     Ab = _rows(A[b], rows, mb.nv)
     Xb = _rows(X[b], rows, 3 * nr)
+    CFb = _rows(CF[b], rows, CF.shape[2])
     ub = _rows(u[0], held, mb.nv)  # shared by all rollouts, or
     if u.shape[0] > 1:
         ub = _rows(u[b], held, mb.nv)  # this rollout's own
@@ -376,11 +438,13 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
     s = OK
     done = 0
     for i in range(steps):
-        s = step(mb, method, q, v, ub[hold * i], fb, ctrl, con, dt, qn, vn, a, sc, work)
+        s = step(mb, method, q, v, ub[hold * i], fb, ctrl, con, wd, dt, qn, vn, a, sc, work)
         r = kept_row(i, steps, every)
         if r >= 0:
             _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
+            _keep_contacts(wd, CFb[r])
         if s != OK:
+            _report(wd, CR[b])
             break
         for k in range(mb.nq):
             q[k] = qn[k]
@@ -393,6 +457,9 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
         _record(mb, con, v, s, sc)
         r = kept_row(steps, steps, every)
         _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
+        if s == OK:  # the contacts at the last state: those of one more step from it
+            _contact(mb, wd, q, v, a, dt, vn, work)
+            _keep_contacts(wd, CFb[r])
     elif kept_row(done, steps, every) < 0:
         r = stop_row(done, every)
         _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])

@@ -22,6 +22,7 @@ from ..algorithms.api import link_placements
 from ..algorithms.configuration import neutral
 from ..algorithms.status import (
     CONSTRAINTS_CONFLICT,
+    CONTACT_UNSOLVED,
     DELASSUS_SINGULAR,
     DIVERGED,
     NONFINITE_RESULT,
@@ -33,6 +34,7 @@ from ..constraints.model import pack
 from ..constraints.operators import checked_settings
 from ..multibody.joints.table import spring_deflection
 from ..multibody.packed import DEFAULT_GRAVITY
+from .contact import REPORT, slots, world_arrays
 from .controllers import PD, GravityCompensation, actuated_gains
 from .rollout import (
     ACTUATED,
@@ -71,7 +73,8 @@ MEMORY_SHARE = 0.8
 def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravity=None,
              f_ext=None, controller=None, record_every: int = 1,
              final_only: bool = False, passive: bool = True, ctrl=None, constraints=None,
-             damping: float = 0.0) -> Trajectory:
+             damping: float = 0.0, world=None, collisions=None,
+             contact_warm_start: bool = True) -> Trajectory:
     """Integrate ``q̈ = ABA(q, v, τ)``, or the constrained dynamics of ``constraints``, for
     ``steps`` steps of ``dt`` seconds.
 
@@ -97,7 +100,12 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     with each constraint's Baumgarte ``corrector`` (C5), which pulls the drift of the
     integration back (``docs/constraints.md``, "Rollouts"); ``damping``: as in
     ``constrained_dynamics`` (0: a direct solve, a singular set stops the rollout; > 0:
-    proximal iterations, the least-norm forces of a redundant set).
+    proximal iterations, the least-norm forces of a redundant set). ``world``: None, or a
+    ``cgadyn.World`` whose ground the shapes of ``collisions`` (``cgadyn.collision_model``)
+    touch: every step is then ``cgadyn.contact_step``'s (semi-implicit Euler with contact
+    impulses, ADMM then PGS; docs/contact.md, "Rollouts with contact"), its forces starting
+    from the previous step's where a contact stays (``contact_warm_start``); a step whose
+    contact problem neither solver solves stops the rollout, naming the residuals.
 
     Returns a ``Trajectory`` of the states kept. A rollout that diverges (a joint turning
     more than half a turn in one step, a slide moving further than the robot is large, a
@@ -108,7 +116,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     A constrained rollout stops the same way, with its reason, where the constraints become
     singular (a loop through a singular pose, with ``damping`` 0) or have no solution.
     With constraints, the ``Trajectory`` also holds ``constraint_violation`` (the position
-    and velocity error of each constraint at each state kept) and ``forces`` (λ).
+    and velocity error of each constraint at each state kept) and ``forces`` (λ). With a
+    world, ``contact_count`` and ``contact_forces`` (``Trajectory``).
     A run whose states would not fit in the memory available is refused before it starts,
     with what to reduce.
 
@@ -128,12 +137,13 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
         raise ValueError(f"integrator must be one of {', '.join(map(repr, INTEGRATORS))}, "
                          f"got {integrator!r}")
     every = _every(record_every, final_only, steps)
+    shapes = _contact_world(model, world, collisions, integrator, constraints)
     p = pack(model, () if constraints is None else constraints)  # checked: type, model
     settings = checked_settings(damping, None, 1e-12)
     server = _arrays.server((q0, v0, tau))
-    if server is not None and p.nr:
-        raise ValueError("simulate with constraints takes numpy states; dask arrays of "
-                         "states are not supported with constraints yet")
+    if server is not None and (p.nr or world is not None):
+        raise ValueError("simulate with constraints or a world takes numpy states; dask "
+                         "arrays of states are not supported with them yet")
     if server is not None:  # dask arrays: chunks of rollouts, scheduled by dask
         return server.simulate(model, q0, v0, dt, steps, tau, dict(
             integrator=integrator, gravity=gravity, f_ext=f_ext, controller=controller,
@@ -146,7 +156,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     batch = _batch({"q0": q0, "v0": v0, "tau": u if u.ndim == 3 else None})
     B = batch or 1
     rows = kept_rows(steps, every)
-    _fits(model, B, steps, rows, p.nr)
+    _fits(model, B, steps, rows, p.nr, slots(len(shapes)) if world is not None else 0)
     q0 = np.array(np.broadcast_to(q0, (B, model.nq)), order="C")  # own copies, C order:
     v0 = np.array(np.broadcast_to(v0, (B, model.nv)), order="C")  # one compiled signature
     _energy(model, q0, v0, gravity)  # finite states, unit quaternions: its ValueError
@@ -168,19 +178,30 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     status = np.zeros(B, dtype=np.int64)
     # without rows None: the loop compiled without the constraint core (rollout._dynamics)
     cons, solve = (np.array(p.array, dtype=float), settings) if p.nr else (None, None)
+    K = slots(len(shapes)) if world is not None else 0
+    CF = np.full(shape + (1 + 3 * K if K else 0,), np.nan)
+    CR = np.full((B, REPORT), np.nan)
+    arrays = None if world is None else world_arrays(
+        model, shapes, world, 1e-3, 0.2, bool(contact_warm_start), 1e-10, 1000)
     with PARALLEL_LOCK:
         rollouts(packed, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, q_ref, v_ref,
-                 cons, solve, dt, steps, every, Q, V, A, X, completed, status)
-    message = _message(model, status, completed, dt, steps, batch, coords, A, p)
+                 cons, solve, arrays, dt, steps, every, Q, V, A, X, CF, CR, completed, status)
+    message = _message(model, status, completed, dt, steps, batch, coords, A, p, CR)
     if message:
         warnings.warn(message, SimulationDiverged, stacklevel=2)
     t = _times(dt, steps, every, rows)
     diverged = status != 0
     last = np.array([_last_row(int(c), steps, every) if d else rows - 1
                      for c, d in zip(completed, diverged, strict=True)], dtype=np.int64)
+    count, forces = None, None
+    if world is not None:
+        count = np.where(np.isnan(CF[..., 0]), -1, CF[..., 0]).astype(np.int64)
+        forces = CF[..., 1:].reshape(shape + (K, 3))
     if not batch:
         end = int(last[0]) + 1
         Q, V, A, X, t = Q[0, :end], V[0, :end], A[0, :end], X[0, :end], t[:end].copy()
+        if world is not None:
+            count, forces = count[0, :end], forces[0, :end]
         completed, diverged = int(completed[0]), bool(diverged[0])
         if diverged:
             t[-1] = completed * dt  # the last state it reached
@@ -188,7 +209,41 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     return Trajectory(t=t, q=Q, v=V, a=A, kinetic=deferred, potential=deferred,
                       completed=completed, diverged=diverged,
                       dt=dt, integrator=integrator, message=message,
-                      constraint_violation=_violation(X, p.starts), forces=X[..., 2, :])
+                      constraint_violation=_violation(X, p.starts), forces=X[..., 2, :],
+                      contact_count=count, contact_forces=forces)
+
+
+def _contact_world(model, world, collisions, integrator: str, constraints):
+    """The collision model of a rollout with ``world`` (None without), checked: a world
+    needs ``collisions`` and semi-implicit Euler, and takes no ``constraints`` yet."""
+    from ..contact.model import CollisionModel, _collisions
+    from ..contact.world import World
+
+    if world is None:
+        if collisions is not None:
+            raise ValueError("simulate: collisions given without a world; pass "
+                             "world=cgadyn.World() for the ground they touch")
+        return None
+    if not isinstance(world, World):
+        raise ValueError(f"simulate: world must be a cgadyn.World, got {world!r}")
+    if collisions is None:
+        raise ValueError("simulate: a world needs the robot's collision shapes; pass "
+                         "collisions=cgadyn.collision_model(model, ...)")
+    if integrator != "semi_implicit_euler":
+        raise ValueError(f"simulate: contact with a world steps with "
+                         f"integrator='semi_implicit_euler' (the contact step, K24), got "
+                         f"integrator={integrator!r}")
+    if constraints:
+        raise ValueError("simulate: a world with constraints is not supported yet; pass "
+                         "one or the other")
+    cm = _collisions(collisions, model)
+    if not isinstance(cm, CollisionModel) or len(cm) == 0:
+        raise ValueError("simulate: collisions hold no shape; expected "
+                         "cgadyn.collision_model(model, ...) with at least one")
+    if np.any(cm.links >= model.nlinks):
+        raise ValueError("simulate: collisions refer to links the model does not have; read "
+                         "them with collision_model(model, ...)")
+    return cm
 
 
 def _violation(X: np.ndarray, starts: np.ndarray) -> np.ndarray:
@@ -253,11 +308,12 @@ def available_memory() -> int:
     return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
 
 
-def _fits(model, B: int, steps: int, rows: int, nr: int = 0) -> None:
+def _fits(model, B: int, steps: int, rows: int, nr: int = 0, slots: int = 0) -> None:
     """Refuse, before anything is allocated, a run whose kept states (q, v, q̈, the two
-    energies and the ``nr`` constraint rows' errors and forces of each) would take more than
-    ``MEMORY_SHARE`` of the memory available."""
-    per_row = 8 * (model.nq + 2 * model.nv + 2 + 3 * nr + 2 * nr)
+    energies, the ``nr`` constraint rows' errors and forces and the ``slots`` contacts'
+    count and forces of each) would take more than ``MEMORY_SHARE`` of the memory
+    available."""
+    per_row = 8 * (model.nq + 2 * model.nv + 2 + 3 * nr + 2 * nr + (2 + 6 * slots) * (slots > 0))
     need, have = B * rows * per_row, int(MEMORY_SHARE * available_memory())
     if need <= have:
         return
@@ -399,12 +455,16 @@ def _constraint_reason(code: int, row: int, p) -> str:
 
 
 def _reason(model, code: int, joint: int, k: int, coords: np.ndarray, dt: float,
-            initial: bool, p=None) -> str:
+            initial: bool, p=None, report=None) -> str:
     """Why a rollout stopped after ``k`` steps, in words: divergence (the quantity that blew
     up, and the likely cause), the constraints (``joint`` then holds their row), or, when
     ABA failed on the ``initial`` state itself, a fault of the model or of that state."""
     if code in (DELASSUS_SINGULAR, CONSTRAINTS_CONFLICT) and p is not None and p.nr:
         return _constraint_reason(code, joint, p)
+    if code == CONTACT_UNSOLVED and report is not None:
+        return (f"the contact solver (ADMM, then PGS) did not converge in "
+                f"{int(report[0])} iterations at step {k + 1} (residuals: dual "
+                f"{report[1]:.2e}, complementarity {report[2]:.2e})")
     name = f" {model.joint_names[joint]!r}" if joint >= 0 else ""
     if code == DIVERGED:
         dofs = model.joint_dofs(joint)
@@ -428,7 +488,7 @@ def _reason(model, code: int, joint: int, k: int, coords: np.ndarray, dt: float,
 
 
 def _message(model, status: np.ndarray, completed: np.ndarray, dt: float, steps: int,
-             batch: int, coords: np.ndarray, A: np.ndarray, p=None) -> str:
+             batch: int, coords: np.ndarray, A: np.ndarray, p=None, report=None) -> str:
     """What stopped the rollouts that stopped ("" if none did); ``A`` the accelerations
     kept, NaN in row 0 where ABA failed on a rollout's initial state."""
     stopped = np.flatnonzero(status)
@@ -438,7 +498,8 @@ def _message(model, status: np.ndarray, completed: np.ndarray, dt: float, steps:
     code, joint, _ = decode(int(status[first]))
     k = int(completed[first])
     initial = k == 0 and not np.isfinite(A[first, 0]).all()
-    reason = _reason(model, code, joint, k, coords, dt, initial, p)
+    reason = _reason(model, code, joint, k, coords, dt, initial, p,
+                     None if report is None else report[first])
     where = f"rollout {first} " if batch else ""
     more = f" ({stopped.size} of {batch} rollouts stopped)" if batch else ""
     return (f"simulation of {model.name!r}: {where}stopped after {k} of {steps} steps "

@@ -75,6 +75,13 @@ class Trajectory:
     constraint's rows in its frame), so that ``M a + h = τ + Jᵀ λ``. Without constraints
     they have nc = nr = 0 columns (None for dask rollouts).
 
+    With a world (``simulate(..., world=..., collisions=...)``): ``contact_count`` (rows,)
+    or (B, rows), the contacts of the step taken from each state kept (the last state's:
+    those one more step would take; -1 in a row no state reached), and ``contact_forces``
+    (rows, K, 3) or (B, rows, K, 3), the world-frame force of each contact slot (K = 4 per
+    shape, slot ``4 s + i`` the ``i``-th patch point of shape ``s``; 0 in a slot without
+    a contact, NaN in a row no state reached). None without a world.
+
     ``kinetic`` and ``potential`` from ``simulate`` are computed when one of them (or
     ``energy``) is first read, from the states ``q``, ``v`` then held, in one parallel
     compiled call over all states; the rollout itself computes no energy.
@@ -93,6 +100,8 @@ class Trajectory:
     message: str = ""
     constraint_violation: np.ndarray | None = None
     forces: np.ndarray | None = None
+    contact_count: np.ndarray | None = None
+    contact_forces: np.ndarray | None = None
 
     @property
     def energy(self) -> np.ndarray:

@@ -1,0 +1,247 @@
+"""The contact step inside the compiled rollout loop (docs/contact.md, "Rollouts with
+contact", K20-K25).
+
+``contact_velocity`` turns the free velocity of a semi-implicit Euler step,
+``v_free = v + dt q̈(q, v)`` (K20), into the velocity after the contact impulses,
+``v⁺ = v_free + M⁻¹ Jᵀ λ`` (K24), as ``contact.step.contact_step`` does from Python: the
+contacts of the shapes with the ground at q (``manifold.shapes_on_plane``, K21-K22), each a
+point of its link held in the ground frame ``(t₁, t₂, n)``, ``G = J M⁻¹ Jᵀ`` and ``g = J
+v_free`` with the gap term (K23), λ by ADMM then PGS from ADMM's λ (K11-K19). A contact
+found in the previous step at the same slot (shape, patch point) starts from its λ there
+(K25). It is one ``@serial`` function called from one site of the loop, compiled only for a
+rollout with a world (the loop passes None otherwise and numba prunes the call).
+
+The world reaches compiled code as a tuple (``world_arrays``): the shapes' kinds, sizes,
+vertices and offsets, their placements on their links, their links, which touch the ground,
+the ground plane ``[n, δ]``, its frame, and ``params``: ``[margin, stabilization, friction,
+warm start]`` then the solver's settings (``contact.ncp``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._jit import serial
+from ..algorithms import _workspace as ws
+from ..algorithms.crba import crba_core
+from ..algorithms.kinematics import link_motor
+from ..algorithms.ltdl import ltdl
+from ..algorithms.status import CONTACT_UNSOLVED, NONFINITE_RESULT, OK, SINGULAR, fault
+from ..constraints.core import _add_columns, _delassus, _world_columns
+from ..constraints.work.core import workspace as constraint_workspace
+from ..constraints.work.core import workspace_size as constraint_workspace_size
+from ..contact import manifold as C
+from ..contact import ncp
+from ..contact.admm import SCRATCH_ROWS
+from ..contact.solver import ADMM, PGS, solve_one
+from ..kernels.rigid import motor_matrix
+
+MARGIN, STABILIZATION, FRICTION, WARM = 0, 1, 2, 3
+PARAMS = 4
+"""``params``: the margin, the stabilization, the ground's friction, warm start (1) or not;
+then the solver's ``ncp.SETTINGS``."""
+REPORT = 3
+"""The report of a step that failed: ``[iterations, dual, complementarity]``."""
+
+
+def world_arrays(model, collisions, world, margin: float, stabilization: float,
+                 warm_start: bool, tolerance: float, max_iterations: int) -> tuple:
+    """The tuple the loop reads (the module's docstring)."""
+    from ..contact.solve import _settings
+    from ..contact.step import ground_frame
+
+    cm = collisions
+    active = np.array([world.ground and c.link >= 0 and bool(c.contype & 1 or c.conaffinity & 1)
+                       for c in cm], dtype=np.bool_)
+    params = np.concatenate([[margin, stabilization, world.friction, float(warm_start)],
+                             _settings(tolerance, 0.0, max_iterations, False, 1e-6)])
+    return (np.ascontiguousarray(cm.kinds), np.ascontiguousarray(cm.sizes, dtype=float),
+            np.ascontiguousarray(cm.vertices, dtype=float), np.ascontiguousarray(cm.offsets),
+            np.ascontiguousarray(cm.placements, dtype=float),
+            np.ascontiguousarray(cm.links, dtype=np.int64), active,
+            np.array(world.plane.packed_size, dtype=float), np.eye(4),
+            ground_frame(world.ground_normal), params)
+
+
+def slots(shapes: int) -> int:
+    """The contact slots of ``shapes`` shapes: ``MAX_CONTACTS`` each."""
+    return C.MAX_CONTACTS * shapes
+
+
+@serial
+def scratch_size(n, nq, nv, nl, shapes):
+    """Floats of one rollout's contact scratch (``carve_scratch``)."""
+    K = C.MAX_CONTACTS * shapes
+    m = 3 * K
+    return (shapes * 16 + shapes * C.MAX_CONTACTS * C.OUT + shapes + C.CANDIDATES * C.OUT
+            + m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6) + K + ncp.INFO
+            + ncp.SETTINGS + 2 * K * 3 + K + 8 + 16 + 1 + REPORT
+            + constraint_workspace_size(n, nq, nv, nl, m))
+
+
+@serial
+def carve_scratch(world, buf, n, nq, nv, nl):
+    """The world of ``world_arrays`` and a rollout's scratch carved from ``buf``
+    (``scratch_size``), as one tuple."""
+    shapes = world[0].shape[0]
+    K = C.MAX_CONTACTS * shapes
+    m = 3 * K
+    p = ws.data_pointer(buf)
+    poses, o = ws.carve(p, 0, (shapes, 4, 4))
+    out, o = ws.carve(p, o, (shapes, C.MAX_CONTACTS, C.OUT))
+    counts, o = ws.carve(p, o, (shapes,))
+    cand, o = ws.carve(p, o, (C.CANDIDATES, C.OUT))
+    big, o = ws.carve(p, o, (m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6),))
+    mu, o = ws.carve(p, o, (K,))
+    info, o = ws.carve(p, o, (ncp.INFO,))
+    settings, o = ws.carve(p, o, (ncp.SETTINGS,))
+    prev, o = ws.carve(p, o, (K, 3))
+    force, o = ws.carve(p, o, (K, 3))
+    had, o = ws.carve(p, o, (K,))
+    tmp8, o = ws.carve(p, o, (8,))
+    T, o = ws.carve(p, o, (4, 4))
+    count, o = ws.carve(p, o, (1,))
+    report, o = ws.carve(p, o, (REPORT,))
+    cwork, o = ws.carve(p, o, (constraint_workspace_size(n, nq, nv, nl, m),))
+    for k in range(K):
+        had[k] = 0.0
+        for i in range(3):
+            prev[k, i] = 0.0
+            force[k, i] = 0.0
+    count[0] = 0.0
+    return (world, poses, out, counts, cand, big, mu, info, settings, prev, force, had, tmp8,
+            T, count, report, cwork)
+
+
+@serial
+def contact_velocity(m, world, q, v, vn, dt, work):
+    """``vn``: ``v_free`` in, ``v⁺`` out (the module's docstring; K20-K25); the forces of
+    the contacts into the slots of ``force`` (world frame, λ / dt; zero where none), their
+    number into ``count``. A status: ``CONTACT_UNSOLVED`` (its residuals in ``report``)
+    where neither solver converges."""
+    (arrays, poses, out, counts, cand, big, mu, info, settings, prev, force, had, tmp8, T,
+     count, report, cwork) = world
+    kinds, sizes, vertices, offsets, placements, links, active, sb, Tb, frame, params = arrays
+    shapes = kinds.shape[0]
+    K = C.MAX_CONTACTS * shapes
+    k_ = constraint_workspace(ws.data_pointer(cwork), m, 0)
+    _world_columns(m, q, v, False, k_)  # the joints' world motors and Jacobian columns
+    for s in range(shapes):  # each shape's pose: its link's frame times its placement (K10)
+        if links[s] < 0:
+            for i in range(4):
+                for j in range(4):
+                    T[i, j] = 1.0 if i == j else 0.0
+        else:
+            link_motor(m, k_.Mw, links[s], tmp8)
+            motor_matrix(tmp8, T)
+        for i in range(4):
+            for j in range(4):
+                acc = 0.0
+                for r in range(4):
+                    acc += T[i, r] * placements[s, r, j]
+                poses[s, i, j] = acc
+    speed = 0.0  # |(v, v_free)|: how far a point may move in the step
+    for k in range(m.nv):
+        speed += v[k] * v[k] + vn[k] * vn[k]
+    margin = params[MARGIN] + dt * math.sqrt(speed)
+    C.shapes_on_plane(kinds, sizes, vertices, offsets, poses, active, sb, Tb, margin, cand,
+                      out, counts)
+    nc = 0
+    for s in range(shapes):
+        nc += int(counts[s])
+    for k in range(K):
+        for i in range(3):
+            force[k, i] = 0.0
+    count[0] = nc
+    if nc == 0:
+        for k in range(K):
+            had[k] = 0.0
+        return OK
+    mc = 3 * nc
+    p = ws.data_pointer(big)
+    J, o = ws.carve(p, 0, (mc, m.nv))
+    G, o = ws.carve(p, o, (mc, mc))
+    Cs, o = ws.carve(p, o, (mc, mc))
+    g, o = ws.carve(p, o, (mc,))
+    lam, o = ws.carve(p, o, (mc,))
+    R, o = ws.carve(p, o, (mc,))
+    w = ws.carve(p, o, (SCRATCH_ROWS, max(mc, 6)))[0]
+    k_ = constraint_workspace(ws.data_pointer(cwork), m, mc)
+    for r in range(mc):
+        R[r] = 0.0
+        for k in range(m.nv):
+            J[r, k] = 0.0
+    c = 0
+    warm = False
+    for s in range(shapes):  # rows (t₁, t₂, n) of each contact point, held in the ground
+        for j in range(int(counts[s])):
+            r0 = 3 * c
+            _add_columns(k_.Sw, m.parents, m.iv, m.link_joint[links[s]], 1.0, out[s, j], 3,
+                         r0, J)
+            for k in range(m.nv):
+                x, y, z = J[r0, k], J[r0 + 1, k], J[r0 + 2, k]
+                for i in range(3):
+                    J[r0 + i, k] = frame[i, 0] * x + frame[i, 1] * y + frame[i, 2] * z
+            mu[c] = params[FRICTION]
+            slot = C.MAX_CONTACTS * s + j
+            for i in range(3):  # warm start from the slot's λ of the previous step (K25)
+                lam[r0 + i] = prev[slot, i] if had[slot] != 0.0 else 0.0
+            if had[slot] != 0.0:
+                warm = True
+            c += 1
+    status = crba_core(m, q, k_.H, work)
+    if status != OK:
+        return status
+    k = ltdl(m, k_.H)
+    if k >= 0:
+        return fault(SINGULAR, m.dof_joint[k])
+    _delassus(m, J, k_, G)  # M⁻¹ Jᵀ in k_.MJt, G = J M⁻¹ Jᵀ
+    c = 0
+    for r in range(mc):  # g = J v_free, and the gap's term on the normal rows (K23)
+        acc = 0.0
+        for k in range(m.nv):
+            acc += J[r, k] * vn[k]
+        g[r] = acc
+    for s in range(shapes):
+        for j in range(int(counts[s])):
+            d = out[s, j, 3]
+            g[3 * c + 2] += (d if d > 0.0 else params[STABILIZATION] * d) / dt
+            c += 1
+    for i in range(ncp.SETTINGS):
+        settings[i] = params[PARAMS + i]
+    settings[ncp.WARM] = 1.0 if warm and params[WARM] != 0.0 else 0.0
+    if settings[ncp.WARM] == 0.0:
+        for r in range(mc):
+            lam[r] = 0.0
+    muv = mu[:nc]
+    solve_one(ADMM, G, g, muv, R, settings, lam, info, Cs, w)
+    if info[ncp.CONVERGED] == 0.0:  # PGS from ADMM's last forces (K18)
+        settings[ncp.WARM] = 1.0
+        solve_one(PGS, G, g, muv, R, settings, lam, info, Cs, w)
+    if info[ncp.CONVERGED] == 0.0:
+        report[0], report[1], report[2] = info[ncp.ITERATIONS], info[ncp.DUAL], \
+            info[ncp.COMPLEMENTARITY]
+        return fault(CONTACT_UNSOLVED, -1)
+    for i in range(m.nv):  # v⁺ = v_free + M⁻¹ Jᵀ λ (K24)
+        acc = 0.0
+        for r in range(mc):
+            acc += k_.MJt[i, r] * lam[r]
+        vn[i] += acc
+    for k in range(K):
+        had[k] = 0.0
+    c = 0
+    for s in range(shapes):
+        for j in range(int(counts[s])):
+            slot = C.MAX_CONTACTS * s + j
+            had[slot] = 1.0
+            for i in range(3):
+                prev[slot, i] = lam[3 * c + i]
+                force[slot, i] = (frame[0, i] * lam[3 * c] + frame[1, i] * lam[3 * c + 1]
+                                  + frame[2, i] * lam[3 * c + 2]) / dt
+            c += 1
+    for i in range(m.nv):
+        if not math.isfinite(vn[i]):
+            return fault(NONFINITE_RESULT, -1)
+    return OK

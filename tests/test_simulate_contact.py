@@ -1,0 +1,161 @@
+"""Rollouts with contact (sim/contact.py; docs/contact.md, "Rollouts with contact"): the
+compiled loop's step equals ``contact_step``'s, a ball comes to rest carrying its weight, a
+tumbling box never gains energy, solo12 stands under joint PD, a batch equals its single
+runs, and bad input is named."""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from test_contact_step import BALL, BOX, G, _free
+
+import cgadyn
+from cgadyn.contact.step import contact_step
+
+DT = 1e-3
+SIE = "semi_implicit_euler"
+
+
+def _sim(model, cm, q, v, steps, **kw):
+    return cgadyn.simulate(model, q, v, DT, steps, integrator=SIE, world=cgadyn.World(),
+                           collisions=cm, **kw)
+
+
+def _steps(model, cm, q, v, steps, tau=lambda q, v: None):
+    out = [(q, v)]
+    for _ in range(steps):
+        t = tau(q, v)
+        s = contact_step(model, cm, q, v, np.zeros(model.nv) if t is None else t, DT)
+        q, v = s.q, s.v
+        out.append((q, v))
+    return out
+
+
+def _solo():
+    model = cgadyn.load("solo12")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", cgadyn.MeshSimplified)
+        cm = cgadyn.collision_model(model, "solo12")
+    q = cgadyn.neutral(model)
+    q[7:] = np.tile([0.0, 0.8, -1.6], 4)
+    q[2] = 0.3
+    q[2] -= cgadyn.ground_contacts(model, cm, q, margin=1.0).distance.min()
+    return model, cm, q
+
+
+def test_the_compiled_step_is_contact_step_for_a_ball():
+    """50 steps of a ball landing, spinning and sliding: q, v equal ``contact_step``'s to
+    1e-10 (forces from zero each step, as ``contact_step`` starts them)."""
+    model, cm = _free(BALL)
+    q = cgadyn.neutral(model)
+    q[2] = 0.102
+    v = np.array([0.3, 0.0, -0.2, 0.0, 2.0, 0.5])
+    tr = _sim(model, cm, q, v, 50, contact_warm_start=False)
+    ref = _steps(model, cm, q, v, 50)
+    assert np.max(tr.contact_count) == 1
+    for k, (qk, vk) in enumerate(ref):
+        assert np.abs(tr.q[k] - qk).max() < 1e-10 and np.abs(tr.v[k] - vk).max() < 1e-10
+
+
+@pytest.mark.parametrize("warm", [False, True])
+def test_a_dropped_ball_rests_without_bouncing_carrying_its_weight(warm):
+    """Dropped from 1 m: no rise after touching, at rest at the end, the ground's force its
+    weight to 1e-6. From zero forces each step (as ``contact_step``) that holds at every
+    step; warm-started (K25), ADMM stops as soon as the stopping rule passes, whose
+    complementarity tolerance (1e-10 on λ·σ) leaves the force within 1e-4 of the weight at
+    each step and to 1e-6 on average over the last 0.2 s (the ball rising < 1e-10 m a
+    step, its speed < 1e-8 m/s: the correction β d / dt of a ~1e-11 m overlap)."""
+    model, cm = _free(BALL)
+    q = cgadyn.neutral(model)
+    q[2] = 1.0
+    tr = _sim(model, cm, q, np.zeros(6), 700, contact_warm_start=warm)
+    z = tr.q[:, 2]
+    touch = int(np.argmax(tr.contact_count > 0))
+    assert 0 < touch < 500
+    assert np.all(np.diff(z[touch + 1:]) <= (1e-10 if warm else 1e-12))
+    assert np.abs(tr.v[-1]).max() < (1e-8 if warm else 1e-9)
+    lift = tr.contact_forces[-200:].sum(axis=1)
+    assert np.all(np.abs(lift[:, :2]) < 1e-9)
+    assert np.abs(lift[:, 2] - G).max() < (1e-4 if warm else 1e-6)
+    assert np.mean(lift[:, 2]) == pytest.approx(G, abs=1e-6)
+    assert np.all(tr.contact_forces[-1, 1:] == 0.0)  # the unused slots hold zeros
+
+
+def test_a_tumbling_box_never_gains_energy():
+    """A box dropped tilted onto a corner: its energy never rises by more than 1e-9 of its
+    initial energy between steps, and it ends at rest on a face."""
+    model, cm = _free(BOX)
+    q = cgadyn.neutral(model)
+    q[2] = 0.4
+    q[3:7] = [math.sin(0.2), math.sin(0.1), 0.0, 1.0]
+    q[3:7] /= np.linalg.norm(q[3:7])
+    tr = _sim(model, cm, q, np.array([0.3, 0.0, 0.0, 0.0, 1.0, 0.5]), 800)
+    energy = tr.kinetic + tr.potential
+    assert np.all(np.diff(energy) <= 1e-9 * abs(energy[0]))
+    assert np.abs(tr.v[-1]).max() < 1e-6
+    assert tr.q[-1, 2] == pytest.approx(0.1, abs=1e-4)
+
+
+def test_a_batch_equals_its_single_runs():
+    """8 balls from different states in one call equal 8 calls of one, bit for bit."""
+    model, cm = _free(BALL)
+    rng = np.random.default_rng(3)
+    q0 = np.tile(cgadyn.neutral(model), (8, 1))
+    q0[:, 2] = 0.1 + 0.01 * rng.random(8)
+    v0 = rng.normal(size=(8, 6))
+    batch = _sim(model, cm, q0, v0, 60)
+    for b in range(8):
+        one = _sim(model, cm, q0[b], v0[b], 60)
+        assert np.array_equal(batch.q[b], one.q) and np.array_equal(batch.v[b], one.v)
+        assert np.array_equal(batch.contact_forces[b], one.contact_forces)
+
+
+def test_bad_input_is_named():
+    model, cm = _free(BALL)
+    q, v = cgadyn.neutral(model), np.zeros(6)
+    with pytest.raises(ValueError, match="collision shapes"):
+        cgadyn.simulate(model, q, v, DT, 2, integrator=SIE, world=cgadyn.World())
+    with pytest.raises(ValueError, match="semi_implicit_euler"):
+        cgadyn.simulate(model, q, v, DT, 2, world=cgadyn.World(), collisions=cm)
+    with pytest.raises(ValueError, match="without a world"):
+        cgadyn.simulate(model, q, v, DT, 2, integrator=SIE, collisions=cm)
+    with pytest.raises(ValueError, match="cgadyn.World"):
+        cgadyn.simulate(model, q, v, DT, 2, integrator=SIE, world="ground", collisions=cm)
+
+
+@pytest.mark.slow
+def test_the_compiled_step_is_contact_step_for_solo12():
+    """50 steps of solo12 landing under joint PD equal ``contact_step``'s (q, v to 1e-10)."""
+    model, cm, q = _solo()
+    q[2] += 0.002
+    pd = cgadyn.PD(kp=20.0, kd=0.5, q_ref=q, gravity_compensation=False)
+    tr = _sim(model, cm, q, np.zeros(model.nv), 50, controller=pd, contact_warm_start=False)
+
+    def tau(qk, vk):
+        t = np.zeros(model.nv)
+        t[6:] = 20.0 * (q[7:] - qk[7:]) - 0.5 * vk[6:]
+        return t
+
+    ref = _steps(model, cm, q, np.zeros(model.nv), 50, tau)
+    assert np.max(tr.contact_count) >= 4
+    for k, (qk, vk) in enumerate(ref):
+        assert np.abs(tr.q[k] - qk).max() < 1e-10 and np.abs(tr.v[k] - vk).max() < 1e-10
+
+
+@pytest.mark.slow
+def test_solo12_stands_for_five_seconds():
+    """solo12 on its feet under joint PD for 5 s: its base moves less than 1e-6 m over the
+    last second, only the feet touch, and the ground carries its weight."""
+    model, cm, q = _solo()
+    tr = _sim(model, cm, q, np.zeros(model.nv), 5000,
+              controller=cgadyn.PD(kp=20.0, kd=0.5, q_ref=q, gravity_compensation=False))
+    assert not tr.diverged, tr.message
+    base = tr.q[-1001:, :3]
+    assert np.max(np.linalg.norm(base - base[-1], axis=1)) < 1e-6
+    feet = [k for k, c in enumerate(cm) if c.name.endswith("_FOOT_0")]
+    slots = [4 * k + i for k in feet for i in range(4)]
+    others = np.setdiff1d(np.arange(tr.contact_forces.shape[1]), slots)
+    assert np.all(tr.contact_forces[-1, others] == 0.0)
+    weight = G * cgadyn.total_mass(model)
+    assert tr.contact_forces[-1, :, 2].sum() == pytest.approx(weight, rel=1e-6)
