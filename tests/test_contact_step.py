@@ -4,10 +4,10 @@ slides as Coulomb's law says, a dropped box never gains energy, and solo12 stand
 feet with the ground carrying its weight."""
 
 import math
-import warnings
 
 import numpy as np
 import pytest
+from contact_cases import solo12_on_the_ground
 
 import cgadyn
 from cgadyn.contact.step import contact_step, ground_frame
@@ -123,14 +123,7 @@ def test_solo12_stands_on_its_feet():
     base is steady (moves less than 1 mm in the last 0.2 s of 0.6 s), only its feet touch,
     and the ground's forces, averaged over that time, carry its weight (to 1e-2: the PD
     posture still sways slowly)."""
-    model = cgadyn.load("solo12")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", cgadyn.MeshSimplified)
-        cm = cgadyn.collision_model(model, "solo12")
-    q = cgadyn.neutral(model)
-    q[7:] = np.tile([0.0, 0.8, -1.6], 4)
-    q[2] = 0.3
-    q[2] -= cgadyn.ground_contacts(model, cm, q, margin=1.0).distance.min()
+    model, cm, q = solo12_on_the_ground()
     q_ref = q[7:].copy()
     v = np.zeros(model.nv)
     heights, lift = [], []

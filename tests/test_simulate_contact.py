@@ -4,10 +4,10 @@ tumbling box never gains energy, solo12 stands under joint PD, a batch equals it
 runs, and bad input is named."""
 
 import math
-import warnings
 
 import numpy as np
 import pytest
+from contact_cases import solo12_on_the_ground
 from test_contact_step import BALL, BOX, G, _free
 
 import cgadyn
@@ -30,18 +30,6 @@ def _steps(model, cm, q, v, steps, tau=lambda q, v: None):
         q, v = s.q, s.v
         out.append((q, v))
     return out
-
-
-def _solo():
-    model = cgadyn.load("solo12")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", cgadyn.MeshSimplified)
-        cm = cgadyn.collision_model(model, "solo12")
-    q = cgadyn.neutral(model)
-    q[7:] = np.tile([0.0, 0.8, -1.6], 4)
-    q[2] = 0.3
-    q[2] -= cgadyn.ground_contacts(model, cm, q, margin=1.0).distance.min()
-    return model, cm, q
 
 
 def test_the_compiled_step_is_contact_step_for_a_ball():
@@ -127,7 +115,7 @@ def test_bad_input_is_named():
 @pytest.mark.slow
 def test_the_compiled_step_is_contact_step_for_solo12():
     """50 steps of solo12 landing under joint PD equal ``contact_step``'s (q, v to 1e-10)."""
-    model, cm, q = _solo()
+    model, cm, q = solo12_on_the_ground()
     q[2] += 0.002
     pd = cgadyn.PD(kp=20.0, kd=0.5, q_ref=q, gravity_compensation=False)
     tr = _sim(model, cm, q, np.zeros(model.nv), 50, controller=pd, contact_warm_start=False)
@@ -147,7 +135,7 @@ def test_the_compiled_step_is_contact_step_for_solo12():
 def test_solo12_stands_for_five_seconds():
     """solo12 on its feet under joint PD for 5 s: its base moves less than 1e-6 m over the
     last second, only the feet touch, and the ground carries its weight."""
-    model, cm, q = _solo()
+    model, cm, q = solo12_on_the_ground()
     tr = _sim(model, cm, q, np.zeros(model.nv), 5000,
               controller=cgadyn.PD(kp=20.0, kd=0.5, q_ref=q, gravity_compensation=False))
     assert not tr.diverged, tr.message
