@@ -3,12 +3,11 @@ compiled loop's step equals ``contact_step``'s, a ball comes to rest carrying it
 tumbling box never gains energy, solo12 stands under joint PD, a batch equals its single
 runs, and bad input is named."""
 
-import math
 
 import numpy as np
 import pytest
 from contact_cases import solo12_on_the_ground
-from test_contact_step import BALL, BOX, G, _free
+from test_contact_step import BALL, BOX, G, _free, tilted
 
 import cgadyn
 from cgadyn.contact.step import contact_step
@@ -74,10 +73,7 @@ def test_a_tumbling_box_never_gains_energy():
     """A box dropped tilted onto a corner: its energy never rises by more than 1e-9 of its
     initial energy between steps, and it ends at rest on a face."""
     model, cm = _free(BOX)
-    q = cgadyn.neutral(model)
-    q[2] = 0.4
-    q[3:7] = [math.sin(0.2), math.sin(0.1), 0.0, 1.0]
-    q[3:7] /= np.linalg.norm(q[3:7])
+    q = tilted(model)
     tr = _sim(model, cm, q, np.array([0.3, 0.0, 0.0, 0.0, 1.0, 0.5]), 800)
     energy = tr.kinetic + tr.potential
     assert np.all(np.diff(energy) <= 1e-9 * abs(energy[0]))
