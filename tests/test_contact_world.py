@@ -176,6 +176,20 @@ def test_an_mjcf_floor_is_not_its_own_contact():
     assert all(cm[k].link >= 0 for k in ct.collision)
 
 
+def test_a_link_welded_to_the_world_never_touches_the_ground():
+    """The double pendulum's base link sits on z = 0 with its fixed base: no force moves it,
+    so it is no contact (its rows would be zero and the contact problem unsolvable); its
+    moving links are, when lowered into reach."""
+    model = cgadyn.load("double_pendulum")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", cgadyn.MeshSimplified)
+        cm = cgadyn.collision_model(model)
+    q = cgadyn.neutral(model)
+    ct = ground_contacts(model, cm, q, margin=10.0)
+    assert len(ct) and {model.link_names[i] for i in ct.link} == {"link1", "link2"}
+    assert model.link_joint[model.link_names.index("base_link")] == -1
+
+
 def test_bad_input_is_named(solo):
     model, cm = solo
     with pytest.raises(ValueError, match="ground_normal"):

@@ -140,6 +140,11 @@ def test_a_run_that_blows_up_stops_and_says_so():
     (["--kp", "10"], "--kp sets the gains of the PD controller, but the controller is 'none': "
                      "add --controller pd"),
     (["--controller", "gravity", "--kd", "1", "--wn", "3"], "add --controller pd"),
+    (["--ground", "--integrator", "rk4"], "--integrator rk4 cannot take contact: with "
+                                          "--ground the run is the contact step"),
+    (["--drop", "0.1"], "--drop lifts a floating base, but 'double_pendulum' has a fixed base"),
+    (["--drop", "-1"], "expected a height in metres >= 0, got '-1'"),
+    (["--ground", "--q0", "0", "2.5"], "starts 0.0"),
     (["--plot", "/proc/a.png"], "cannot write the plot '/proc/a.png': directory '/proc' is not "
                                 "writable"),
     (["--html", "/proc/a.html"], "cannot write the animation '/proc/a.html': directory '/proc' "
@@ -282,3 +287,24 @@ def test_record_every_must_be_a_positive_integer(value):
     r = cgadyn_cmd("simulate", "double_pendulum", "--record-every", value)
     assert r.returncode == 2 and "Traceback" not in r.stderr
     assert "argument --record-every: expected a positive integer" in r.stderr
+
+
+@pytest.mark.slow
+def test_solo12_stands_on_the_ground_and_lands_when_dropped(capsys):
+    """``--ground``: solo12 starts on its feet and its PD (gains for a standing robot) holds
+    it: the contact forces carry its weight; ``--drop 0.1`` lands it on the same height."""
+    runs = {}
+    for extra in ([], ["--drop", "0.1"]):
+        assert cli.main(["simulate", "solo12", "--ground", "--controller", "pd", "--seconds",
+                         "1", "--json", "--no-progress", *extra]) == 0
+        runs[bool(extra)] = out = strict_json(capsys.readouterr().out)
+        assert out["integrator"] == "semi_implicit_euler" and out["completed"] == 1000
+        z = np.array(out["q"])[:, 2]
+        assert np.ptp(z[500:]) < 1e-4
+        force = np.array(out["contact_force"])
+        assert force[-1, 2] == pytest.approx(out["weight"], rel=1e-6)
+        assert np.abs(force[-1, :2]).max() < 1e-4 * out["weight"]  # settling still
+    standing, dropped = runs[False], runs[True]
+    assert dropped["q0"][2] - standing["q0"][2] == pytest.approx(0.1, abs=1e-12)
+    assert dropped["q_final"][2] == pytest.approx(standing["q_final"][2], abs=1e-3)
+    assert np.array(dropped["contact_count"])[0] == 0  # it starts in the air

@@ -4,7 +4,14 @@
 
     cgadyn simulate [ROBOT] [--seconds S] [--dt DT] [--integrator NAME]
                     [--controller none|gravity|pd] [--wn W | --kp KP --kd KD] [--q0 Q ...]
-                    [--v0 V ...] [--json] [--plot F.png] [--html F.html] [--no-progress]
+                    [--v0 V ...] [--ground] [--drop H] [--json] [--plot F.png]
+                    [--html F.html] [--no-progress]
+
+``--ground`` puts a level ground at z = 0 under the robot, touched by the collision shapes
+of its URDF or MJCF (``cgadyn.collision_model``; meshes as their convex hulls): the run is
+then the contact step of ``docs/contact.md`` (semi-implicit Euler with frictional contact
+impulses). A floating robot starts resting on it, its lowest shape at the ground, or
+``--drop H`` metres above it.
 
 The run is integrated in chunks of steps, each one ``cgadyn.simulate`` call continuing from
 the last state (RK4 and the Euler methods are one-step methods, so the states are those of
@@ -41,11 +48,15 @@ __all__ = ["add_parser", "check_html_path", "parse_vector", "pd_gains", "run",
            "simulate_chunked"]
 
 INTEGRATORS = ("rk4", "semi_implicit_euler", "euler")
+CONTACT_INTEGRATOR = "semi_implicit_euler"
+"""The integrator of a run with ``--ground``: the contact step is a velocity-level step."""
 CONTROLLERS = ("none", "gravity", "pd")
 WN = 10.0
 """rad/s: the default natural frequency of the ``pd`` controller's joints."""
 PROGRESS_AFTER = 1.0
 """Seconds: a run expected to take longer than this draws a progress bar."""
+PENETRATION = 1e-3
+"""Metres: how deep in the ground a run with ``--ground`` may start."""
 MAX_KEPT = 100_001
 """The states a run keeps unless ``--record-every`` says otherwise: a longer run keeps every
 k-th (the first k that fits), so that its memory and its JSON stay bounded."""
@@ -58,6 +69,16 @@ def _positive_int(text: str) -> int:
         value = 0
     if value < 1:
         raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}")
+    return value
+
+
+def _height(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not (math.isfinite(value) and value >= 0):
+        raise argparse.ArgumentTypeError(f"expected a height in metres >= 0, got {text!r}")
     return value
 
 
@@ -78,8 +99,9 @@ def add_parser(sub) -> None:
                    help="simulated time in seconds (default 2)")
     p.add_argument("--dt", type=positive_float, default=1e-3,
                    help="time step in seconds (default 0.001)")
-    p.add_argument("--integrator", choices=INTEGRATORS, default="rk4",
-                   help="integration method (default rk4)")
+    p.add_argument("--integrator", choices=INTEGRATORS, default=None,
+                   help=f"integration method (default rk4; {CONTACT_INTEGRATOR} with "
+                        f"--ground, the only one contact allows)")
     p.add_argument("--controller", choices=CONTROLLERS, default="none",
                    help="none: passive; gravity: gravity compensation; pd: joint PD to the "
                         "neutral configuration plus gravity compensation (default none)")
@@ -99,6 +121,12 @@ def add_parser(sub) -> None:
                         "(default: the neutral configuration)")
     p.add_argument("--v0", nargs="+", metavar="V",
                    help="initial velocity, nv numbers (default zero)")
+    p.add_argument("--ground", action="store_true",
+                   help="a level ground at z = 0 touched by the robot's collision shapes, "
+                        "with Coulomb friction 1; a floating robot starts resting on it")
+    p.add_argument("--drop", type=_height, default=None, metavar="H",
+                   help="start a floating robot with its lowest shape H metres above the "
+                        "ground (implies --ground)")
     p.add_argument("--json", action="store_true",
                    help="print the summary and the whole trajectory as JSON")
     p.add_argument("--plot", metavar="FILE", help="write joint trajectories and energy to "
@@ -173,15 +201,20 @@ class _Progress:
 
 
 def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, controller,
-                     progress: bool = True, every: int = 1):
-    """``cgadyn.simulate(model, q0, v0, dt, steps, ..., record_every=every)`` as a sequence
-    of calls, each continuing from the last state and each a whole number of ``every``
-    steps (so that the states kept are those of one call), with a progress bar when the
-    whole is expected to take longer than :data:`PROGRESS_AFTER` seconds. Returns one
-    ``Trajectory`` (its message gives the step and time of the whole run)."""
+                     progress: bool = True, every: int = 1, world=None, collisions=None):
+    """``cgadyn.simulate(model, q0, v0, dt, steps, ..., record_every=every, world=world,
+    collisions=collisions)`` as a sequence of calls, each continuing from the last state and
+    each a whole number of ``every`` steps (so that the states kept are those of one call;
+    with contact, each call's first step starts its solver cold instead of from the last
+    step's forces, which changes the forces within the solver's tolerance), with a progress
+    bar when the whole is expected to take longer than :data:`PROGRESS_AFTER` seconds.
+    Returns one ``Trajectory`` (its message gives the step and time of the whole run)."""
     from ..sim import Trajectory, simulate
 
-    parts: dict[str, list] = {k: [] for k in ("i", "q", "v", "a", "kinetic", "potential")}
+    keys = ("i", "q", "v", "a", "kinetic", "potential")
+    if world is not None:
+        keys += ("contact_count", "contact_forces")
+    parts: dict[str, list] = {k: [] for k in keys}
     q, v, done, message, bar = q0, v0, 0, "", None
     chunk = every  # the first call compiles: one kept row, then a measured chunk sets the pace
     while done < steps:
@@ -196,7 +229,8 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # the message is reported once, below
                 traj = simulate(model, q, v, dt, n, integrator=integrator,
-                                controller=controller, record_every=every)
+                                controller=controller, record_every=every, world=world,
+                                collisions=collisions)
         finally:
             if notice is not None:
                 notice.cancel()
@@ -207,7 +241,7 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
             parts[k].append(np.asarray(x)[first:])
         done += int(traj.completed)
         if traj.diverged:
-            message = _stopped(traj.message, done, steps, dt)
+            message = _stopped(traj.message, done, steps, dt, done - int(traj.completed))
             break
         q, v = traj.q[-1], traj.v[-1]
         if done == n:
@@ -228,10 +262,12 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
                       integrator=integrator, message=message)
 
 
-def _stopped(message: str, done: int, steps: int, dt: float) -> str:
-    """The divergence message of one call, with the step and time of the whole run."""
+def _stopped(message: str, done: int, steps: int, dt: float, offset: int = 0) -> str:
+    """The divergence message of one call, with the step and time of the whole run (the
+    call began after ``offset`` steps)."""
     found = re.search(r"\): (.*?)(; the trajectory|$)", message or "")
     reason = found.group(1) if found else (message or "the state stopped being finite")
+    reason = re.sub(r"step (\d+)", lambda m: f"step {int(m.group(1)) + offset}", reason)
     return (f"stopped after {done} of {steps} steps (t = {done * dt:g} s): {reason}; the "
             f"results hold the states up to there")
 
@@ -241,14 +277,35 @@ def _compiling() -> None:
     sys.stderr.flush()
 
 
-def pd_gains(model, q_ref: np.ndarray, wn: float) -> tuple[np.ndarray, np.ndarray]:
-    """``K_p = diag(M(q_ref)) wn²``, ``K_d = 2 diag(M(q_ref)) wn``: each joint alone, with
-    the inertia it moves at ``q_ref``, a critically damped oscillator of frequency ``wn``;
-    zero on the coordinates no actuator drives (a free flyer's)."""
-    from ..algorithms import crba
+def pd_gains(model, q_ref: np.ndarray, wn: float, standing: bool = False,
+             dt: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """``K_p = I wn²``, ``K_d = 2 I wn``: each joint alone, with the inertia ``I`` it moves
+    at ``q_ref``, a critically damped oscillator of frequency ``wn``; zero on the
+    coordinates no actuator drives (a free flyer's). ``I`` is ``diag(M(q_ref))``, the
+    joint's subtree; for a floating robot ``standing`` on the ground a leg's joint also
+    turns the rest of the robot about itself, so ``I`` adds the whole mass at the distance
+    from the joint to the centre of mass, ``m |p_j - c|²``. A leg in the air moves its
+    subtree alone, and the controller acts explicitly over a step of ``dt``: the gains are
+    then capped where that joint alone stays stable, ``K_d dt <= m_j`` and
+    ``K_p dt² <= m_j / 4``, with ``m_j = 1 / (M⁻¹)_jj`` the inertia a torque on joint ``j``
+    alone meets when nothing holds the robot."""
+    from ..algorithms import center_of_mass, crba, link_placements
 
-    m = np.where(model.actuated, np.diag(np.asarray(crba(model, q_ref))), 0.0)
-    return m * wn**2, 2.0 * m * wn
+    inertia = np.diag(np.asarray(crba(model, q_ref))).copy()
+    if standing and model.floating_base:
+        c = np.asarray(center_of_mass(model, q_ref))
+        origin = np.asarray(link_placements(model, q_ref))[:, :3, 3]
+        child = {int(j): li for li, j in reversed(list(enumerate(model.link_joint)))}
+        for k in range(model.nv):  # the joint frame is its child link's frame
+            p = origin[child[int(model.dof_joint[k])]]
+            inertia[k] += float(np.sum(model.body_mass)) * float(np.sum((p - c) ** 2))
+    m = np.where(model.actuated, inertia, 0.0)
+    kp, kd = m * wn**2, 2.0 * m * wn
+    if standing and model.floating_base and dt is not None:
+        alone = 1.0 / np.diag(np.linalg.inv(np.asarray(crba(model, q_ref))))
+        own = np.where(model.actuated, alone, 0.0)
+        kp, kd = np.minimum(kp, own / (4.0 * dt**2)), np.minimum(kd, own / dt)
+    return kp, kd
 
 
 def _gains(tokens, model, name: str) -> np.ndarray | None:
@@ -280,7 +337,8 @@ def _controller(args, model):
         return GravityCompensation()
     if args.controller == "pd":
         q_ref = np.asarray(neutral(model), float)
-        kp, kd = pd_gains(model, q_ref, WN if args.wn is None else args.wn)
+        kp, kd = pd_gains(model, q_ref, WN if args.wn is None else args.wn,
+                          standing=args.ground or args.drop is not None, dt=args.dt)
         kp_user, kd_user = _gains(args.kp, model, "--kp"), _gains(args.kd, model, "--kd")
         kp = kp if kp_user is None else kp_user
         kd = kd if kd_user is None else kd_user
@@ -296,16 +354,25 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--seconds {args.seconds:g} is shorter than one step of --dt "
                          f"{args.dt:g}")
     check_gains(args)
+    ground = args.ground or args.drop is not None
+    integrator = _integrator(args.integrator, ground)
     plot = check_plot_path(args.plot)
     html = check_html_path(args.html)
     model = registry.load(args.robot, floating_base=floating_base(args))
+    if args.drop is not None and not model.floating_base:
+        raise UsageError(f"--drop lifts a floating base, but {model.name!r} has a fixed base "
+                         f"(add --floating-base to give it one)")
     from ..algorithms import neutral
 
     q0 = parse_vector(args.q0, model.nq, "--q0")
+    given = q0 is not None
     q0 = np.asarray(neutral(model), float) if q0 is None else q0
     v0 = parse_vector(args.v0, model.nv, "--v0")
     v0 = np.zeros(model.nv) if v0 is None else v0
     controller = _controller(args, model)
+    world = collisions = None
+    if ground:
+        world, collisions, q0 = _ground(model, args, q0, given, registry)
     if html is not None:  # find the meshes before the run, not after it
         from ..sim.html import visuals
 
@@ -313,12 +380,13 @@ def run(args: argparse.Namespace) -> int:
 
     every = record_every(steps, args.record_every)
     start = time.perf_counter()
-    traj = simulate_chunked(model, q0, v0, args.dt, steps, args.integrator, controller,
-                            progress=args.progress, every=every)
+    traj = simulate_chunked(model, q0, v0, args.dt, steps, integrator, controller,
+                            progress=args.progress, every=every, world=world,
+                            collisions=collisions)
     wall = time.perf_counter() - start
     drift = traj.energy_drift() if controller is None else None  # a passive run
     summary = {"robot": model.name, "base": "free flyer" if model.floating_base else "fixed",
-               "nq": model.nq, "nv": model.nv, "integrator": args.integrator,
+               "nq": model.nq, "nv": model.nv, "integrator": integrator,
                "dt": args.dt, "steps": steps, "seconds": steps * args.dt,
                "record_every": every, "states_kept": len(traj.t),
                "controller": args.controller, "actuated": model.actuated,
@@ -328,7 +396,8 @@ def run(args: argparse.Namespace) -> int:
                "message": traj.message, "wall_seconds": wall,
                "energy_initial": traj.energy[0], "energy_final": traj.energy[-1],
                "energy_drift": drift, "q0": q0, "v0": v0, "q_final": traj.q[-1],
-               "v_final": traj.v[-1]}
+               "v_final": traj.v[-1], "ground": ground, "drop": args.drop,
+               **(_contact_summary(model, traj) if ground else {})}
     if plot is not None:
         from ..sim.plot import plot_trajectory
 
@@ -340,6 +409,9 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         arrays = {k: getattr(traj, k) for k in ("t", "q", "v", "a", "kinetic", "potential",
                                                 "energy")}
+        if ground:
+            arrays["contact_count"] = traj.contact_count
+            arrays["contact_force"] = np.nansum(traj.contact_forces, axis=-2)
         print_json({**summary, **arrays, "plot": str(plot) if plot else None,
                     "html": str(html) if html else None})
     else:
@@ -348,6 +420,67 @@ def run(args: argparse.Namespace) -> int:
         warn(f"simulation stopped early: {traj.message}")
         return 1
     return 0
+
+
+def _integrator(given: str | None, ground: bool) -> str:
+    """``--integrator``, or its default: RK4, or the contact step's with ``--ground``, which
+    refuses the others."""
+    if not ground:
+        return given or "rk4"
+    if given not in (None, CONTACT_INTEGRATOR):
+        raise UsageError(f"--integrator {given} cannot take contact: with --ground the run "
+                         f"is the contact step, a velocity-level {CONTACT_INTEGRATOR} step "
+                         f"(leave --integrator out or give {CONTACT_INTEGRATOR})")
+    return CONTACT_INTEGRATOR
+
+
+def _ground(model, args, q0: np.ndarray, given: bool, registry):
+    """The world of ``--ground``/``--drop``, the robot's collision shapes, and ``q0`` with a
+    floating base moved up or down so that its lowest shape is ``--drop`` metres (default
+    0) above the ground; a ``q0`` given by ``--q0`` is moved only by ``--drop``."""
+    from ..contact import MeshSimplified, World, collision_model, ground_contacts
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", MeshSimplified)  # hulls of at most 64 vertices
+        try:
+            collisions = collision_model(model, _urdf(args.robot, registry))
+        except (ValueError, FileNotFoundError) as exc:
+            raise UsageError(f"--ground needs the robot's collision shapes: {exc}") from None
+    if len(collisions) == 0:
+        raise UsageError(f"--ground: {model.name!r} has no collision shapes in its file, so "
+                         f"nothing of it can touch the ground")
+    world = World()
+    q0 = q0.copy()
+    lowest = ground_contacts(model, collisions, q0, world, margin=1e9)
+    if len(lowest) == 0:
+        raise UsageError(f"--ground: none of {model.name!r}'s collision shapes may touch "
+                         f"the ground (their contype/conaffinity exclude it)")
+    if model.floating_base and (args.drop is not None or not given):
+        lift = (args.drop or 0.0) if given else (args.drop or 0.0) - lowest.distance.min()
+        q0[2] += lift
+        lowest = ground_contacts(model, collisions, q0, world, margin=1e9)
+    k = int(np.argmin(lowest.distance))
+    if lowest.distance[k] < -PENETRATION:
+        shape = collisions[int(lowest.collision[k])].name
+        where = "the given --q0" if given else "its neutral configuration"
+        raise UsageError(f"--ground: at {where} {model.name!r} starts "
+                         f"{-lowest.distance[k]:.3g} m inside the ground (its shape "
+                         f"{shape!r}); start it above the ground"
+                         + ("" if model.floating_base else
+                            " (a fixed base stays where its URDF puts it: z = 0 is the "
+                            "ground, so a robot hanging below its base cannot stand on it)"))
+    return world, collisions, q0
+
+
+def _contact_summary(model, traj) -> dict:
+    """The contacts of the last state and their total force next to the robot's weight."""
+    from ..algorithms import center_of_mass
+
+    force = np.nansum(traj.contact_forces[-1], axis=0)
+    weight = float(np.sum(model.body_mass)) * 9.81
+    com = np.asarray(center_of_mass(model, traj.q[-1]))
+    return {"contacts_final": int(traj.contact_count[-1]), "contact_force_final": force,
+            "weight": weight, "com_final": com}
 
 
 def _urdf(robot: str, registry):
@@ -372,6 +505,11 @@ def _summary_text(s: dict, plot, html) -> str:
              f"  v(end) = {_vec(s['v_final'])}",
              f"  energy E(0) = {s['energy_initial']:.10g} J, E(end) = "
              f"{s['energy_final']:.10g} J"]
+    if s["ground"]:
+        f = s["contact_force_final"]
+        lines.append(f"  ground: {s['contacts_final']} contacts at the end, their force "
+                     f"{_vec(f)} N against the weight {s['weight']:.6g} N; centre of mass "
+                     f"at {_vec(s['com_final'])} m")
     if s["energy_drift"] is not None:
         lines.append(f"  energy drift (passive run): max |E(t) - E(0)| / |E(0)| = "
                      f"{s['energy_drift']:.3e}")

@@ -14,7 +14,7 @@ import numpy as np
 from . import manifold as C
 from .shapes import Plane
 
-__all__ = ["Contacts", "World", "ground_contacts"]
+__all__ = ["Contacts", "World", "ground_contacts", "touches_ground"]
 
 
 @dataclass(frozen=True)
@@ -71,12 +71,23 @@ class Contacts:
         return int(self.collision.size)
 
 
+def touches_ground(model, collisions, world: World) -> np.ndarray:
+    """Which shapes may touch the ground of ``world`` (K,): MuJoCo's filter with the
+    ground's ``contype = conaffinity = 1``, and only shapes that move. A shape fixed in the
+    world never does: one of the world itself (an MJCF's own floor, link -1), or one on a
+    link welded to the world (a fixed base, ``link_joint`` -1), which no force can move
+    and whose contact rows would be zero."""
+    return np.array([world.ground and c.link >= 0 and model.link_joint[c.link] >= 0
+                     and bool(c.contype & 1 or c.conaffinity & 1) for c in collisions],
+                    dtype=np.bool_)
+
+
 def ground_contacts(model, collisions, q, world: World | None = None,
                     margin: float = 0.0) -> Contacts:
     """The contacts of ``model``'s collision shapes (``collision_model``) at ``q`` with the
     ground of ``world`` (default: ``World()``): for each shape allowed to touch it (MuJoCo's
-    filter with the ground's ``contype = conaffinity = 1``; shapes fixed in the world, as an
-    MJCF's own floor, never), at most four points closer than ``margin`` spanning the
+    filter with the ground's ``contype = conaffinity = 1``; shapes fixed in the world never:
+    ``touches_ground``), at most four points closer than ``margin`` spanning the
     shape's contact patch (K21, K22)."""
     from .api import check_rigid
     from .model import _collisions, collision_poses
@@ -92,8 +103,7 @@ def ground_contacts(model, collisions, q, world: World | None = None,
         raise ValueError(f"q: expected shape ({model.nq},) for {model.name!r}, got {q.shape}")
     poses = np.ascontiguousarray(collision_poses(model, cm, q))
     check_rigid(poses, "collision poses")
-    active = np.array([world.ground and c.link >= 0 and bool(c.contype & 1 or c.conaffinity & 1)
-                       for c in cm], dtype=np.bool_)
+    active = touches_ground(model, cm, world)
     K = len(cm)
     out = np.empty((K, C.MAX_CONTACTS, C.OUT))
     counts = np.zeros(K, dtype=np.int64)

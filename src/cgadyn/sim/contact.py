@@ -51,10 +51,10 @@ def world_arrays(model, collisions, world, margin: float, stabilization: float,
     """The tuple the loop reads (the module's docstring)."""
     from ..contact.solve import _settings
     from ..contact.step import ground_frame
+    from ..contact.world import touches_ground
 
     cm = collisions
-    active = np.array([world.ground and c.link >= 0 and bool(c.contype & 1 or c.conaffinity & 1)
-                       for c in cm], dtype=np.bool_)
+    active = touches_ground(model, cm, world)
     params = np.concatenate([[margin, stabilization, world.friction, float(warm_start)],
                              _settings(tolerance, 0.0, max_iterations, False, 1e-6)])
     return (np.ascontiguousarray(cm.kinds), np.ascontiguousarray(cm.sizes, dtype=float),
