@@ -144,6 +144,8 @@ def test_a_run_that_blows_up_stops_and_says_so():
                                           "--ground the run is the contact step"),
     (["--drop", "0.1"], "--drop lifts a floating base, but 'double_pendulum' has a fixed base"),
     (["--drop", "-1"], "expected a height in metres >= 0, got '-1'"),
+    (["--controls", "random"], "--controls random drives the motors of an MJCF model, but "
+                               "'double_pendulum' has none"),
     (["--ground", "--q0", "0", "2.5"], "starts 0.0"),
     (["--plot", "/proc/a.png"], "cannot write the plot '/proc/a.png': directory '/proc' is not "
                                 "writable"),
@@ -308,3 +310,19 @@ def test_solo12_stands_on_the_ground_and_lands_when_dropped(capsys):
     assert dropped["q0"][2] - standing["q0"][2] == pytest.approx(0.1, abs=1e-12)
     assert dropped["q_final"][2] == pytest.approx(standing["q_final"][2], abs=1e-3)
     assert np.array(dropped["contact_count"])[0] == 0  # it starts in the air
+
+
+@pytest.mark.slow
+def test_the_ant_falls_and_is_pushed_around_by_random_controls(capsys):
+    """Gymnasium's ant on the ground under uniform random controls: the run completes, its
+    legs touch the ground, and the seed fixes the controls (two runs agree to the bit)."""
+    argv = ["simulate", "gymnasium:ant", "--ground", "--controls", "random", "--seed", "3",
+            "--seconds", "0.5", "--dt", "0.005", "--json", "--no-progress"]
+    outs = []
+    for _ in range(2):
+        assert cli.main(argv) == 0
+        outs.append(strict_json(capsys.readouterr().out))
+    out = outs[0]
+    assert out["completed"] == 100 and out["seed"] == 3 and out["energy_drift"] is None
+    assert max(out["contact_count"]) > 0
+    np.testing.assert_array_equal(outs[0]["q"], outs[1]["q"])

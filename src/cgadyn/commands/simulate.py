@@ -4,7 +4,8 @@
 
     cgadyn simulate [ROBOT] [--seconds S] [--dt DT] [--integrator NAME]
                     [--controller none|gravity|pd] [--wn W | --kp KP --kd KD] [--q0 Q ...]
-                    [--v0 V ...] [--ground] [--drop H] [--json] [--plot F.png]
+                    [--v0 V ...] [--ground] [--drop H] [--controls none|random]
+                    [--seed N] [--json] [--plot F.png]
                     [--html F.html] [--no-progress]
 
 ``--ground`` puts a level ground at z = 0 under the robot, touched by the collision shapes
@@ -127,6 +128,12 @@ def add_parser(sub) -> None:
     p.add_argument("--drop", type=_height, default=None, metavar="H",
                    help="start a floating robot with its lowest shape H metres above the "
                         "ground (implies --ground)")
+    p.add_argument("--controls", choices=("none", "random"), default="none",
+                   help="random: each step's controls of the model's MJCF motors drawn "
+                        "uniformly in their control ranges (the random actions of a "
+                        "Gymnasium agent), added to the controller's torques (default none)")
+    p.add_argument("--seed", type=int, default=0,
+                   help="the seed of --controls random (default 0)")
     p.add_argument("--json", action="store_true",
                    help="print the summary and the whole trajectory as JSON")
     p.add_argument("--plot", metavar="FILE", help="write joint trajectories and energy to "
@@ -201,10 +208,12 @@ class _Progress:
 
 
 def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, controller,
-                     progress: bool = True, every: int = 1, world=None, collisions=None):
+                     progress: bool = True, every: int = 1, world=None, collisions=None,
+                     ctrl=None):
     """``cgadyn.simulate(model, q0, v0, dt, steps, ..., record_every=every, world=world,
-    collisions=collisions)`` as a sequence of calls, each continuing from the last state and
-    each a whole number of ``every`` steps (so that the states kept are those of one call;
+    collisions=collisions, ctrl=ctrl)`` as a sequence of calls, each continuing from the
+    last state and each a whole number of ``every`` steps (so that the states kept are
+    those of one call;
     with contact, each call's first step starts its solver cold instead of from the last
     step's forces, which changes the forces within the solver's tolerance), with a progress
     bar when the whole is expected to take longer than :data:`PROGRESS_AFTER` seconds.
@@ -230,7 +239,8 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
                 warnings.simplefilter("ignore")  # the message is reported once, below
                 traj = simulate(model, q, v, dt, n, integrator=integrator,
                                 controller=controller, record_every=every, world=world,
-                                collisions=collisions)
+                                collisions=collisions,
+                                ctrl=None if ctrl is None else ctrl[done:done + n])
         finally:
             if notice is not None:
                 notice.cancel()
@@ -370,6 +380,7 @@ def run(args: argparse.Namespace) -> int:
     v0 = parse_vector(args.v0, model.nv, "--v0")
     v0 = np.zeros(model.nv) if v0 is None else v0
     controller = _controller(args, model)
+    ctrl = _controls(model, args, steps)
     world = collisions = None
     if ground:
         world, collisions, q0 = _ground(model, args, q0, given, registry)
@@ -382,14 +393,16 @@ def run(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     traj = simulate_chunked(model, q0, v0, args.dt, steps, integrator, controller,
                             progress=args.progress, every=every, world=world,
-                            collisions=collisions)
+                            collisions=collisions, ctrl=ctrl)
     wall = time.perf_counter() - start
-    drift = traj.energy_drift() if controller is None else None  # a passive run
+    passive = controller is None and ctrl is None
+    drift = traj.energy_drift() if passive else None
     summary = {"robot": model.name, "base": "free flyer" if model.floating_base else "fixed",
                "nq": model.nq, "nv": model.nv, "integrator": integrator,
                "dt": args.dt, "steps": steps, "seconds": steps * args.dt,
                "record_every": every, "states_kept": len(traj.t),
-               "controller": args.controller, "actuated": model.actuated,
+               "controller": args.controller, "controls": args.controls,
+               "seed": args.seed if ctrl is not None else None, "actuated": model.actuated,
                "gains": {"kp": controller.kp, "kd": controller.kd}
                if args.controller == "pd" else None,
                "completed": traj.completed, "diverged": traj.diverged,
@@ -420,6 +433,21 @@ def run(args: argparse.Namespace) -> int:
         warn(f"simulation stopped early: {traj.message}")
         return 1
     return 0
+
+
+def _controls(model, args, steps: int) -> np.ndarray | None:
+    """``--controls random``: (steps, na) controls uniform in the motors' control ranges
+    from ``--seed``; None for ``--controls none``."""
+    if args.controls == "none":
+        return None
+    if not model.actuator_names:
+        raise UsageError(f"--controls random drives the motors of an MJCF model, but "
+                         f"{model.name!r} has none (give a controller instead)")
+    low, high = np.asarray(model.actuator_ctrlrange, float).T
+    if not (np.all(np.isfinite(low)) and np.all(np.isfinite(high))):
+        raise UsageError(f"--controls random draws within the motors' control ranges, but "
+                         f"{model.name!r} has motors without one")
+    return np.random.default_rng(args.seed).uniform(low, high, (steps, low.size))
 
 
 def _integrator(given: str | None, ground: bool) -> str:
@@ -496,7 +524,8 @@ def _summary_text(s: dict, plot, html) -> str:
     rate = s["completed"] / s["wall_seconds"] if s["wall_seconds"] > 0 else math.inf
     lines = [f"cgadyn simulate: {s['robot']}, {s['base']} base, nq {s['nq']}, nv {s['nv']}, "
              f"{s['integrator']}, dt {s['dt']:g} s, {s['seconds']:g} s ({s['steps']} steps), "
-             f"controller {s['controller']}",
+             f"controller {s['controller']}"
+             + (f", random controls (seed {s['seed']})" if s["seed"] is not None else ""),
              f"  simulated {s['completed']} steps in {s['wall_seconds']:.3g} s "
              f"({rate:.3g} steps/s), kept {s['states_kept']} states"
              + (f" (every {s['record_every']}th and the last)" if s["record_every"] > 1
