@@ -287,34 +287,46 @@ def _compiling() -> None:
     sys.stderr.flush()
 
 
-def pd_gains(model, q_ref: np.ndarray, wn: float, standing: bool = False,
+def pd_gains(model, q_ref: np.ndarray, wn: float, support=(),
              dt: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     """``K_p = I wn²``, ``K_d = 2 I wn``: each joint alone, with the inertia ``I`` it moves
     at ``q_ref``, a critically damped oscillator of frequency ``wn``; zero on the
     coordinates no actuator drives (a free flyer's). ``I`` is ``diag(M(q_ref))``, the
-    joint's subtree; for a floating robot ``standing`` on the ground a leg's joint also
-    turns the rest of the robot about itself, so ``I`` adds the whole mass at the distance
-    from the joint to the centre of mass, ``m |p_j - c|²``. A leg in the air moves its
-    subtree alone, and the controller acts explicitly over a step of ``dt``: the gains are
-    then capped where that joint alone stays stable, ``K_d dt <= m_j`` and
+    joint's subtree. A floating robot standing on the links ``support`` (those touching
+    the ground) turns, at each joint between its base and a support link (a leg's), the
+    rest of the robot about that joint: ``I`` adds the whole mass at the distance from the
+    joint to the centre of mass, ``m |p_j - c|²``. Such a leg also swings in the air, where
+    it moves its subtree alone, and the controller acts explicitly over a step of ``dt``:
+    its gains are capped where that joint alone stays stable, ``K_d dt <= m_j`` and
     ``K_p dt² <= m_j / 4``, with ``m_j = 1 / (M⁻¹)_jj`` the inertia a torque on joint ``j``
     alone meets when nothing holds the robot."""
     from ..algorithms import center_of_mass, crba, link_placements
 
-    inertia = np.diag(np.asarray(crba(model, q_ref))).copy()
-    if standing and model.floating_base:
+    M = np.asarray(crba(model, q_ref))
+    inertia = np.diag(M).copy()
+    legs = np.zeros(model.nv, dtype=bool)
+    if model.floating_base and len(support):
+        joints = set()
+        for link in support:  # every joint from the support link up to the base
+            j = int(model.link_joint[link])
+            while j >= 0:
+                joints.add(j)
+                j = int(model.parents[j])
+        legs = np.array([int(model.dof_joint[k]) in joints for k in range(model.nv)])
+        legs &= np.asarray(model.actuated)
         c = np.asarray(center_of_mass(model, q_ref))
         origin = np.asarray(link_placements(model, q_ref))[:, :3, 3]
         child = {int(j): li for li, j in reversed(list(enumerate(model.link_joint)))}
-        for k in range(model.nv):  # the joint frame is its child link's frame
+        mass = float(np.sum(model.body_mass))
+        for k in np.flatnonzero(legs):  # the joint frame is its child link's frame
             p = origin[child[int(model.dof_joint[k])]]
-            inertia[k] += float(np.sum(model.body_mass)) * float(np.sum((p - c) ** 2))
+            inertia[k] += mass * float(np.sum((p - c) ** 2))
     m = np.where(model.actuated, inertia, 0.0)
     kp, kd = m * wn**2, 2.0 * m * wn
-    if standing and model.floating_base and dt is not None:
-        alone = 1.0 / np.diag(np.linalg.inv(np.asarray(crba(model, q_ref))))
-        own = np.where(model.actuated, alone, 0.0)
-        kp, kd = np.minimum(kp, own / (4.0 * dt**2)), np.minimum(kd, own / dt)
+    if legs.any() and dt is not None:
+        alone = 1.0 / np.diag(np.linalg.inv(M))
+        kp = np.where(legs, np.minimum(kp, alone / (4.0 * dt**2)), kp)
+        kd = np.where(legs, np.minimum(kd, alone / dt), kd)
     return kp, kd
 
 
@@ -339,7 +351,7 @@ def check_gains(args: argparse.Namespace) -> None:
                          f"add --controller pd")
 
 
-def _controller(args, model):
+def _controller(args, model, support=()):
     from ..algorithms import neutral
     from ..sim import PD, GravityCompensation
 
@@ -347,8 +359,8 @@ def _controller(args, model):
         return GravityCompensation()
     if args.controller == "pd":
         q_ref = np.asarray(neutral(model), float)
-        kp, kd = pd_gains(model, q_ref, WN if args.wn is None else args.wn,
-                          standing=args.ground or args.drop is not None, dt=args.dt)
+        kp, kd = pd_gains(model, q_ref, WN if args.wn is None else args.wn, support,
+                          dt=args.dt)
         kp_user, kd_user = _gains(args.kp, model, "--kp"), _gains(args.kd, model, "--kd")
         kp = kp if kp_user is None else kp_user
         kd = kd if kd_user is None else kd_user
@@ -379,11 +391,12 @@ def run(args: argparse.Namespace) -> int:
     q0 = np.asarray(neutral(model), float) if q0 is None else q0
     v0 = parse_vector(args.v0, model.nv, "--v0")
     v0 = np.zeros(model.nv) if v0 is None else v0
-    controller = _controller(args, model)
     ctrl = _controls(model, args, steps)
     world = collisions = None
+    support: tuple = ()
     if ground:
-        world, collisions, q0 = _ground(model, args, q0, given, registry)
+        world, collisions, q0, support = _ground(model, args, q0, given, registry)
+    controller = _controller(args, model, support)
     if html is not None:  # find the meshes before the run, not after it
         from ..sim.html import visuals
 
@@ -463,9 +476,10 @@ def _integrator(given: str | None, ground: bool) -> str:
 
 
 def _ground(model, args, q0: np.ndarray, given: bool, registry):
-    """The world of ``--ground``/``--drop``, the robot's collision shapes, and ``q0`` with a
+    """The world of ``--ground``/``--drop``, the robot's collision shapes, ``q0`` with a
     floating base moved up or down so that its lowest shape is ``--drop`` metres (default
-    0) above the ground; a ``q0`` given by ``--q0`` is moved only by ``--drop``."""
+    0) above the ground (a ``q0`` given by ``--q0`` is moved only by ``--drop``), and the
+    links it will stand on (``pd_gains``' support)."""
     from ..contact import MeshSimplified, World, collision_model, ground_contacts
 
     with warnings.catch_warnings():
@@ -497,7 +511,10 @@ def _ground(model, args, q0: np.ndarray, given: bool, registry):
                          + ("" if model.floating_base else
                             " (a fixed base stays where its URDF puts it: z = 0 is the "
                             "ground, so a robot hanging below its base cannot stand on it)"))
-    return world, collisions, q0
+    lowest = lowest.distance.min()  # the links that will stand: those within 1 cm of it
+    below = ground_contacts(model, collisions, q0, world, margin=max(lowest, 0.0) + 0.01)
+    support = tuple(sorted({int(link) for link in below.link}))
+    return world, collisions, q0, support
 
 
 def _contact_summary(model, traj) -> dict:
