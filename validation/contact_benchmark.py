@@ -36,7 +36,7 @@ with the penetration), and ant.xml's geoms carry a 1 cm margin inside which MuJo
 contacts already push.
 
 Run:  python validation/contact_benchmark.py [--rollouts 1024] [--steps 1000] [--repeat 2]
-      [--scenes ant solo12] [--quick]
+      [--solo12-rollouts B] [--solo12-steps N] [--scenes ant solo12] [--quick]
 """
 
 from __future__ import annotations
@@ -421,6 +421,10 @@ def main() -> None:
     p.add_argument("--rollouts", type=int, default=1024)
     p.add_argument("--steps", type=int, default=1000)
     p.add_argument("--repeat", type=int, default=2)
+    p.add_argument("--solo12-rollouts", type=int, default=None,
+                   help="solo12's rollouts where they differ from --rollouts")
+    p.add_argument("--solo12-steps", type=int, default=None,
+                   help="solo12's steps where they differ from --steps")
     p.add_argument("--check-rollouts", type=int, default=4,
                    help="rollouts whose every state is checked for penetration")
     p.add_argument("--scenes", nargs="+", default=["ant", "solo12"],
@@ -435,18 +439,22 @@ def main() -> None:
         args.rollouts, args.steps, args.repeat, args.check_rollouts = 16, 100, 1, 2
     import mujoco
 
-    B, H = args.rollouts, args.steps
+    sizes = {"ant": (args.rollouts, args.steps),
+             "solo12": (args.solo12_rollouts or args.rollouts, args.solo12_steps or args.steps)}
     threads = sorted({1, numba.config.NUMBA_NUM_THREADS})
     load = [os.getloadavg()[0]]
     results = []
     for name in args.scenes:
         rng = np.random.default_rng(0)
+        B, H = sizes[name]
         s = ant(B, H, rng) if name == "ant" else solo12(B, H, rng, args.drop)
         results.append(measure(s, B, H, threads, args.repeat, args.check_rollouts))
     load.append(os.getloadavg()[0])
-    meta = {"command": " ".join(["python validation/contact_benchmark.py"]
-                                + [f"--rollouts {B}", f"--steps {H}",
-                                   f"--repeat {args.repeat}"]),
+    (B, H), (Bs, Hs) = sizes["ant"], sizes["solo12"]
+    meta = {"command": " ".join(["python validation/contact_benchmark.py", f"--rollouts {B}",
+                                 f"--steps {H}", f"--repeat {args.repeat}"]
+                                + ([f"--solo12-rollouts {Bs}", f"--solo12-steps {Hs}"]
+                                   if (Bs, Hs) != (B, H) else [])),
             "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
             "commit": git_commit(), "mujoco": mujoco.__version__,
             "machine": platform.processor() or platform.machine(), "cores": os.cpu_count(),
