@@ -55,6 +55,13 @@ RECORDED = (
              "µs per rollout-step of RK4 rollouts on the panda, against the same integrator "
              "over Pinocchio's ABA from Python and MuJoCo's rollout, and dask's worker "
              "processes against one process"),
+    Recorded("contact.md", "Speed against MuJoCo: rollouts with ground contact",
+             "`python validation/contact_benchmark.py` (`--rollouts`, `--steps` to shrink it, "
+             "`--quick` for a smoke run)",
+             "µs per rollout-step of `cgadyn.simulate(..., world=World(), collisions=...)` "
+             "against `mujoco.rollout` on Gymnasium's Ant under random controls and solo12 "
+             "dropped under joint PD, at the same time step and thread count, with the deepest "
+             "penetration and the base height at the end of both engines beside the times"),
     Recorded("ik_panda.md", "Inverse kinematics on the panda",
              "`python validation/ik_benchmark.py`",
              "µs per solve, success rate and iterations of cgadyn's compiled "
