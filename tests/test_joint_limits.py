@@ -1,0 +1,139 @@
+"""Joint limits as unilateral constraints of the contact step (contact/limits.py,
+contact/sets.py; docs/contact.md, "Joint limits", K26-K29): a pendulum falls onto its stop
+and rests there with the stop carrying gravity's torque, a slider dropped on its stop never
+gains energy, the panda hanging under gravity stays within its limits, the compiled loop's
+step equals ``contact_step``'s, an MJCF's ranges are MuJoCo's, and bad input is named."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cgadyn
+from cgadyn.contact.step import contact_step
+
+DT = 1e-3
+SIE = "semi_implicit_euler"
+NOWHERE = cgadyn.World(ground=False)
+UPPER = 0.3
+
+
+def _one_link(kind: str, axis: str, com: str, lower: float, upper: float) -> cgadyn.Model:
+    """A 1 kg link on one joint of ``kind`` about or along ``axis``, its centre of mass at
+    ``com`` in the joint frame."""
+    return cgadyn.load(
+        f'<robot name="one"><link name="base"/><link name="arm"><inertial>'
+        f'<origin xyz="{com}"/><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" '
+        f'iyy="0.01" iyz="0" izz="0.01"/></inertial></link><joint name="j" type="{kind}">'
+        f'<parent link="base"/><child link="arm"/><axis xyz="{axis}"/><limit lower="{lower}" '
+        f'upper="{upper}" effort="10" velocity="10"/></joint></robot>')
+
+
+def _pendulum() -> cgadyn.Model:
+    """A pendulum about y, horizontal at q = 0, its mass 0.5 m out: gravity turns it towards
+    +q (down), onto its upper stop at 0.3 rad."""
+    return _one_link("revolute", "0 1 0", "0.5 0 0", -1.5, UPPER)
+
+
+def _steps(model, q, v, steps, **kw):
+    out = [(q, v, None)]
+    for _ in range(steps):
+        s = contact_step(model, None, q, v, np.zeros(model.nv), DT, NOWHERE, **kw)
+        q, v = s.q, s.v
+        out.append((q, v, s.limit_torques))
+    return out
+
+
+def test_a_pendulum_falls_onto_its_stop_and_rests_there():
+    """Released 0.8 rad above its stop: it never passes the stop by more than 1e-4 rad, comes
+    to rest (|v| < 1e-6), and the stop's torque at rest is the gravity torque to 1e-6."""
+    model = _pendulum()
+    run = _steps(model, np.array([-0.5]), np.zeros(1), 1200)
+    q = np.array([s[0][0] for s in run])
+    assert q.max() <= UPPER + 1e-4
+    assert abs(q[-1] - UPPER) < 1e-4 and abs(run[-1][1][0]) < 1e-6
+    hold = cgadyn.rnea(model, run[-1][0], np.zeros(1), np.zeros(1))  # the torque holding it
+    assert hold[0] < -1.0 and abs(run[-1][2][0] - hold[0]) < 1e-6
+    without = contact_step(model, None, run[-1][0], np.zeros(1), np.zeros(1), DT, NOWHERE,
+                           joint_limits=False)
+    assert without.q[0] > UPPER  # the stop, not the step, holds it
+
+
+def test_a_slider_dropped_on_its_stop_never_gains_energy():
+    """A vertical slide dropped 0.1 m onto its lower stop: the total energy never rises (to
+    1e-9 relative) and the stop is never passed. A vertical slide, where a pendulum's swing
+    would not do: semi-implicit Euler's own energy error on a swing (O(dt)) is far above
+    1e-9, while in free fall it only loses energy (½ m g² dt² a step)."""
+    model = _one_link("prismatic", "0 0 1", "0 0 0", 0.0, 1.0)
+    run = _steps(model, np.array([0.1]), np.array([0.0]), 400)
+    q = np.array([s[0][0] for s in run])
+    e = np.array([cgadyn.energy(model, s[0], s[1]).sum() for s in run])
+    assert q.min() >= -1e-9
+    assert np.all(np.diff(e) <= 1e-9 * np.abs(e).max())
+    assert abs(q[-1]) < 1e-9 and abs(run[-1][1][0]) < 1e-9
+
+
+def test_the_compiled_step_is_contact_step_with_limits():
+    """100 steps of the pendulum across its impact on the stop: the compiled loop's q and v
+    equal ``contact_step``'s to 1e-10 (forces from zero each step, as ``contact_step``)."""
+    model = _pendulum()
+    q0, v0 = np.array([0.2]), np.array([-1.0])  # up, then down onto the stop
+    ref = _steps(model, q0, v0, 300)
+    tr = cgadyn.simulate(model, q0, v0, DT, 300, integrator=SIE, world=NOWHERE,
+                         contact_warm_start=False)
+    assert max(s[0][0] for s in ref) > UPPER - 1e-6  # the stop was reached
+    for k, (qk, vk, _) in enumerate(ref):
+        assert np.abs(tr.q[k] - qk).max() < 1e-10 and np.abs(tr.v[k] - vk).max() < 1e-10
+    off = cgadyn.simulate(model, q0, v0, DT, 300, integrator=SIE, world=NOWHERE,
+                          joint_limits=False)
+    assert off.q[:, 0].max() > UPPER + 0.1
+
+
+@pytest.mark.slow
+def test_the_panda_hanging_under_gravity_stays_within_its_limits():
+    """The panda from its neutral posture, no torque, 2 s under gravity in a world without
+    ground: every joint within [lower - 1e-3, upper + 1e-3], and the rollout completed."""
+    model = cgadyn.load("panda")
+    q0 = cgadyn.neutral(model)
+    tr = cgadyn.simulate(model, q0, np.zeros(model.nv), DT, 2000, integrator=SIE,
+                         world=NOWHERE)
+    assert not tr.diverged
+    assert np.all(tr.q >= model.lower - 1e-3) and np.all(tr.q <= model.upper + 1e-3)
+    free = cgadyn.simulate(model, q0, np.zeros(model.nv), DT, 2000, integrator=SIE)
+    assert np.any(free.q < model.lower - 1e-2) or np.any(free.q > model.upper + 1e-2)
+
+
+def test_an_mjcf_reads_mujocos_ranges():
+    """Gymnasium's walker2d and ant: each limited hinge's [lower, upper] is MuJoCo's
+    ``jnt_range``, an unlimited one's ±inf, and those are the limits a step enforces."""
+    mujoco = pytest.importorskip("mujoco")
+    from cgadyn.contact.limits import joint_limits
+
+    root = Path(__file__).resolve().parents[1] / "robots" / "mujoco" / "gymnasium"
+    for name in ("walker2d", "ant"):
+        mj = mujoco.MjModel.from_xml_path(str(root / f"{name}.xml"))
+        model = cgadyn.load(root / f"{name}.xml")
+        limited = 0
+        for j in range(mj.njnt):
+            if mj.jnt_type[j] != mujoco.mjtJoint.mjJNT_HINGE:
+                continue
+            i = model.idx_q[model.joint_names.index(mj.joint(j).name)]
+            want = mj.jnt_range[j] if mj.jnt_limited[j] else [-np.inf, np.inf]
+            assert [model.lower[i], model.upper[i]] == pytest.approx(list(want), abs=1e-12)
+            limited += bool(mj.jnt_limited[j])
+        assert limited > 0 and len(joint_limits(model)) == limited
+
+
+def test_bad_input_is_named():
+    model = _pendulum()
+    with pytest.raises(ValueError, match="joint_limits=True needs a world"):
+        cgadyn.simulate(model, np.zeros(1), np.zeros(1), DT, 5, integrator=SIE,
+                        joint_limits=True)
+    with pytest.raises(ValueError, match="collisions is None but the world has a ground"):
+        contact_step(model, None, np.zeros(1), np.zeros(1), np.zeros(1), DT)
+    with pytest.raises(ValueError, match="needs the robot's collision shapes"):
+        cgadyn.simulate(model, np.zeros(1), np.zeros(1), DT, 5, integrator=SIE,
+                        world=cgadyn.World())
+    with pytest.raises(ValueError, match="joint_limits must be"):
+        contact_step(model, None, np.zeros(1), np.zeros(1), np.zeros(1), DT, NOWHERE,
+                     joint_limits="yes")
