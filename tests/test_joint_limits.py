@@ -1,8 +1,10 @@
-"""Joint limits as unilateral constraints of the contact step (contact/limits.py,
-contact/sets.py; docs/contact.md, "Joint limits", K26-K29): a pendulum falls onto its stop
-and rests there with the stop carrying gravity's torque, a slider dropped on its stop never
-gains energy, the panda hanging under gravity stays within its limits, the compiled loop's
-step equals ``contact_step``'s, an MJCF's ranges are MuJoCo's, and bad input is named."""
+"""Joint limits and friction loss as constraints of the contact step (contact/limits.py,
+contact/sets.py; docs/contact.md, "Joint limits", "Friction loss", K26-K30): a pendulum
+falls onto its stop and rests there with the stop carrying gravity's torque, a slider
+dropped on its stop never gains energy, the panda hanging under gravity stays within its
+limits, a joint's dry friction holds a torque below it and lets a larger one through less
+it, the compiled loop's step equals ``contact_step``'s, an MJCF's ranges and friction losses
+are MuJoCo's, and bad input is named."""
 
 from pathlib import Path
 
@@ -18,21 +20,23 @@ NOWHERE = cgadyn.World(ground=False)
 UPPER = 0.3
 
 
-def _one_link(kind: str, axis: str, com: str, lower: float, upper: float) -> cgadyn.Model:
+def _one_link(kind: str, axis: str, com: str, lower: float, upper: float,
+              friction: float = 0.0) -> cgadyn.Model:
     """A 1 kg link on one joint of ``kind`` about or along ``axis``, its centre of mass at
-    ``com`` in the joint frame."""
+    ``com`` in the joint frame, with a dry ``friction``."""
     return cgadyn.load(
         f'<robot name="one"><link name="base"/><link name="arm"><inertial>'
         f'<origin xyz="{com}"/><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" '
         f'iyy="0.01" iyz="0" izz="0.01"/></inertial></link><joint name="j" type="{kind}">'
         f'<parent link="base"/><child link="arm"/><axis xyz="{axis}"/><limit lower="{lower}" '
-        f'upper="{upper}" effort="10" velocity="10"/></joint></robot>')
+        f'upper="{upper}" effort="10" velocity="10"/><dynamics friction="{friction}"/></joint>'
+        f'</robot>')
 
 
-def _pendulum() -> cgadyn.Model:
+def _pendulum(friction: float = 0.0) -> cgadyn.Model:
     """A pendulum about y, horizontal at q = 0, its mass 0.5 m out: gravity turns it towards
     +q (down), onto its upper stop at 0.3 rad."""
-    return _one_link("revolute", "0 1 0", "0.5 0 0", -1.5, UPPER)
+    return _one_link("revolute", "0 1 0", "0.5 0 0", -1.5, UPPER, friction)
 
 
 def _steps(model, q, v, steps, **kw):
@@ -73,10 +77,12 @@ def test_a_slider_dropped_on_its_stop_never_gains_energy():
     assert abs(q[-1]) < 1e-9 and abs(run[-1][1][0]) < 1e-9
 
 
-def test_the_compiled_step_is_contact_step_with_limits():
-    """100 steps of the pendulum across its impact on the stop: the compiled loop's q and v
-    equal ``contact_step``'s to 1e-10 (forces from zero each step, as ``contact_step``)."""
-    model = _pendulum()
+@pytest.mark.parametrize("friction", [0.0, 2.0])
+def test_the_compiled_step_is_contact_step_with_limits(friction):
+    """300 steps of the pendulum across its impact on the stop, without and with a friction
+    loss: the compiled loop's q and v equal ``contact_step``'s to 1e-10 (forces from zero
+    each step, as ``contact_step``)."""
+    model = _pendulum(friction)
     q0, v0 = np.array([0.2]), np.array([-1.0])  # up, then down onto the stop
     ref = _steps(model, q0, v0, 300)
     tr = cgadyn.simulate(model, q0, v0, DT, 300, integrator=SIE, world=NOWHERE,
@@ -101,6 +107,40 @@ def test_the_panda_hanging_under_gravity_stays_within_its_limits():
     assert np.all(tr.q >= model.lower - 1e-3) and np.all(tr.q <= model.upper + 1e-3)
     free = cgadyn.simulate(model, q0, np.zeros(model.nv), DT, 2000, integrator=SIE)
     assert np.any(free.q < model.lower - 1e-2) or np.any(free.q > model.upper + 1e-2)
+
+
+def test_friction_loss_holds_below_it_and_opposes_above_it():
+    """The pendulum horizontal, at rest, gravity's torque m g l = 4.905 N m: a friction loss
+    of 6 N m holds it (|v| < 1e-9 over 100 steps, the solver's tolerance; the friction
+    torque the holding one to 1e-6); one of 2 N m lets it go at (m g l - 2) / I, I = 0.26
+    kg m² (to 1e-9), the friction torque -2 N m against the motion."""
+    q0, v0 = np.zeros(1), np.zeros(1)
+    held = _pendulum(6.0)
+    run = _steps(held, q0, v0, 100)
+    assert max(abs(s[1][0]) for s in run) < 1e-9 and abs(run[-1][0][0]) < 1e-9
+    s = contact_step(held, None, q0, v0, np.zeros(1), DT, NOWHERE)
+    hold = cgadyn.rnea(held, q0, v0, np.zeros(1))
+    assert abs(s.friction_torques[0] - hold[0]) < 1e-6
+    going = _pendulum(2.0)
+    s = contact_step(going, None, q0, v0, np.zeros(1), DT, NOWHERE)
+    assert abs(s.v[0] - DT * (0.5 * 9.81 - 2.0) / 0.26) < 1e-9
+    assert abs(s.friction_torques[0] + 2.0) < 1e-9
+    off = contact_step(held, None, q0, v0, np.zeros(1), DT, NOWHERE, friction_loss=False)
+    assert off.v[0] > 0.0
+
+
+def test_friction_losses_are_read_from_urdf_and_mjcf():
+    """URDF's ``<dynamics friction>`` and MJCF's ``frictionloss`` (MuJoCo's
+    ``dof_frictionloss``, every dof of the joint) are ``Model.friction``."""
+    mujoco = pytest.importorskip("mujoco")
+    assert _pendulum(0.7).friction.tolist() == [0.7]
+    mj = mujoco.MjModel.from_xml_string(
+        '<mujoco><worldbody><body><joint type="hinge" frictionloss="0.3" range="-1 1" '
+        'limited="true"/><geom size="0.1" mass="1"/><body pos="0 0 -0.5"><joint type="ball" '
+        'frictionloss="0.2"/><geom size="0.1" mass="1"/></body></body></worldbody></mujoco>')
+    model = cgadyn.from_mujoco(mj)
+    assert model.friction.tolist() == pytest.approx(list(mj.dof_frictionloss), abs=0)
+    assert model.friction.tolist() == [0.3, 0.2, 0.2, 0.2]
 
 
 def test_an_mjcf_reads_mujocos_ranges():
@@ -134,6 +174,9 @@ def test_bad_input_is_named():
     with pytest.raises(ValueError, match="needs the robot's collision shapes"):
         cgadyn.simulate(model, np.zeros(1), np.zeros(1), DT, 5, integrator=SIE,
                         world=cgadyn.World())
+    with pytest.raises(ValueError, match="friction_loss=True needs a world"):
+        cgadyn.simulate(model, np.zeros(1), np.zeros(1), DT, 5, integrator=SIE,
+                        friction_loss=True)
     with pytest.raises(ValueError, match="joint_limits must be"):
         contact_step(model, None, np.zeros(1), np.zeros(1), np.zeros(1), DT, NOWHERE,
                      joint_limits="yes")

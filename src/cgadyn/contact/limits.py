@@ -1,6 +1,8 @@
 """Joint limits as unilateral constraints of the contact problem (``docs/contact.md``, "Joint
 limits", K26): which joints have them (``joint_limits``) and which bounds are rows of a
-step (``active_limits``), for ``contact_step`` and the compiled rollout loop alike.
+step (``active_limits``), for ``contact_step`` and the compiled rollout loop alike; and the
+coordinates whose friction loss is a box-bounded row of every step (``joint_frictions``,
+"Friction loss", K30).
 
 A limit applies to a joint of one coordinate (``nq = nv = 1``: revolute, prismatic,
 helical; a continuous joint's bounds are infinite), whose ``q`` moves by ``dt v`` in a step.
@@ -16,7 +18,7 @@ import numpy as np
 
 from .._jit import serial
 
-__all__ = ["LIMIT_COLUMNS", "active_limits", "joint_limits"]
+__all__ = ["LIMIT_COLUMNS", "active_limits", "joint_frictions", "joint_limits"]
 
 Q, V, LOWER, UPPER = range(4)
 LIMIT_COLUMNS = 4
@@ -44,6 +46,14 @@ def joint_limits(model) -> np.ndarray:
         if np.isfinite(lo) or np.isfinite(hi):
             rows.append([iq[j], iv[j], lo, hi])
     return np.array(rows, dtype=float).reshape(len(rows), LIMIT_COLUMNS)
+
+
+def joint_frictions(model) -> np.ndarray:
+    """(F, 2) ``[v index, friction]`` of each velocity coordinate with a friction loss
+    (``Model.friction`` > 0), of any joint: each is a row ``e_k`` of every step whose
+    impulse lies in ``[-f dt, f dt]`` (K30)."""
+    k = np.flatnonzero(model.friction > 0.0)
+    return np.ascontiguousarray(np.column_stack([k, model.friction[k]]).astype(float))
 
 
 @serial

@@ -1,14 +1,15 @@
 """One velocity-level time step with frictional contact on the ground and joint limits
-(docs/contact.md, K20, K23-K26).
+(docs/contact.md, K20, K23-K26, K30).
 
 ``contact_step`` joins the pieces of ``cgadyn.contact``: the contact points of the robot's
 shapes with the ground (K21-K22), each a point constraint of its link held in the ground's
 frame ``(t₁, t₂, n)``, the contact problem of the step (K20, K23), its forces by ADMM or PGS
 (K11-K19), the velocity after the step and the configuration moved on the manifold with it
 (K24, semi-implicit Euler). The joints' limits near which the step may take a coordinate are
-one-row constraints ``λ >= 0`` of the same problem (K26, ``limits.py``). It is the step of
-Carpentier et al. (RSS 2024) and of Pinocchio's and MuJoCo's simulators, called from Python:
-one step, one configuration."""
+one-row constraints ``λ >= 0`` of the same problem (K26, ``limits.py``), and so is each
+joint's friction loss, ``|λ| <= f dt`` (K30). It is the step of Carpentier et al. (RSS 2024)
+and of Pinocchio's and MuJoCo's simulators, called from Python: one step, one configuration.
+"""
 
 from __future__ import annotations
 
@@ -37,7 +38,8 @@ class ContactStep:
     """The result of ``contact_step``: the state after the step ``q``, ``v``; the contacts
     found at the start of the step (``contacts``) and the force of each on the robot in the
     world frame (``forces`` (K, 3), the impulse over ``dt``); the joint torques of the
-    limits (``limit_torques`` (nv,), their impulse over ``dt``; zero where no limit acts);
+    limits (``limit_torques`` (nv,), their impulse over ``dt``; zero where no limit acts)
+    and of the friction losses (``friction_torques`` (nv,));
     the solver's report (``info``, a ``ContactSolveInfo``; None without contacts or limits)
     and which solver gave the forces (``solver``)."""
 
@@ -46,6 +48,7 @@ class ContactStep:
     contacts: Contacts = field(repr=False)
     forces: np.ndarray = field(repr=False)
     limit_torques: np.ndarray = field(repr=False, default=None)
+    friction_torques: np.ndarray = field(repr=False, default=None)
     info: object = None
     solver: str = ""
 
@@ -53,7 +56,8 @@ class ContactStep:
 def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = None,
                  margin: float = 1e-3, stabilization: float = 0.2, solver: str = "admm",
                  tolerance: float = 1e-10, max_iterations: int = 1000,
-                 passive: bool = True, joint_limits: bool = True) -> ContactStep:
+                 passive: bool = True, joint_limits: bool = True,
+                 friction_loss: bool = True) -> ContactStep:
     """One step of length ``dt`` from ``(q, v)`` under the joint torques ``tau`` (nv,)
     with the ground of ``world`` (default ``World()``) touched by the shapes of
     ``collisions`` (``collision_model(model, ...)``; None: no shapes, for a
@@ -69,7 +73,9 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
        stabilization · d / dt`` for ``d < 0``); with ``joint_limits``, after the contacts'
        rows, one row ``±e_v`` per bound of a joint of one coordinate (``limits.py``) whose
        gap is below ``margin`` plus ``|v_i| dt``, with the same gap term and ``λ >= 0``
-       (K26; joints of several coordinates get none);
+       (K26; joints of several coordinates get none); with ``friction_loss``, one row
+       ``e_k`` per velocity coordinate with ``Model.friction`` ``f > 0``, its impulse in
+       ``[-f dt, f dt]`` (K30);
     3. the impulses ``λ`` in the friction cones of ``World.friction`` by ``solver``
        (``"admm"`` or ``"pgs"``, ``solve_contacts``); where ADMM does not converge (it may
        cycle on redundant contacts with sliding, docs/contact.md), PGS goes on from its
@@ -84,7 +90,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     from ..algorithms.passive import passive_torques
     from ..constraints.model import Constraint
     from ..constraints.operators import constraint_jacobian
-    from .limits import LIMIT_COLUMNS, ROW_GAP, ROW_SIGN, ROW_V, active_limits
+    from .limits import LIMIT_COLUMNS, ROW_GAP, ROW_SIGN, ROW_V, active_limits, joint_frictions
     from .limits import joint_limits as joint_limits_of
     from .model import CollisionModel, _collisions
     from .solve import solve_contacts
@@ -110,8 +116,9 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         raise ValueError("contact_step: collisions is None but the world has a ground; pass "
                          "collisions=cgadyn.collision_model(model, ...), or "
                          "World(ground=False) for joint limits alone")
-    if not isinstance(joint_limits, bool):
-        raise ValueError(f"joint_limits must be True or False, got {joint_limits!r}")
+    for name, flag in (("joint_limits", joint_limits), ("friction_loss", friction_loss)):
+        if not isinstance(flag, bool):
+            raise ValueError(f"{name} must be True or False, got {flag!r}")
     cm = CollisionModel([], model) if collisions is None else _collisions(collisions, model)
     torque = tau + passive_torques(model, q, v) if passive else tau
     v_free = v + step * aba(model, q, v, torque)  # K20
@@ -122,10 +129,11 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     limits = joint_limits_of(model) if joint_limits else np.zeros((0, LIMIT_COLUMNS))
     rows = np.empty((2 * len(limits), LIMIT_COLUMNS))
     nl = active_limits(limits, q, v, v_free, step, float(margin), rows)  # K26
-    nc = len(contacts)
-    if nc + nl == 0:
+    frictions = joint_frictions(model) if friction_loss else np.zeros((0, 2))
+    nc, nf = len(contacts), len(frictions)
+    if nc + nl + nf == 0:
         return ContactStep(integrate(model, q, step * v_free), v_free, contacts,
-                           np.zeros((0, 3)), np.zeros(model.nv))
+                           np.zeros((0, 3)), np.zeros(model.nv), np.zeros(model.nv))
     links = link_placements(model, q)
     frame = ground_frame(world.ground_normal)
     constraints = []
@@ -136,10 +144,12 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
                                       placement=np.linalg.inv(links[contacts.link[k]]) @ at,
                                       other_placement=at))
     R = np.kron(np.eye(nc), frame)  # world rows to contact rows (t₁, t₂, n) per contact
-    J = np.zeros((3 * nc + nl, model.nv))
+    J = np.zeros((3 * nc + nl + nf, model.nv))
+    n1 = 3 * nc + nl  # the first friction row
     if nc:
         J[:3 * nc] = R @ constraint_jacobian(model, q, constraints)
     J[3 * nc + np.arange(nl), rows[:nl, ROW_V].astype(int)] = rows[:nl, ROW_SIGN]  # K26
+    J[n1 + np.arange(nf), frictions[:, 0].astype(int)] = 1.0  # K30
     MJt = np.linalg.solve(crba(model, q), J.T)
     G = J @ MJt
     G = 0.5 * (G + G.T)
@@ -147,7 +157,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     d = np.concatenate([contacts.distance, rows[:nl, ROW_GAP]])
     gap = np.concatenate([np.arange(nc) * 3 + 2, 3 * nc + np.arange(nl)])  # normals, limits
     g[gap] += np.where(d > 0.0, d, stabilization * d) / step  # K23
-    bounds = np.tile([0.0, np.inf], (nl, 1))  # λ >= 0 (K26)
+    bounds = np.concatenate([np.tile([0.0, np.inf], (nl, 1)),  # λ >= 0 (K26)
+                             step * np.outer(frictions[:, 1], [-1.0, 1.0])])  # K30
     lam, info = solve_contacts(G, g, contacts.friction, solver=solver, tolerance=tolerance,
                                max_iterations=max_iterations, bounds=bounds)
     used = solver
@@ -164,6 +175,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     impulse = J.T @ lam  # joint impulses of the contacts
     v_next = v_free + aba(model, q, np.zeros(model.nv), impulse, gravity=np.zeros(3))  # K24
     forces = (lam[:3 * nc].reshape(nc, 3) @ frame) / step  # in the world frame
-    limit_torques = J[3 * nc:].T @ lam[3 * nc:] / step
+    limit_torques = J[3 * nc:n1].T @ lam[3 * nc:n1] / step
+    friction_torques = J[n1:].T @ lam[n1:] / step
     return ContactStep(integrate(model, q, step * v_next), v_next, contacts, forces,
-                       limit_torques, info, used)
+                       limit_torques, friction_torques, info, used)

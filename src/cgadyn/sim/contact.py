@@ -1,5 +1,5 @@
 """The contact step inside the compiled rollout loop (docs/contact.md, "Rollouts with
-contact", K20-K26).
+contact", K20-K26, K30).
 
 ``contact_velocity`` turns the free velocity of a semi-implicit Euler step, ``v_free = v +
 dt q̈(q, v)`` (K20), into the velocity after the contact impulses, ``v⁺ = v_free + M⁻¹ Jᵀ
@@ -10,14 +10,17 @@ in the ground frame ``(t₁, t₂, n)``, ``G = J M⁻¹ Jᵀ`` and ``g = J v_fre
 the same slot (shape, patch point) starts from its λ there (K25). The bounds of the joint
 limits near which the step may take a coordinate (``contact.limits.active_limits``) are rows
 ``±e_v`` after the contacts', with the same gap term and ``λ >= 0`` (K26), warm-started from
-their slot alike. It is one ``@serial`` function called from one site of the loop, compiled
-only for a rollout with a world (the loop passes None otherwise and numba prunes the call).
+their slot alike; then a row ``e_k`` per coordinate with a friction loss, ``|λ| <= f dt``
+(K30), warm-started from its impulse in the step before. It is one ``@serial`` function
+called from one site of the loop, compiled only for a rollout with a world (the loop passes
+None otherwise and numba prunes the call).
 
 The world reaches compiled code as a tuple (``world_arrays``): the shapes' kinds, sizes,
 vertices and offsets, their placements on their links, their links, which touch the ground,
 the ground plane ``[n, δ]``, its frame, ``params``: ``[margin, stabilization, friction,
-warm start]`` then the solver's settings (``contact.ncp``), and the joint limits enforced
-(``contact.limits.joint_limits``; none where ``joint_limits`` is off).
+warm start]`` then the solver's settings (``contact.ncp``), the joint limits enforced
+(``contact.limits.joint_limits``; none where ``joint_limits`` is off) and the friction
+losses (``contact.limits.joint_frictions``; none where ``friction_loss`` is off).
 """
 
 from __future__ import annotations
@@ -52,8 +55,9 @@ REPORT = 3
 
 def world_arrays(model, collisions, world, margin: float, stabilization: float,
                  warm_start: bool, tolerance: float, max_iterations: int,
-                 joint_limits: bool = True) -> tuple:
+                 joint_limits: bool = True, friction_loss: bool = True) -> tuple:
     """The tuple the loop reads (the module's docstring)."""
+    from ..contact.limits import joint_frictions
     from ..contact.limits import joint_limits as limits_of
     from ..contact.solve import _settings
     from ..contact.step import ground_frame
@@ -70,7 +74,8 @@ def world_arrays(model, collisions, world, margin: float, stabilization: float,
             np.array(world.plane.packed_size, dtype=float), np.eye(4),
             ground_frame(world.ground_normal), params,
             np.ascontiguousarray(limits_of(model) if joint_limits
-                                 else np.zeros((0, LIMIT_COLUMNS))))
+                                 else np.zeros((0, LIMIT_COLUMNS))),
+            joint_frictions(model) if friction_loss else np.zeros((0, 2)))
 
 
 def slots(shapes: int) -> int:
@@ -79,16 +84,16 @@ def slots(shapes: int) -> int:
 
 
 @serial
-def scratch_size(n, nq, nv, nl, shapes, limits):
-    """Floats of one rollout's contact scratch (``carve_scratch``) for ``shapes`` shapes and
-    ``limits`` joint limits (two bounds each)."""
+def scratch_size(n, nq, nv, nl, shapes, limits, frictions):
+    """Floats of one rollout's contact scratch (``carve_scratch``) for ``shapes`` shapes,
+    ``limits`` joint limits (two bounds each) and ``frictions`` friction losses."""
     K = C.MAX_CONTACTS * shapes
     L = 2 * limits
-    m = 3 * K + L
+    m = 3 * K + L + frictions
     return (shapes * 16 + shapes * C.MAX_CONTACTS * C.OUT + shapes + C.CANDIDATES * C.OUT
             + m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6) + K + ncp.INFO
             + ncp.SETTINGS + 2 * K * 3 + K + 8 + 16 + 1 + REPORT
-            + L * LIMIT_COLUMNS + 2 * L + 2 * L
+            + L * LIMIT_COLUMNS + 2 * (L + frictions) + 2 * (L + frictions)
             + constraint_workspace_size(n, nq, nv, nl, m))
 
 
@@ -99,7 +104,8 @@ def carve_scratch(world, buf, n, nq, nv, nl):
     shapes = world[0].shape[0]
     K = C.MAX_CONTACTS * shapes
     L = 2 * world[11].shape[0]
-    m = 3 * K + L
+    F = world[12].shape[0]
+    m = 3 * K + L + F
     p = ws.data_pointer(buf)
     poses, o = ws.carve(p, 0, (shapes, 4, 4))
     out, o = ws.carve(p, o, (shapes, C.MAX_CONTACTS, C.OUT))
@@ -118,17 +124,16 @@ def carve_scratch(world, buf, n, nq, nv, nl):
     report, o = ws.carve(p, o, (REPORT,))
     cwork, o = ws.carve(p, o, (constraint_workspace_size(n, nq, nv, nl, m),))
     lrows, o = ws.carve(p, o, (L, LIMIT_COLUMNS))
-    bounds, o = ws.carve(p, o, (L, 2))
-    lprev, o = ws.carve(p, o, (L,))
-    lhad, o = ws.carve(p, o, (L,))
+    bounds, o = ws.carve(p, o, (L + F, 2))
+    lprev, o = ws.carve(p, o, (L + F,))  # the limits' slots, then the friction rows'
+    lhad, o = ws.carve(p, o, (L + F,))
     for k in range(K):
         had[k] = 0.0
         for i in range(3):
             prev[k, i] = 0.0
             force[k, i] = 0.0
-    for k in range(L):
+    for k in range(L + F):
         lhad[k], lprev[k] = 0.0, 0.0
-        bounds[k, 0], bounds[k, 1] = 0.0, math.inf  # λ >= 0 (K26)
     count[0] = 0.0
     return (world, poses, out, counts, cand, big, mu, info, settings, prev, force, had, tmp8,
             T, count, report, cwork, lrows, bounds, lprev, lhad)
@@ -150,7 +155,7 @@ def contact_velocity(m, world, q, v, vn, dt, work):
     (arrays, poses, out, counts, cand, big, mu, info, settings, prev, force, had, tmp8, T,
      count, report, cwork, lrows, bounds, lprev, lhad) = world
     (kinds, sizes, vertices, offsets, placements, links, active, sb, Tb, frame, params,
-     limits) = arrays
+     limits, frictions) = arrays
     shapes = kinds.shape[0]
     K = C.MAX_CONTACTS * shapes
     k_ = constraint_workspace(ws.data_pointer(cwork), m, 0)
@@ -179,17 +184,18 @@ def contact_velocity(m, world, q, v, vn, dt, work):
     for s in range(shapes):
         nc += int(counts[s])
     nl = active_limits(limits, q, v, vn, dt, params[MARGIN], lrows)  # K26
+    nf, L = frictions.shape[0], 2 * limits.shape[0]
     for k in range(K):
         for i in range(3):
             force[k, i] = 0.0
     count[0] = nc
-    if nc + nl == 0:
+    if nc + nl + nf == 0:
         for k in range(K):
             had[k] = 0.0
         for k in range(lhad.shape[0]):
             lhad[k] = 0.0
         return OK
-    mc = 3 * nc + nl
+    mc = 3 * nc + nl + nf
     p = ws.data_pointer(big)
     J, o = ws.carve(p, 0, (mc, m.nv))
     G, o = ws.carve(p, o, (mc, mc))
@@ -227,6 +233,14 @@ def contact_velocity(m, world, q, v, vn, dt, work):
         lam[r] = lprev[slot] if lhad[slot] != 0.0 else 0.0
         if lhad[slot] != 0.0:
             warm = True
+        bounds[k, 0], bounds[k, 1] = 0.0, math.inf  # λ >= 0 (K26)
+    for k in range(nf):  # a row e_k per friction loss, |λ| <= f dt (K30)
+        r, slot = 3 * nc + nl + k, L + k
+        J[r, int(frictions[k, 0])] = 1.0
+        lam[r] = lprev[slot] if lhad[slot] != 0.0 else 0.0
+        if lhad[slot] != 0.0:
+            warm = True
+        bounds[nl + k, 0], bounds[nl + k, 1] = -dt * frictions[k, 1], dt * frictions[k, 1]
     status = crba_core(m, q, k_.H, work)
     if status != OK:
         return status
@@ -252,7 +266,7 @@ def contact_velocity(m, world, q, v, vn, dt, work):
     if settings[ncp.WARM] == 0.0:
         for r in range(mc):
             lam[r] = 0.0
-    muv, bv = mu[:nc], bounds[:nl]
+    muv, bv = mu[:nc], bounds[:nl + nf]
     solve_one(ADMM, G, g, muv, bv, R, settings, lam, info, Cs, w)
     if info[ncp.CONVERGED] == 0.0:  # PGS from ADMM's last forces (K18)
         settings[ncp.WARM] = 1.0
@@ -283,6 +297,8 @@ def contact_velocity(m, world, q, v, vn, dt, work):
     for k in range(nl):
         slot = int(lrows[k, ROW_SLOT])
         lhad[slot], lprev[slot] = 1.0, lam[3 * nc + k]
+    for k in range(nf):
+        lhad[L + k], lprev[L + k] = 1.0, lam[3 * nc + nl + k]
     for i in range(m.nv):
         if not math.isfinite(vn[i]):
             return fault(NONFINITE_RESULT, -1)

@@ -244,7 +244,8 @@ def _world_size(world, n, nq, nv, nl):
     """Floats of a rollout's contact scratch; 0 without a world."""
     if world is None:
         return 0
-    return scratch_size(n, nq, nv, nl, world[0].shape[0], world[11].shape[0])
+    return scratch_size(n, nq, nv, nl, world[0].shape[0], world[11].shape[0],
+                        world[12].shape[0])
 
 
 @serial

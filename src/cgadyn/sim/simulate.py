@@ -74,7 +74,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
              f_ext=None, controller=None, record_every: int = 1,
              final_only: bool = False, passive: bool = True, ctrl=None, constraints=None,
              damping: float = 0.0, world=None, collisions=None,
-             contact_warm_start: bool = True, joint_limits: bool | None = None) -> Trajectory:
+             contact_warm_start: bool = True, joint_limits: bool | None = None,
+             friction_loss: bool | None = None) -> Trajectory:
     """Integrate ``q̈ = ABA(q, v, τ)``, or the constrained dynamics of ``constraints``, for
     ``steps`` steps of ``dt`` seconds.
 
@@ -110,7 +111,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     one coordinate (``Model.lower``, ``Model.upper``) are unilateral constraints of the same
     step (docs/contact.md, "Joint limits", K26); ``False`` turns them off. Without a world
     no limit is enforced (``True`` then raises ``ValueError``); ``World(ground=False)``
-    with ``collisions=None`` enforces the limits alone.
+    with ``collisions=None`` enforces the limits alone. ``friction_loss``: the same for the
+    joints' dry friction (``Model.friction``, box-bounded rows, K30).
 
     Returns a ``Trajectory`` of the states kept. A rollout that diverges (a joint turning
     more than half a turn in one step, a slide moving further than the robot is large, a
@@ -143,13 +145,13 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
                          f"got {integrator!r}")
     every = _every(record_every, final_only, steps)
     shapes = _contact_world(model, world, collisions, integrator, constraints)
-    if joint_limits is not None and not isinstance(joint_limits, bool):
-        raise ValueError(f"simulate: joint_limits must be True, False or None, got "
-                         f"{joint_limits!r}")
-    if joint_limits and world is None:
-        raise ValueError("simulate: joint_limits=True needs a world (the limits are "
-                         "constraints of the contact step); pass world=cgadyn.World() or "
-                         "World(ground=False) for the limits alone")
+    for name, flag in (("joint_limits", joint_limits), ("friction_loss", friction_loss)):
+        if flag is not None and not isinstance(flag, bool):
+            raise ValueError(f"simulate: {name} must be True, False or None, got {flag!r}")
+        if flag and world is None:
+            raise ValueError(f"simulate: {name}=True needs a world (they are constraints of "
+                             f"the contact step); pass world=cgadyn.World() or "
+                             f"World(ground=False) for the joints alone")
     p = pack(model, () if constraints is None else constraints)  # checked: type, model
     settings = checked_settings(damping, None, 1e-12)
     server = _arrays.server((q0, v0, tau))
@@ -195,7 +197,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     CR = np.full((B, REPORT), np.nan)
     arrays = None if world is None else world_arrays(
         model, shapes, world, 1e-3, 0.2, bool(contact_warm_start), 1e-10, 1000,
-        joint_limits is not False)
+        joint_limits is not False, friction_loss is not False)
     with PARALLEL_LOCK:
         rollouts(packed, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, q_ref, v_ref,
                  cons, solve, arrays, dt, steps, every, Q, V, A, X, CF, CR, completed, status)
