@@ -101,10 +101,11 @@ def scratch_size(n, nq, nv, nl, shapes, limits, frictions):
 def carve_scratch(world, buf, n, nq, nv, nl):
     """The world of ``world_arrays`` and a rollout's scratch carved from ``buf``
     (``scratch_size``), as one tuple."""
-    shapes = world[0].shape[0]
+    (kinds, _, _, _, _, _, _, _, _, _, _, limits, frictions) = world
+    shapes = kinds.shape[0]
     K = C.MAX_CONTACTS * shapes
-    L = 2 * world[11].shape[0]
-    F = world[12].shape[0]
+    L = 2 * limits.shape[0]
+    F = frictions.shape[0]
     m = 3 * K + L + F
     p = ws.data_pointer(buf)
     poses, o = ws.carve(p, 0, (shapes, 4, 4))
