@@ -52,7 +52,7 @@ def test_a_pendulum_falls_onto_its_stop_and_rests_there():
     """Released 0.8 rad above its stop: it never passes the stop by more than 1e-4 rad, comes
     to rest (|v| < 1e-6), and the stop's torque at rest is the gravity torque to 1e-6."""
     model = _pendulum()
-    run = _steps(model, np.array([-0.5]), np.zeros(1), 1200)
+    run = _steps(model, np.array([-0.5]), np.zeros(1), 700)
     q = np.array([s[0][0] for s in run])
     assert q.max() <= UPPER + 1e-4
     assert abs(q[-1] - UPPER) < 1e-4 and abs(run[-1][1][0]) < 1e-6
