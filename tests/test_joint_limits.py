@@ -39,6 +39,34 @@ def _pendulum(friction: float = 0.0) -> cgadyn.Model:
     return _one_link("revolute", "0 1 0", "0.5 0 0", -1.5, UPPER, friction)
 
 
+@pytest.mark.parametrize("solver", ["admm", "pgs"])
+@pytest.mark.parametrize(("g", "bounds", "expected"), [
+    (-3.0, [0.0, np.inf], 1.5), (3.0, [0.0, np.inf], 0.0),  # a limit: λ = max(0, -g / G)
+    (-3.0, [-1.0, 1.0], 1.0), (3.0, [-1.0, 1.0], -1.0), (-1.0, [-1.0, 1.0], 0.5)])  # a box
+def test_an_interval_row_is_solved_in_closed_form(solver, g, bounds, expected):
+    """One row, G = 2: λ = P_[lo, hi](-g / G) (K26-K29), by both solvers."""
+    lam, info = cgadyn.solve_contacts([[2.0]], [g], np.zeros(0), solver=solver,
+                                      bounds=[bounds])
+    assert info.converged and abs(lam[0] - expected) < 1e-9
+
+
+def test_cones_and_intervals_together_agree_between_solvers():
+    """A contact (3 rows) with a limit row and a box row, random positive definite G: ADMM
+    and PGS give the same λ to 1e-7, within the sets, with K28's residuals below 1e-9."""
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        A = rng.normal(size=(5, 5))
+        G = A @ A.T + 0.1 * np.eye(5)
+        g = rng.normal(size=5)
+        bounds = [[0.0, np.inf], [-0.2, 0.2]]
+        a, ia = cgadyn.solve_contacts(G, g, [0.7], bounds=bounds)
+        b, ib = cgadyn.solve_contacts(G, g, [0.7], bounds=bounds, solver="pgs",
+                                      max_iterations=100000)
+        assert ia.converged and ib.converged and np.abs(a - b).max() < 1e-7
+        assert a[3] >= 0.0 and abs(a[4]) <= 0.2
+        assert max(ia.dual, ia.complementarity) < 1e-9
+
+
 def _steps(model, q, v, steps, **kw):
     out = [(q, v, None)]
     for _ in range(steps):
