@@ -61,7 +61,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     """One step of length ``dt`` from ``(q, v)`` under the joint torques ``tau`` (nv,)
     with the ground of ``world`` (default ``World()``) touched by the shapes of
     ``collisions`` (``collision_model(model, ...)``; None: no shapes, for a
-    ``World(ground=False)`` only) and the joints' limits (``joint_limits``):
+    ``World(ground=False)`` only), the joints' limits (``joint_limits``) and their friction
+    loss (``friction_loss``):
 
     1. the contacts closer than ``margin`` plus the distance a point may travel in the step
        (``|v| dt``, an angular speed counted at a reach of 1 m) (K21-K22), each a point of
@@ -150,8 +151,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         J[:3 * nc] = R @ constraint_jacobian(model, q, constraints)
     J[3 * nc + np.arange(nl), rows[:nl, ROW_V].astype(int)] = rows[:nl, ROW_SIGN]  # K26
     J[n1 + np.arange(nf), frictions[:, 0].astype(int)] = 1.0  # K30
-    MJt = np.linalg.solve(crba(model, q), J.T)
-    G = J @ MJt
+    G = J @ np.linalg.solve(crba(model, q), J.T)  # G = J M⁻¹ Jᵀ (C7) over every row
     G = 0.5 * (G + G.T)
     g = J @ v_free
     d = np.concatenate([contacts.distance, rows[:nl, ROW_GAP]])
