@@ -28,10 +28,16 @@ def test_urdf_damping_is_read_as_pinocchio_reads_it():
     model = cgadyn.load(URDF)
     assert np.array_equal(model.damping, [0.7, 0.0])
     assert np.array_equal(model.damping, pin.buildModelFromXML(URDF).damping)
+    assert np.array_equal(model.friction, [0.1, 0.0])  # the friction loss (docs/contact.md)
+    assert np.array_equal(model.friction, pin.buildModelFromXML(URDF).friction)
+    assert np.array_equal(cgadyn.from_pinocchio(pin.buildModelFromXML(URDF)).friction,
+                          [0.1, 0.0])
     assert np.array_equal(model.armature, [0.0, 0.0])
     with pytest.raises(ValueError, match=r"joint 'j1': <dynamics damping=\"-1.0\"> is not a "
                                          r"finite number >= 0"):
         cgadyn.load(URDF.replace('damping="0.7"', 'damping="-1"'))
+    with pytest.raises(ValueError, match=r"<dynamics friction=\"-1.0\"> is not a finite"):
+        cgadyn.load(URDF.replace('friction="0.1"', 'friction="-1"'))
 
 
 def test_pinocchio_damping_and_armature_are_read():

@@ -1,5 +1,6 @@
 """The ADMM contact solver with a proximal term and the spectral penalty update of
-Carpentier, Le Lidec and Montaut (RSS 2024) (``docs/contact.md``, K16-K17, K19).
+Carpentier, Le Lidec and Montaut (RSS 2024) (``docs/contact.md``, K16-K17, K19), on the
+blocks of ``ncp.py``: Coulomb cones, then one-row intervals (joint limits, friction loss).
 
 One call solves one problem in place, with its scratch given (``SCRATCH_ROWS`` rows of
 ``max(m, 6)`` floats and an ``m x m`` matrix for the factor), allocates nothing and returns a
@@ -13,7 +14,7 @@ import math
 from .._jit import inline, serial
 from ..algorithms.status import DELASSUS_SINGULAR, NONFINITE_INPUT, NONFINITE_RESULT, OK, fault
 from ..constraints.core import _factor, _substitute
-from .cone import desaxce, ncp_residuals, project
+from .cone import desaxce
 from .ncp import (
     COMPLEMENTARITY,
     CONVERGED,
@@ -28,6 +29,8 @@ from .ncp import (
     RHO,
     WARM,
     passes,
+    project_blocks,
+    residuals,
     velocity,
 )
 
@@ -79,10 +82,11 @@ def _factor_shifted(G, R, shift, C):
 
 
 @serial
-def admm_solve(G, g, mu, R, settings, lam, info, C, w):
-    """Solve the NCP (K13) of ``σ = (G + R) λ + g`` by ADMM (K16) from ``λ`` (a warm start
-    where ``settings[WARM]``, else zero): the forces into ``lam``, the report into ``info``
-    (``ncp.py``); a status."""
+def admm_solve(G, g, mu, bounds, R, settings, lam, info, C, w):
+    """Solve the NCP (K13, K26) of ``σ = (G + R) λ + g`` by ADMM (K16) from ``λ`` (a warm
+    start where ``settings[WARM]``, else zero), the cones of ``mu`` then the intervals of
+    ``bounds`` (``ncp.py``): the forces into ``lam``, the report into ``info``; a status.
+    An interval row is K16 with its projection (K27) and no correction (``s = 0``)."""
     m = g.shape[0]
     nc = mu.shape[0]
     x, z, y, sigma, rhs, zold, xold, tmp = w[X], w[Z], w[Y], w[SIGMA], w[RHS], w[ZOLD], \
@@ -96,26 +100,23 @@ def admm_solve(G, g, mu, R, settings, lam, info, C, w):
             if not math.isfinite(G[r, c]):
                 return fault(NONFINITE_INPUT, -1)
     warm = settings[WARM] != 0.0
-    for i in range(nc):  # z₀ = P_K(λ₀), x₀ = z₀
-        o = 3 * i
-        if warm:
-            project(mu[i], lam, o, z, o)
-        else:
-            z[o], z[o + 1], z[o + 2] = 0.0, 0.0, 0.0
-        for k in range(3):
-            x[o + k] = z[o + k]
+    for r in range(m):  # z₀ = P_K(λ₀), x₀ = z₀
+        z[r] = lam[r] if warm else 0.0
+    project_blocks(mu, bounds, z, z)
+    for r in range(m):
+        x[r] = z[r]
     _, gl, lmax = velocity(G, R, g, z, sigma)
-    for i in range(nc):  # y₀ = -σ̃(z₀): a solution given is a fixed point
-        o = 3 * i
-        y[o], y[o + 1] = -sigma[o], -sigma[o + 1]
-        y[o + 2] = -(sigma[o + 2] + desaxce(mu[i], sigma, o))
+    for r in range(m):  # y₀ = -σ̃(z₀): a solution given is a fixed point
+        y[r] = -sigma[r]
+    for i in range(nc):
+        y[3 * i + 2] -= desaxce(mu[i], sigma, 3 * i)
     eta = settings[PROX]
     big = largest_eigenvalue(G, R, rhs, xold) + eta
     power = settings[POWER_INIT]
     rho = math.sqrt(eta * big) * (big / eta) ** power  # K17
     if not _factor_shifted(G, R, rho + eta, C):
         return fault(DELASSUS_SINGULAR, -1)
-    primal, dual, comp = ncp_residuals(mu, z, sigma, tmp)
+    primal, dual, comp = residuals(mu, bounds, z, sigma, tmp)
     ok = passes(settings, primal, dual, comp, gmax, gl, lmax)
     it = 0
     limit = int(settings[MAX_ITER])
@@ -132,15 +133,14 @@ def admm_solve(G, g, mu, R, settings, lam, info, C, w):
         _substitute(C, m, x)
         for r in range(m):
             rhs[r] = x[r] + y[r] / rho
-        for i in range(nc):  # z = P_K(x + y / ρ) (K16)
-            project(mu[i], rhs, 3 * i, z, 3 * i)
+        project_blocks(mu, bounds, rhs, z)  # z = P_K(x + y / ρ) (K16, K27)
         rp = rd = 0.0
         for r in range(m):  # y += ρ (x - z) (K16)
             y[r] += rho * (x[r] - z[r])
             rp = max(rp, abs(x[r] - z[r]))
             rd = max(rd, abs(rho * (z[r] - zold[r]) + eta * (x[r] - xold[r])))
         _, gl, lmax = velocity(G, R, g, z, sigma)
-        _, dual, comp = ncp_residuals(mu, z, sigma, tmp)
+        _, dual, comp = residuals(mu, bounds, z, sigma, tmp)
         primal = rp
         if not (math.isfinite(dual) and math.isfinite(primal)):
             return fault(NONFINITE_RESULT, -1)

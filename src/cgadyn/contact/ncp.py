@@ -1,13 +1,19 @@
-"""What both contact solvers share (``docs/contact.md``, K11, K19): the layout of their
-settings and report, the velocity ``σ = (G + R) λ + g`` (K11) and the stopping rule (K19).
+"""What both contact solvers share (``docs/contact.md``, K11, K19, K26-K28): the layout of
+their settings and report, the velocity ``σ = (G + R) λ + g`` (K11), the projection on and
+the residuals of every block, and the stopping rule (K19).
 
-A problem of ``nc`` contacts has ``m = 3 nc`` rows, each contact's ``(t₁, t₂, n)``; ``R`` is
-the diagonal of the compliance (zero for rigid contacts).
+A problem has blocks of two kinds: ``nc`` contacts first, 3 rows each (``(t₁, t₂, n)``, the
+Coulomb cone of ``mu[i]``, ``cone.py``), then ``nb`` one-row blocks, each an interval
+``bounds[b] = [lo, hi]`` (``[0, ∞)`` for a joint limit, ``[-f, f]`` for a friction loss,
+``sets.py``): ``m = 3 nc + nb`` rows. ``R`` is the diagonal of the compliance (zero for rigid
+contacts).
 """
 
 from __future__ import annotations
 
 from .._jit import inline
+from .cone import ncp_residuals, project
+from .sets import clamp, interval_residuals
 
 ABS_TOL, REL_TOL, MAX_ITER, WARM, PROX, POWER_INIT, POWER_STEP, RATIO = range(8)
 """Offsets in ``settings``: the absolute and relative tolerances, the iteration limit,
@@ -48,3 +54,27 @@ def passes(settings, primal, dual, comp, gmax, gl, lmax):
     sd = max(gmax, gl)
     return (primal <= a or primal <= r * lmax) and (dual <= a or dual <= r * sd) and \
         (comp <= a or comp <= r * lmax * sd)
+
+
+@inline
+def project_blocks(mu, bounds, x, out):
+    """``out = P(x)`` block by block: each cone's K14, each interval's K27. ``out`` may be
+    ``x``."""
+    nc = mu.shape[0]
+    for i in range(nc):
+        project(mu[i], x, 3 * i, out, 3 * i)
+    for b in range(bounds.shape[0]):
+        r = 3 * nc + b
+        out[r] = clamp(bounds[b, 0], bounds[b, 1], x[r])
+
+
+@inline
+def residuals(mu, bounds, lam, sigma, tmp):
+    """The residuals (K19) of every block at ``λ``: the cones' (K13, ``cone.ncp_residuals``)
+    and the intervals' (K28), as ``(primal, dual, complementarity)``, each the largest."""
+    primal, dual, comp = ncp_residuals(mu, lam, sigma, tmp)
+    o = 3 * mu.shape[0]
+    for b in range(bounds.shape[0]):
+        p, d, c = interval_residuals(bounds[b, 0], bounds[b, 1], lam[o + b], sigma[o + b])
+        primal, dual, comp = max(primal, p), max(dual, d), max(comp, c)
+    return primal, dual, comp

@@ -1,5 +1,6 @@
-"""Projected Gauss-Seidel on the Coulomb cones, contact by contact (``docs/contact.md``, K18,
-K19): the second solver, for comparison, with ``admm_solve``'s interface and scratch."""
+"""Projected Gauss-Seidel on the blocks of ``ncp.py``, the Coulomb cones contact by contact,
+then the one-row intervals (``docs/contact.md``, K18, K19, K29): the second solver, for
+comparison, with ``admm_solve``'s interface and scratch."""
 
 from __future__ import annotations
 
@@ -8,7 +9,6 @@ import math
 from .._jit import inline, serial
 from ..algorithms.status import NONFINITE_INPUT, NONFINITE_RESULT, OK, fault
 from .admm import SIGMA, TMP
-from .cone import ncp_residuals, project
 from .ncp import (
     COMPLEMENTARITY,
     CONVERGED,
@@ -19,8 +19,11 @@ from .ncp import (
     RHO,
     WARM,
     passes,
+    project_blocks,
+    residuals,
     velocity,
 )
+from .sets import interval_step
 
 
 @inline
@@ -33,13 +36,15 @@ def _block_row(G, R, g, lam, r):
 
 
 @serial
-def pgs_solve(G, g, mu, R, settings, lam, info, C, w):
-    """Solve the NCP (K13) by sweeps over the contacts (K18): for contact ``i`` the normal
+def pgs_solve(G, g, mu, bounds, R, settings, lam, info, C, w):
+    """Solve the NCP (K13, K26) by sweeps over the blocks (K18): for contact ``i`` the normal
     force ``λ_N ← max(0, λ_N - σ_N / A_NN)``, then the tangential one ``λ_T ← λ_T - σ_T /
     L_T`` cut to the disc ``‖λ_T‖ <= μ λ_N`` (``A = G + R``, ``L_T`` the largest eigenvalue of
-    the contact's tangential 2 x 2 block); ``C`` is unused. A status."""
+    the contact's tangential 2 x 2 block); then each interval row of ``bounds`` (K29);
+    ``C`` is unused. A status."""
     m = g.shape[0]
     nc = mu.shape[0]
+    nb = bounds.shape[0]
     sigma, tmp = w[SIGMA], w[TMP]
     gmax = 0.0
     for r in range(m):
@@ -49,13 +54,12 @@ def pgs_solve(G, g, mu, R, settings, lam, info, C, w):
         for c in range(m):
             if not math.isfinite(G[r, c]):
                 return fault(NONFINITE_INPUT, -1)
-    for i in range(nc):
-        if settings[WARM] != 0.0:
-            project(mu[i], lam, 3 * i, lam, 3 * i)
-        else:
-            lam[3 * i], lam[3 * i + 1], lam[3 * i + 2] = 0.0, 0.0, 0.0
+    if settings[WARM] == 0.0:
+        for r in range(m):
+            lam[r] = 0.0
+    project_blocks(mu, bounds, lam, lam)
     _, gl, lmax = velocity(G, R, g, lam, sigma)
-    primal, dual, comp = ncp_residuals(mu, lam, sigma, tmp)
+    primal, dual, comp = residuals(mu, bounds, lam, sigma, tmp)
     ok = passes(settings, primal, dual, comp, gmax, gl, lmax)
     it = 0
     limit = int(settings[MAX_ITER])
@@ -76,8 +80,12 @@ def pgs_solve(G, g, mu, R, settings, lam, info, C, w):
                 cap = mu[i] * lam[o + 2]
                 scale = cap / t if t > cap else 1.0
                 lam[o], lam[o + 1] = scale * t0, scale * t1
+        for b in range(nb):  # each interval row (K29)
+            r = 3 * nc + b
+            lam[r] = interval_step(bounds[b, 0], bounds[b, 1], lam[r],
+                                   _block_row(G, R, g, lam, r), G[r, r] + R[r])
         _, gl, lmax = velocity(G, R, g, lam, sigma)
-        primal, dual, comp = ncp_residuals(mu, lam, sigma, tmp)
+        primal, dual, comp = residuals(mu, bounds, lam, sigma, tmp)
         if not math.isfinite(dual):
             return fault(NONFINITE_RESULT, -1)
         ok = passes(settings, primal, dual, comp, gmax, gl, lmax)

@@ -1,6 +1,7 @@
-"""``solve_contacts``: the frictional contact problem (K11-K13) of given ``G``, ``g``, ``μ``
-solved by ADMM (K16-K17) or PGS (K18), one problem or a batch in one compiled call; inputs
-checked, statuses worded (``docs/contact.md``)."""
+"""``solve_contacts``: the frictional contact problem (K11-K13), with one-row interval blocks
+(joint limits, friction loss: K26), of given ``G``, ``g``, ``μ`` solved by ADMM (K16-K17) or
+PGS (K18), one problem or a batch in one compiled call; inputs checked, statuses worded
+(``docs/contact.md``)."""
 
 from __future__ import annotations
 
@@ -91,28 +92,38 @@ def _explain(status: int, batch: bool) -> str:
 
 def solve_contacts(G, g, mu, compliance=None, solver: str = "admm", tolerance: float = 1e-10,
                    max_iterations: int = 1000, warm_start=None, relative_tolerance: float = 0.0,
-                   proximal: float = 1e-6) -> tuple[np.ndarray, ContactSolveInfo]:
+                   proximal: float = 1e-6, bounds=None) -> tuple[np.ndarray, ContactSolveInfo]:
     """The contact forces ``λ`` (m,) of the NCP ``K_μ ∋ λ ⊥ σ + Γ(σ) ∈ K_μ*`` with
     ``σ = (G + R) λ + g`` (K11-K13; ``docs/contact.md``), and a ``ContactSolveInfo``.
 
     ``G`` (m, m) the Delassus matrix (symmetric, positive semi-definite, maybe singular),
-    ``g`` (m,) the free velocity, ``m = 3 nc``, each contact's rows ``(t₁, t₂, n)`` (normal
-    last, Pinocchio's order); ``mu`` a number or (nc,) friction coefficients >= 0;
+    ``g`` (m,) the free velocity, ``m = 3 nc + nb``: each contact's rows ``(t₁, t₂, n)``
+    (normal last, Pinocchio's order), then ``nb`` one-row blocks whose impulse lies in an
+    interval ``bounds[b] = [lo, hi]`` (``bounds`` (nb, 2), default none; ``[0, inf]`` a joint
+    limit's ``λ >= 0``, ``[-f, f]`` a friction loss; ``-σ`` in the interval's normal cone,
+    K26); ``mu`` a number or (nc,) friction coefficients >= 0;
     ``compliance`` the diagonal of ``R`` (a number, (m,)); ``solver`` ``"admm"`` (K16-K17) or
     ``"pgs"`` (K18); the stopping rule (K19) takes each residual below ``tolerance`` or below
     ``relative_tolerance`` times its scale; ``warm_start`` (m,) forces to start from (projected
-    on the cones); ``proximal`` ADMM's proximal weight ``η``. Batches: ``G`` (B, m, m), the
+    on the blocks); ``proximal`` ADMM's proximal weight ``η``. Batches: ``G`` (B, m, m), the
     others (B, ...) or shared, solved in one parallel compiled call. A problem that does not
     converge within ``max_iterations`` is returned with ``converged`` False, not raised.
     """
     if solver not in SOLVERS:
         raise ValueError(f"solver must be one of {sorted(SOLVERS)}, got {solver!r}")
     Ga = _array(G, "G")
-    if Ga.ndim not in (2, 3) or Ga.shape[-1] != Ga.shape[-2] or Ga.shape[-1] % 3:
-        raise ValueError(f"G must be (m, m) or (B, m, m) with m = 3 × contacts, got shape "
-                         f"{Ga.shape}")
+    ba = np.zeros((0, 2)) if bounds is None else np.asarray(bounds, dtype=float)
+    if ba.ndim != 2 or ba.shape[1] != 2 or np.any(np.isnan(ba)) or \
+            not np.all(np.isfinite(ba[:, 0])) or np.any(ba[:, 0] > ba[:, 1]):
+        raise ValueError(f"bounds must be (nb, 2) intervals [lo, hi] with lo finite and "
+                         f"lo <= hi (hi may be inf), got {ba.tolist()!r}")
+    nb = ba.shape[0]
+    if Ga.ndim not in (2, 3) or Ga.shape[-1] != Ga.shape[-2] or Ga.shape[-1] < nb or \
+            (Ga.shape[-1] - nb) % 3:
+        raise ValueError(f"G must be (m, m) or (B, m, m) with m = 3 × contacts + {nb} "
+                         f"interval rows, got shape {Ga.shape}")
     m = Ga.shape[-1]
-    nc, batch = m // 3, Ga.shape[:-2]
+    nc, batch = (m - nb) // 3, Ga.shape[:-2]
     asym = np.abs(Ga - np.swapaxes(Ga, -1, -2)).max(initial=0.0)
     if asym > SYMMETRY * max(1.0, np.abs(Ga).max(initial=0.0)):
         raise ValueError(f"G must be symmetric (a Delassus matrix J M⁻¹ Jᵀ), but |G - Gᵀ| "
@@ -143,9 +154,12 @@ def solve_contacts(G, g, mu, compliance=None, solver: str = "admm", tolerance: f
     code = SOLVERS[solver]
     if batch:
         with PARALLEL_LOCK:
-            status = solve_batch(code, Gc, gc, mua, R, s, lam, info, numba.get_num_threads())
+            status = solve_batch(code, Gc, gc, mua, np.ascontiguousarray(
+                np.broadcast_to(ba, batch + ba.shape)), R, s, lam, info,
+                numba.get_num_threads())
     else:
-        status = solve_one(code, Gc, gc, mua, R, s, lam, info, np.empty((m, m)),
+        status = solve_one(code, Gc, gc, mua, np.ascontiguousarray(ba), R, s, lam, info,
+                           np.empty((m, m)),
                            np.empty((SCRATCH_ROWS, max(m, 6))))
     if status != OK:
         raise ValueError(_explain(int(status), bool(batch)))

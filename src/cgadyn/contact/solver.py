@@ -17,16 +17,17 @@ ADMM, PGS = 0, 1
 
 
 @serial
-def solve_one(solver, G, g, mu, R, settings, lam, info, C, w):
+def solve_one(solver, G, g, mu, bounds, R, settings, lam, info, C, w):
     """``admm_solve`` or ``pgs_solve`` by code, with the caller's scratch (``C`` m x m, ``w``
-    ``SCRATCH_ROWS`` x ``max(m, 6)``); a status."""
+    ``SCRATCH_ROWS`` x ``max(m, 6)``); the blocks: the cones of ``mu`` (nc,), then the
+    intervals of ``bounds`` (nb, 2) (``ncp.py``). A status."""
     if solver == PGS:
-        return pgs_solve(G, g, mu, R, settings, lam, info, C, w)
-    return admm_solve(G, g, mu, R, settings, lam, info, C, w)
+        return pgs_solve(G, g, mu, bounds, R, settings, lam, info, C, w)
+    return admm_solve(G, g, mu, bounds, R, settings, lam, info, C, w)
 
 
 @parallel
-def solve_batch(solver, G, g, mu, R, settings, lam, info, threads):
+def solve_batch(solver, G, g, mu, bounds, R, settings, lam, info, threads):
     """(B, ...) problems of ``solve_one`` in parallel chunks, each chunk's scratch made once;
     a status naming the first sample that failed."""
     batch, m = g.shape
@@ -36,7 +37,8 @@ def solve_batch(solver, G, g, mu, R, settings, lam, info, threads):
         C = np.empty((m, m))
         w = np.empty((SCRATCH_ROWS, max(m, 6)))
         for b in range(starts[c], stops[c]):
-            s = solve_one(solver, G[b], g[b], mu[b], R[b], settings, lam[b], info[b], C, w)
+            s = solve_one(solver, G[b], g[b], mu[b], bounds[b], R[b], settings, lam[b], info[b],
+                          C, w)
             if s != OK:
                 status[c] = at_sample(s, b)
                 break

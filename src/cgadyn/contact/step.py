@@ -1,12 +1,14 @@
-"""One velocity-level time step with frictional contact on the ground (docs/contact.md,
-K20, K23-K25).
+"""One velocity-level time step with frictional contact on the ground and joint limits
+(docs/contact.md, K20, K23-K26, K30).
 
 ``contact_step`` joins the pieces of ``cgadyn.contact``: the contact points of the robot's
 shapes with the ground (K21-K22), each a point constraint of its link held in the ground's
 frame ``(t₁, t₂, n)``, the contact problem of the step (K20, K23), its forces by ADMM or PGS
 (K11-K19), the velocity after the step and the configuration moved on the manifold with it
-(K24, semi-implicit Euler). It is the step of Carpentier et al. (RSS 2024) and of
-Pinocchio's and MuJoCo's simulators, called from Python: one step, one configuration.
+(K24, semi-implicit Euler). The joints' limits near which the step may take a coordinate are
+one-row constraints ``λ >= 0`` of the same problem (K26, ``limits.py``), and so is each
+joint's friction loss, ``|λ| <= f dt`` (K30). It is the step of Carpentier et al. (RSS 2024)
+and of Pinocchio's and MuJoCo's simulators, called from Python: one step, one configuration.
 """
 
 from __future__ import annotations
@@ -35,14 +37,18 @@ def ground_frame(normal) -> np.ndarray:
 class ContactStep:
     """The result of ``contact_step``: the state after the step ``q``, ``v``; the contacts
     found at the start of the step (``contacts``) and the force of each on the robot in the
-    world frame (``forces`` (K, 3), the impulse over ``dt``); the solver's report
-    (``info``, a ``ContactSolveInfo``; None without contacts) and which solver gave the
-    forces (``solver``)."""
+    world frame (``forces`` (K, 3), the impulse over ``dt``); the joint torques of the
+    limits (``limit_torques`` (nv,), their impulse over ``dt``; zero where no limit acts)
+    and of the friction losses (``friction_torques`` (nv,));
+    the solver's report (``info``, a ``ContactSolveInfo``; None without contacts or limits)
+    and which solver gave the forces (``solver``)."""
 
     q: np.ndarray
     v: np.ndarray
     contacts: Contacts = field(repr=False)
     forces: np.ndarray = field(repr=False)
+    limit_torques: np.ndarray = field(repr=False, default=None)
+    friction_torques: np.ndarray = field(repr=False, default=None)
     info: object = None
     solver: str = ""
 
@@ -50,10 +56,13 @@ class ContactStep:
 def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = None,
                  margin: float = 1e-3, stabilization: float = 0.2, solver: str = "admm",
                  tolerance: float = 1e-10, max_iterations: int = 1000,
-                 passive: bool = True) -> ContactStep:
+                 passive: bool = True, joint_limits: bool = True,
+                 friction_loss: bool = True) -> ContactStep:
     """One step of length ``dt`` from ``(q, v)`` under the joint torques ``tau`` (nv,)
     with the ground of ``world`` (default ``World()``) touched by the shapes of
-    ``collisions`` (``collision_model(model, ...)``):
+    ``collisions`` (``collision_model(model, ...)``; None: no shapes, for a
+    ``World(ground=False)`` only), the joints' limits (``joint_limits``) and their friction
+    loss (``friction_loss``):
 
     1. the contacts closer than ``margin`` plus the distance a point may travel in the step
        (``|v| dt``, an angular speed counted at a reach of 1 m) (K21-K22), each a point of
@@ -62,7 +71,12 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
        contact's frame ``(t₁, t₂, n)`` (``ground_frame``), with the normal velocity allowed
        to close an open gap within the step (``g_N + d / dt`` for ``d > 0``) and a
        penetration corrected by a fraction ``stabilization`` per step (``g_N +
-       stabilization · d / dt`` for ``d < 0``);
+       stabilization · d / dt`` for ``d < 0``); with ``joint_limits``, after the contacts'
+       rows, one row ``±e_v`` per bound of a joint of one coordinate (``limits.py``) whose
+       gap is below ``margin`` plus ``|v_i| dt``, with the same gap term and ``λ >= 0``
+       (K26; joints of several coordinates get none); with ``friction_loss``, one row
+       ``e_k`` per velocity coordinate with ``Model.friction`` ``f > 0``, its impulse in
+       ``[-f dt, f dt]`` (K30);
     3. the impulses ``λ`` in the friction cones of ``World.friction`` by ``solver``
        (``"admm"`` or ``"pgs"``, ``solve_contacts``); where ADMM does not converge (it may
        cycle on redundant contacts with sliding, docs/contact.md), PGS goes on from its
@@ -73,11 +87,13 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     ``simulate`` does. Raises ``ValueError`` where the solver does not converge within
     ``max_iterations`` (naming its residuals) or for bad input.
     """
-    from ..algorithms import aba, integrate, link_placements
+    from ..algorithms import aba, crba, integrate, link_placements
     from ..algorithms.passive import passive_torques
     from ..constraints.model import Constraint
-    from ..constraints.operators import constraint_jacobian, delassus
-    from .model import _collisions
+    from ..constraints.operators import constraint_jacobian
+    from .limits import LIMIT_COLUMNS, ROW_GAP, ROW_SIGN, ROW_V, active_limits, joint_frictions
+    from .limits import joint_limits as joint_limits_of
+    from .model import CollisionModel, _collisions
     from .solve import solve_contacts
 
     world = World() if world is None else world
@@ -95,16 +111,30 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         if x.shape != (size,):
             raise ValueError(f"{name}: expected shape ({size},) for {model.name!r}, got "
                              f"{x.shape}")
-    cm = _collisions(collisions, model)
+    if not isinstance(world, World):
+        raise TypeError(f"world must be a cgadyn.World, got {type(world).__name__}")
+    if collisions is None and world.ground:
+        raise ValueError("contact_step: collisions is None but the world has a ground; pass "
+                         "collisions=cgadyn.collision_model(model, ...), or "
+                         "World(ground=False) for joint limits alone")
+    for name, flag in (("joint_limits", joint_limits), ("friction_loss", friction_loss)):
+        if not isinstance(flag, bool):
+            raise ValueError(f"{name} must be True or False, got {flag!r}")
+    cm = CollisionModel([], model) if collisions is None else _collisions(collisions, model)
     torque = tau + passive_torques(model, q, v) if passive else tau
     v_free = v + step * aba(model, q, v, torque)  # K20
     # a gap that the step may close is a contact: the margin grows by how far a point can
     # move in one step (|v| dt, an angular speed counted at a reach of 1 m)
     contacts = ground_contacts(model, cm, q, world, margin + step * float(np.linalg.norm(
         np.concatenate([v, v_free]))))
-    if len(contacts) == 0:
+    limits = joint_limits_of(model) if joint_limits else np.zeros((0, LIMIT_COLUMNS))
+    rows = np.empty((2 * len(limits), LIMIT_COLUMNS))
+    nl = active_limits(limits, q, v, v_free, step, float(margin), rows)  # K26
+    frictions = joint_frictions(model) if friction_loss else np.zeros((0, 2))
+    nc, nf = len(contacts), len(frictions)
+    if nc + nl + nf == 0:
         return ContactStep(integrate(model, q, step * v_free), v_free, contacts,
-                           np.zeros((0, 3)))
+                           np.zeros((0, 3)), np.zeros(model.nv), np.zeros(model.nv))
     links = link_placements(model, q)
     frame = ground_frame(world.ground_normal)
     constraints = []
@@ -114,20 +144,28 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         constraints.append(Constraint(model, "point", int(contacts.link[k]),
                                       placement=np.linalg.inv(links[contacts.link[k]]) @ at,
                                       other_placement=at))
-    nc = len(contacts)
     R = np.kron(np.eye(nc), frame)  # world rows to contact rows (t₁, t₂, n) per contact
-    J = R @ constraint_jacobian(model, q, constraints)
-    G = R @ delassus(model, q, constraints) @ R.T
+    J = np.zeros((3 * nc + nl + nf, model.nv))
+    n1 = 3 * nc + nl  # the first friction row
+    if nc:
+        J[:3 * nc] = R @ constraint_jacobian(model, q, constraints)
+    J[3 * nc + np.arange(nl), rows[:nl, ROW_V].astype(int)] = rows[:nl, ROW_SIGN]  # K26
+    J[n1 + np.arange(nf), frictions[:, 0].astype(int)] = 1.0  # K30
+    G = J @ np.linalg.solve(crba(model, q), J.T)  # G = J M⁻¹ Jᵀ (C7) over every row
+    G = 0.5 * (G + G.T)
     g = J @ v_free
-    d = contacts.distance
-    g[2::3] += np.where(d > 0.0, d, stabilization * d) / step  # K23
+    d = np.concatenate([contacts.distance, rows[:nl, ROW_GAP]])
+    gap = np.concatenate([np.arange(nc) * 3 + 2, 3 * nc + np.arange(nl)])  # normals, limits
+    g[gap] += np.where(d > 0.0, d, stabilization * d) / step  # K23
+    bounds = np.concatenate([np.tile([0.0, np.inf], (nl, 1)),  # λ >= 0 (K26)
+                             step * np.outer(frictions[:, 1], [-1.0, 1.0])])  # K30
     lam, info = solve_contacts(G, g, contacts.friction, solver=solver, tolerance=tolerance,
-                               max_iterations=max_iterations)
+                               max_iterations=max_iterations, bounds=bounds)
     used = solver
     if not info.converged and solver == "admm":  # PGS from ADMM's last forces (K18)
         lam, info = solve_contacts(G, g, contacts.friction, solver="pgs",
                                    tolerance=tolerance, max_iterations=max_iterations,
-                                   warm_start=lam)
+                                   warm_start=lam, bounds=bounds)
         used = "pgs"
     if not info.converged:
         raise ValueError(f"the contact solver ({used}) did not converge in "
@@ -136,5 +174,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
                          f"max_iterations or the tolerance")
     impulse = J.T @ lam  # joint impulses of the contacts
     v_next = v_free + aba(model, q, np.zeros(model.nv), impulse, gravity=np.zeros(3))  # K24
-    forces = (lam.reshape(nc, 3) @ frame) / step  # in the world frame
-    return ContactStep(integrate(model, q, step * v_next), v_next, contacts, forces, info, used)
+    forces = (lam[:3 * nc].reshape(nc, 3) @ frame) / step  # in the world frame
+    limit_torques = J[3 * nc:n1].T @ lam[3 * nc:n1] / step
+    friction_torques = J[n1:].T @ lam[n1:] / step
+    return ContactStep(integrate(model, q, step * v_next), v_next, contacts, forces,
+                       limit_torques, friction_torques, info, used)

@@ -44,6 +44,7 @@ _ARRAY_FIELDS = (
     "link_placement_matrices",
     "armature",
     "damping",
+    "friction",
     "stiffness",
     "spring_reference",
     "actuator_dof",
@@ -127,6 +128,12 @@ class Model:
         Viscous damping per velocity coordinate (MuJoCo's ``dof_damping``, URDF's
         ``<dynamics damping>``, Pinocchio's ``model.damping``): the passive torque
         ``-damping * v`` (``cgadyn.passive_torques``), not part of rnea or aba.
+    friction : float64 (nv,)
+        Dry friction per velocity coordinate, the largest torque (force) a joint's friction
+        loss opposes its motion with (MuJoCo's ``dof_frictionloss``, URDF's ``<dynamics
+        friction>``, Pinocchio's ``model.friction``): enforced only by the contact step
+        (``contact_step``, ``simulate(..., world=...)``) as a box-bounded row
+        (``docs/contact.md``, "Friction loss", K30), never by rnea or aba.
     stiffness : float64 (nv,)
         Joint spring stiffness per velocity coordinate (MuJoCo's ``jnt_stiffness``),
         nonzero only on additive joints: the passive torque
@@ -171,6 +178,7 @@ class Model:
     mimic: tuple
     armature: np.ndarray | None = None
     damping: np.ndarray | None = None
+    friction: np.ndarray | None = None
     stiffness: np.ndarray | None = None
     spring_reference: np.ndarray | None = None
     actuator_names: tuple = ()
@@ -181,7 +189,7 @@ class Model:
 
     def __post_init__(self):
         nv = sum(NV[int(t)] for t in np.asarray(self.joint_types).reshape(-1))
-        for field in ("armature", "damping", "stiffness"):  # none given: none
+        for field in ("armature", "damping", "friction", "stiffness"):  # none given: none
             if getattr(self, field) is None:
                 object.__setattr__(self, field, np.zeros(nv))
         na = len(self.actuator_names)
@@ -235,6 +243,7 @@ class Model:
             "link_placement_matrices": (nl, 4, 4),
             "armature": (nv,),
             "damping": (nv,),
+            "friction": (nv,),
             "stiffness": (nv,),
             "spring_reference": (nq,),
             "actuator_dof": (len(self.actuator_names),),
@@ -293,11 +302,11 @@ class Model:
                     f"{np.round(P, 6).tolist()}")
 
     def _check_passive(self):
-        """Armature, damping and stiffness are finite and non-negative (a negative armature
-        or damping would feed energy in); a spring only on a joint whose coordinates add
-        (``q ⊕ v = q + v``), where ``-k (q - q_ref)`` is MuJoCo's spring; the spring
-        reference finite."""
-        for field in ("armature", "damping", "stiffness"):
+        """Armature, damping, friction and stiffness are finite and non-negative (a negative
+        armature, damping or friction would feed energy in); a spring only on a joint whose
+        coordinates add (``q ⊕ v = q + v``), where ``-k (q - q_ref)`` is MuJoCo's spring;
+        the spring reference finite."""
+        for field in ("armature", "damping", "friction", "stiffness"):
             values = getattr(self, field)
             bad = np.flatnonzero(~(np.isfinite(values) & (values >= 0.0)))
             if bad.size:
@@ -597,6 +606,7 @@ def build_model(
     stiffness=None,
     spring_reference=None,
     pitch=None,
+    friction=None,
 ) -> Model:
     """Build a :class:`Model` from raw physical data; computes the CGA fields.
 
@@ -604,9 +614,9 @@ def build_model(
     frame; ``axis_vectors (n,3)`` the joint axes in the joint frames (normalised here,
     a zero axis raises ``ValueError``); ``body_*`` the merged bodies in the joint frames.
     Links default to one per joint (named after the joint) plus the root link.
-    ``armature``, ``damping``, ``stiffness`` (nv,) and ``spring_reference`` (nq,) default
-    to zero and the neutral configuration (``Model``). ``pitch`` (n,), default zero: the
-    pitch of each helical joint (length per radian; read only for those).
+    ``armature``, ``damping``, ``friction``, ``stiffness`` (nv,) and ``spring_reference``
+    (nq,) default to zero and the neutral configuration (``Model``). ``pitch`` (n,), default
+    zero: the pitch of each helical joint (length per radian; read only for those).
     """
     from cgadyn.cga.conventions import (
         inertia_from_parameters,
@@ -692,6 +702,7 @@ def build_model(
         mimic=tuple(mimic) if mimic is not None else (None,) * n,
         armature=None if armature is None else _limits(armature, nv, "armature"),
         damping=None if damping is None else _limits(damping, nv, "damping"),
+        friction=None if friction is None else _limits(friction, nv, "friction"),
         stiffness=None if stiffness is None else _limits(stiffness, nv, "stiffness"),
         spring_reference=(None if spring_reference is None
                           else _limits(spring_reference, nq, "spring_reference")),

@@ -31,7 +31,10 @@ places every body. ``from_mujoco`` reads what it compiled, whole:
   named site whose name no body has (``site_xpos``, ``site_xmat``).
 - **Passive dynamics**: ``dof_armature`` (``Model.armature``), ``dof_damping``
   (``Model.damping``), ``jnt_stiffness`` and ``qpos_spring`` (``Model.stiffness``,
-  ``Model.spring_reference``).
+  ``Model.spring_reference``); ``jnt_range`` where ``jnt_limited`` (``Model.lower``,
+  ``Model.upper``; a hinge's or slide's, a ball's cone limit is not read) and
+  ``dof_frictionloss`` (``Model.friction``), which the contact step enforces
+  (``docs/contact.md``, "Joint limits", "Friction loss").
 - **Actuators**: the joint motors (``Model.actuators``: gear, control and force ranges);
   other actuators are left out with a warning.
 
@@ -166,7 +169,7 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
     _check_model(mj, repr(model_name))
 
     joints = dict(names=[], kinds=[], parents=[], placements=[], axes=[], lower=[], upper=[],
-                  armature=[], damping=[], stiffness=[], spring=[])
+                  armature=[], damping=[], friction=[], stiffness=[], spring=[])
     pieces: list[list] = []  # per cgadyn joint: [(mass, com, rotational inertia)] in its frame
     attach = {0: (-1, np.eye(4))}  # body -> (cgadyn joint moving it, its pose in that frame)
     link_names, link_joint, link_poses = [WORLD], [-1], [np.eye(4)]
@@ -186,6 +189,7 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
                      table.of_kind(kind).nv)
         joints["armature"] += [float(mj.dof_armature[d]) for d in dofs]
         joints["damping"] += [0.0 if no_damper else float(mj.dof_damping[d]) for d in dofs]
+        joints["friction"] += [float(mj.dof_frictionloss[d]) for d in dofs]
         joints["stiffness"] += [0.0 if no_spring else float(mj.jnt_stiffness[mj_joint])] * \
             len(dofs)
         pieces.append([])
@@ -263,7 +267,8 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
             lower=joints["lower"], upper=joints["upper"], link_names=link_names,
             link_joint=link_joint, link_placement_matrices=np.array(link_poses),
             root_link=WORLD, check_inertia=check_inertia, armature=joints["armature"],
-            damping=joints["damping"], stiffness=joints["stiffness"])
+            damping=joints["damping"], stiffness=joints["stiffness"],
+            friction=joints["friction"])
         return dataclasses.replace(model, spring_reference=table.from_mujoco(
             model, mj.qpos_spring), **_motors(mj, model, joint_of, model_name))
     except ValueError as exc:

@@ -273,6 +273,7 @@ def from_pinocchio(pin_model, name: str | None = None, check_inertia: bool = Tru
             check_inertia=check_inertia,
             armature=np.asarray(pm.armature, dtype=float),
             damping=np.asarray(pm.damping, dtype=float),
+            friction=np.asarray(pm.friction, dtype=float),
             pitch=pitch,
             **link_args,
         )

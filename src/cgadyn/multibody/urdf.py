@@ -140,14 +140,15 @@ def _inertial(link, check: bool = True):
     return mass, origin[:3, 3].copy(), rot @ inertia @ rot.T
 
 
-def _damping(joint, where: str) -> float:
-    """A joint's ``<dynamics damping=...>`` (0 without one), finite and non-negative (as
-    Pinocchio's parser reads it into ``model.damping``)."""
+def _dynamics(joint, what: str, where: str) -> float:
+    """A joint's ``<dynamics damping=...>`` or ``friction=...`` (``what``; 0 without one),
+    finite and non-negative (as Pinocchio's parser reads them into ``model.damping`` and
+    ``model.friction``)."""
     dynamics = getattr(joint, "dynamics", None)
-    value = None if dynamics is None else dynamics.damping
+    value = None if dynamics is None else getattr(dynamics, what)
     value = 0.0 if value is None else float(value)
     if not (np.isfinite(value) and value >= 0.0):
-        raise ValueError(f"{where}: joint {joint.name!r}: <dynamics damping=\"{value}\"> is "
+        raise ValueError(f"{where}: joint {joint.name!r}: <dynamics {what}=\"{value}\"> is "
                          f"not a finite number >= 0")
     return value
 
@@ -274,7 +275,7 @@ def _build(xml: bytes, path: str | None, name: str | None, floating_base: bool,
     kinds = [base.kind if jt is None else jt.type for jt in joints]
     axis_vectors = np.zeros((n, 3))
     lower, upper, velocity, effort = [], [], [], []  # per coordinate of q, q, v, v
-    damping = []  # per coordinate of v
+    damping, friction = [], []  # per coordinate of v
     mimic = []
     for j, jt in enumerate(joints):
         if jt is None:  # free flyer: a box of translations, a unit quaternion
@@ -284,6 +285,7 @@ def _build(xml: bytes, path: str | None, name: str | None, floating_base: bool,
             velocity += [np.inf] * base.nv
             effort += [np.inf] * base.nv
             damping += [0.0] * base.nv
+            friction += [0.0] * base.nv
             mimic.append(None)
             continue
         axis = np.array([1.0, 0.0, 0.0]) if jt.axis is None else np.asarray(jt.axis, float)
@@ -302,7 +304,8 @@ def _build(xml: bytes, path: str | None, name: str | None, floating_base: bool,
             upper.append(_limit(jt, "upper", 0.0))
         velocity.append(_limit(jt, "velocity", np.inf))
         effort.append(_limit(jt, "effort", np.inf))
-        damping.append(_damping(jt, where))
+        damping.append(_dynamics(jt, "damping", where))
+        friction.append(_dynamics(jt, "friction", where))
         m = jt.mimic
         mimic.append(None if m is None else (
             m.joint, 1.0 if m.multiplier is None else float(m.multiplier),
@@ -350,4 +353,5 @@ def _build(xml: bytes, path: str | None, name: str | None, floating_base: bool,
         mimic=mimic,
         check_inertia=check_inertia,
         damping=damping,
+        friction=friction,
     )

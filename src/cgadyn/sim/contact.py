@@ -1,20 +1,26 @@
 """The contact step inside the compiled rollout loop (docs/contact.md, "Rollouts with
-contact", K20-K25).
+contact", K20-K26, K30).
 
-``contact_velocity`` turns the free velocity of a semi-implicit Euler step,
-``v_free = v + dt q̈(q, v)`` (K20), into the velocity after the contact impulses,
-``v⁺ = v_free + M⁻¹ Jᵀ λ`` (K24), as ``contact.step.contact_step`` does from Python: the
-contacts of the shapes with the ground at q (``manifold.shapes_on_plane``, K21-K22), each a
-point of its link held in the ground frame ``(t₁, t₂, n)``, ``G = J M⁻¹ Jᵀ`` and ``g = J
-v_free`` with the gap term (K23), λ by ADMM then PGS from ADMM's λ (K11-K19). A contact
-found in the previous step at the same slot (shape, patch point) starts from its λ there
-(K25). It is one ``@serial`` function called from one site of the loop, compiled only for a
-rollout with a world (the loop passes None otherwise and numba prunes the call).
+``contact_velocity`` turns the free velocity of a semi-implicit Euler step, ``v_free = v +
+dt q̈(q, v)`` (K20), into the velocity after the contact impulses, ``v⁺ = v_free + M⁻¹ Jᵀ
+λ`` (K24), as ``contact.step.contact_step`` does from Python: the contacts of the shapes
+with the ground at q (``manifold.shapes_on_plane``, K21-K22), each a point of its link held
+in the ground frame ``(t₁, t₂, n)``, ``G = J M⁻¹ Jᵀ`` and ``g = J v_free`` with the gap term
+(K23), λ by ADMM then PGS from ADMM's λ (K11-K19). A contact found in the previous step at
+the same slot (shape, patch point) starts from its λ there (K25). The bounds of the joint
+limits near which the step may take a coordinate (``contact.limits.active_limits``) are rows
+``±e_v`` after the contacts', with the same gap term and ``λ >= 0`` (K26), warm-started from
+their slot alike; then a row ``e_k`` per coordinate with a friction loss, ``|λ| <= f dt``
+(K30), warm-started from its impulse in the step before. It is one ``@serial`` function
+called from one site of the loop, compiled only for a rollout with a world (the loop passes
+None otherwise and numba prunes the call).
 
 The world reaches compiled code as a tuple (``world_arrays``): the shapes' kinds, sizes,
 vertices and offsets, their placements on their links, their links, which touch the ground,
-the ground plane ``[n, δ]``, its frame, and ``params``: ``[margin, stabilization, friction,
-warm start]`` then the solver's settings (``contact.ncp``).
+the ground plane ``[n, δ]``, its frame, ``params``: ``[margin, stabilization, friction,
+warm start]`` then the solver's settings (``contact.ncp``), the joint limits enforced
+(``contact.limits.joint_limits``; none where ``joint_limits`` is off) and the friction
+losses (``contact.limits.joint_frictions``; none where ``friction_loss`` is off).
 """
 
 from __future__ import annotations
@@ -23,7 +29,7 @@ import math
 
 import numpy as np
 
-from .._jit import serial
+from .._jit import inline, serial
 from ..algorithms import _workspace as ws
 from ..algorithms.crba import crba_core
 from ..algorithms.kinematics import link_motor
@@ -35,6 +41,7 @@ from ..constraints.work.core import workspace_size as constraint_workspace_size
 from ..contact import manifold as C
 from ..contact import ncp
 from ..contact.admm import SCRATCH_ROWS
+from ..contact.limits import LIMIT_COLUMNS, ROW_GAP, ROW_SIGN, ROW_SLOT, ROW_V, active_limits
 from ..contact.solver import ADMM, PGS, solve_one
 from ..kernels.rigid import motor_matrix
 
@@ -47,8 +54,11 @@ REPORT = 3
 
 
 def world_arrays(model, collisions, world, margin: float, stabilization: float,
-                 warm_start: bool, tolerance: float, max_iterations: int) -> tuple:
+                 warm_start: bool, tolerance: float, max_iterations: int,
+                 joint_limits: bool = True, friction_loss: bool = True) -> tuple:
     """The tuple the loop reads (the module's docstring)."""
+    from ..contact.limits import joint_frictions
+    from ..contact.limits import joint_limits as limits_of
     from ..contact.solve import _settings
     from ..contact.step import ground_frame
     from ..contact.world import touches_ground
@@ -62,7 +72,10 @@ def world_arrays(model, collisions, world, margin: float, stabilization: float,
             np.ascontiguousarray(cm.placements, dtype=float),
             np.ascontiguousarray(cm.links, dtype=np.int64), active,
             np.array(world.plane.packed_size, dtype=float), np.eye(4),
-            ground_frame(world.ground_normal), params)
+            ground_frame(world.ground_normal), params,
+            np.ascontiguousarray(limits_of(model) if joint_limits
+                                 else np.zeros((0, LIMIT_COLUMNS))),
+            joint_frictions(model) if friction_loss else np.zeros((0, 2)))
 
 
 def slots(shapes: int) -> int:
@@ -71,13 +84,16 @@ def slots(shapes: int) -> int:
 
 
 @serial
-def scratch_size(n, nq, nv, nl, shapes):
-    """Floats of one rollout's contact scratch (``carve_scratch``)."""
+def scratch_size(n, nq, nv, nl, shapes, limits, frictions):
+    """Floats of one rollout's contact scratch (``carve_scratch``) for ``shapes`` shapes,
+    ``limits`` joint limits (two bounds each) and ``frictions`` friction losses."""
     K = C.MAX_CONTACTS * shapes
-    m = 3 * K
+    L = 2 * limits
+    m = 3 * K + L + frictions
     return (shapes * 16 + shapes * C.MAX_CONTACTS * C.OUT + shapes + C.CANDIDATES * C.OUT
             + m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6) + K + ncp.INFO
             + ncp.SETTINGS + 2 * K * 3 + K + 8 + 16 + 1 + REPORT
+            + L * LIMIT_COLUMNS + 2 * (L + frictions) + 2 * (L + frictions)
             + constraint_workspace_size(n, nq, nv, nl, m))
 
 
@@ -85,9 +101,12 @@ def scratch_size(n, nq, nv, nl, shapes):
 def carve_scratch(world, buf, n, nq, nv, nl):
     """The world of ``world_arrays`` and a rollout's scratch carved from ``buf``
     (``scratch_size``), as one tuple."""
-    shapes = world[0].shape[0]
+    (kinds, _, _, _, _, _, _, _, _, _, _, limits, frictions) = world
+    shapes = kinds.shape[0]
     K = C.MAX_CONTACTS * shapes
-    m = 3 * K
+    L = 2 * limits.shape[0]
+    F = frictions.shape[0]
+    m = 3 * K + L + F
     p = ws.data_pointer(buf)
     poses, o = ws.carve(p, 0, (shapes, 4, 4))
     out, o = ws.carve(p, o, (shapes, C.MAX_CONTACTS, C.OUT))
@@ -105,14 +124,27 @@ def carve_scratch(world, buf, n, nq, nv, nl):
     count, o = ws.carve(p, o, (1,))
     report, o = ws.carve(p, o, (REPORT,))
     cwork, o = ws.carve(p, o, (constraint_workspace_size(n, nq, nv, nl, m),))
+    lrows, o = ws.carve(p, o, (L, LIMIT_COLUMNS))
+    bounds, o = ws.carve(p, o, (L + F, 2))
+    lprev, o = ws.carve(p, o, (L + F,))  # the limits' slots, then the friction rows'
+    lhad, o = ws.carve(p, o, (L + F,))
     for k in range(K):
         had[k] = 0.0
         for i in range(3):
             prev[k, i] = 0.0
             force[k, i] = 0.0
+    for k in range(L + F):
+        lhad[k], lprev[k] = 0.0, 0.0
     count[0] = 0.0
     return (world, poses, out, counts, cand, big, mu, info, settings, prev, force, had, tmp8,
-            T, count, report, cwork)
+            T, count, report, cwork, lrows, bounds, lprev, lhad)
+
+
+@inline
+def _gap(d, beta, dt):
+    """The gap's term of a normal or limit row (K23): ``d / dt`` for an open gap, ``β d /
+    dt`` for a penetration."""
+    return (d if d > 0.0 else beta * d) / dt
 
 
 @serial
@@ -122,8 +154,9 @@ def contact_velocity(m, world, q, v, vn, dt, work):
     number into ``count``. A status: ``CONTACT_UNSOLVED`` (its residuals in ``report``)
     where neither solver converges."""
     (arrays, poses, out, counts, cand, big, mu, info, settings, prev, force, had, tmp8, T,
-     count, report, cwork) = world
-    kinds, sizes, vertices, offsets, placements, links, active, sb, Tb, frame, params = arrays
+     count, report, cwork, lrows, bounds, lprev, lhad) = world
+    (kinds, sizes, vertices, offsets, placements, links, active, sb, Tb, frame, params,
+     limits, frictions) = arrays
     shapes = kinds.shape[0]
     K = C.MAX_CONTACTS * shapes
     k_ = constraint_workspace(ws.data_pointer(cwork), m, 0)
@@ -151,15 +184,19 @@ def contact_velocity(m, world, q, v, vn, dt, work):
     nc = 0
     for s in range(shapes):
         nc += int(counts[s])
+    nl = active_limits(limits, q, v, vn, dt, params[MARGIN], lrows)  # K26
+    nf, L = frictions.shape[0], 2 * limits.shape[0]
     for k in range(K):
         for i in range(3):
             force[k, i] = 0.0
     count[0] = nc
-    if nc == 0:
+    if nc + nl + nf == 0:
         for k in range(K):
             had[k] = 0.0
+        for k in range(lhad.shape[0]):
+            lhad[k] = 0.0
         return OK
-    mc = 3 * nc
+    mc = 3 * nc + nl + nf
     p = ws.data_pointer(big)
     J, o = ws.carve(p, 0, (mc, m.nv))
     G, o = ws.carve(p, o, (mc, mc))
@@ -191,6 +228,20 @@ def contact_velocity(m, world, q, v, vn, dt, work):
             if had[slot] != 0.0:
                 warm = True
             c += 1
+    for k in range(nl):  # a row ±e_v per bound near which the step may go (K26)
+        r, slot = 3 * nc + k, int(lrows[k, ROW_SLOT])
+        J[r, int(lrows[k, ROW_V])] = lrows[k, ROW_SIGN]
+        lam[r] = lprev[slot] if lhad[slot] != 0.0 else 0.0
+        if lhad[slot] != 0.0:
+            warm = True
+        bounds[k, 0], bounds[k, 1] = 0.0, math.inf  # λ >= 0 (K26)
+    for k in range(nf):  # a row e_k per friction loss, |λ| <= f dt (K30)
+        r, slot = 3 * nc + nl + k, L + k
+        J[r, int(frictions[k, 0])] = 1.0
+        lam[r] = lprev[slot] if lhad[slot] != 0.0 else 0.0
+        if lhad[slot] != 0.0:
+            warm = True
+        bounds[nl + k, 0], bounds[nl + k, 1] = -dt * frictions[k, 1], dt * frictions[k, 1]
     status = crba_core(m, q, k_.H, work)
     if status != OK:
         return status
@@ -206,20 +257,21 @@ def contact_velocity(m, world, q, v, vn, dt, work):
         g[r] = acc
     for s in range(shapes):
         for j in range(int(counts[s])):
-            d = out[s, j, 3]
-            g[3 * c + 2] += (d if d > 0.0 else params[STABILIZATION] * d) / dt
+            g[3 * c + 2] += _gap(out[s, j, 3], params[STABILIZATION], dt)
             c += 1
+    for k in range(nl):
+        g[3 * nc + k] += _gap(lrows[k, ROW_GAP], params[STABILIZATION], dt)
     for i in range(ncp.SETTINGS):
         settings[i] = params[PARAMS + i]
     settings[ncp.WARM] = 1.0 if warm and params[WARM] != 0.0 else 0.0
     if settings[ncp.WARM] == 0.0:
         for r in range(mc):
             lam[r] = 0.0
-    muv = mu[:nc]
-    solve_one(ADMM, G, g, muv, R, settings, lam, info, Cs, w)
+    muv, bv = mu[:nc], bounds[:nl + nf]
+    solve_one(ADMM, G, g, muv, bv, R, settings, lam, info, Cs, w)
     if info[ncp.CONVERGED] == 0.0:  # PGS from ADMM's last forces (K18)
         settings[ncp.WARM] = 1.0
-        solve_one(PGS, G, g, muv, R, settings, lam, info, Cs, w)
+        solve_one(PGS, G, g, muv, bv, R, settings, lam, info, Cs, w)
     if info[ncp.CONVERGED] == 0.0:
         report[0], report[1], report[2] = info[ncp.ITERATIONS], info[ncp.DUAL], \
             info[ncp.COMPLEMENTARITY]
@@ -241,6 +293,13 @@ def contact_velocity(m, world, q, v, vn, dt, work):
                 force[slot, i] = (frame[0, i] * lam[3 * c] + frame[1, i] * lam[3 * c + 1]
                                   + frame[2, i] * lam[3 * c + 2]) / dt
             c += 1
+    for k in range(lhad.shape[0]):
+        lhad[k] = 0.0
+    for k in range(nl):
+        slot = int(lrows[k, ROW_SLOT])
+        lhad[slot], lprev[slot] = 1.0, lam[3 * nc + k]
+    for k in range(nf):
+        lhad[L + k], lprev[L + k] = 1.0, lam[3 * nc + nl + k]
     for i in range(m.nv):
         if not math.isfinite(vn[i]):
             return fault(NONFINITE_RESULT, -1)

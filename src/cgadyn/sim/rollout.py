@@ -244,7 +244,8 @@ def _world_size(world, n, nq, nv, nl):
     """Floats of a rollout's contact scratch; 0 without a world."""
     if world is None:
         return 0
-    return scratch_size(n, nq, nv, nl, world[0].shape[0])
+    (kinds, _, _, _, _, _, _, _, _, _, _, limits, frictions) = world
+    return scratch_size(n, nq, nv, nl, kinds.shape[0], limits.shape[0], frictions.shape[0])
 
 
 @serial
@@ -253,7 +254,7 @@ def _keep_contacts(world, row):
     without a world."""
     if world is None:
         return
-    (_, _, _, _, _, _, _, _, _, _, force, _, _, _, count, _, _) = world
+    (_, _, _, _, _, _, _, _, _, _, force, _, _, _, count, _, _, _, _, _, _) = world
     row[0] = count[0]
     for k in range(force.shape[0]):
         for i in range(3):
@@ -265,7 +266,7 @@ def _report(world, out):
     """The report of a contact step that failed (``sim.contact.REPORT``) into ``out``."""
     if world is None:
         return
-    (_, _, _, _, _, _, _, _, _, _, _, _, _, _, _, report, _) = world
+    (_, _, _, _, _, _, _, _, _, _, _, _, _, _, _, report, _, _, _, _, _) = world
     for i in range(out.shape[0]):
         out[i] = report[i]
 

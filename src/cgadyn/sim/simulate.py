@@ -74,7 +74,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
              f_ext=None, controller=None, record_every: int = 1,
              final_only: bool = False, passive: bool = True, ctrl=None, constraints=None,
              damping: float = 0.0, world=None, collisions=None,
-             contact_warm_start: bool = True) -> Trajectory:
+             contact_warm_start: bool = True, joint_limits: bool | None = None,
+             friction_loss: bool | None = None) -> Trajectory:
     """Integrate ``q̈ = ABA(q, v, τ)``, or the constrained dynamics of ``constraints``, for
     ``steps`` steps of ``dt`` seconds.
 
@@ -106,6 +107,12 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     impulses, ADMM then PGS; docs/contact.md, "Rollouts with contact"), its forces starting
     from the previous step's where a contact stays (``contact_warm_start``); a step whose
     contact problem neither solver solves stops the rollout, naming the residuals.
+    ``joint_limits``: with a world (the default there, None), the limits of the joints of
+    one coordinate (``Model.lower``, ``Model.upper``) are unilateral constraints of the same
+    step (docs/contact.md, "Joint limits", K26); ``False`` turns them off. Without a world
+    no limit is enforced (``True`` then raises ``ValueError``); ``World(ground=False)``
+    with ``collisions=None`` enforces the limits alone. ``friction_loss``: the same for the
+    joints' dry friction (``Model.friction``, box-bounded rows, K30).
 
     Returns a ``Trajectory`` of the states kept. A rollout that diverges (a joint turning
     more than half a turn in one step, a slide moving further than the robot is large, a
@@ -138,6 +145,13 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
                          f"got {integrator!r}")
     every = _every(record_every, final_only, steps)
     shapes = _contact_world(model, world, collisions, integrator, constraints)
+    for name, flag in (("joint_limits", joint_limits), ("friction_loss", friction_loss)):
+        if flag is not None and not isinstance(flag, bool):
+            raise ValueError(f"simulate: {name} must be True, False or None, got {flag!r}")
+        if flag and world is None:
+            raise ValueError(f"simulate: {name}=True needs a world (they are constraints of "
+                             f"the contact step); pass world=cgadyn.World() or "
+                             f"World(ground=False) for the joints alone")
     p = pack(model, () if constraints is None else constraints)  # checked: type, model
     settings = checked_settings(damping, None, 1e-12)
     server = _arrays.server((q0, v0, tau))
@@ -179,10 +193,11 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     # without rows None: the loop compiled without the constraint core (rollout._dynamics)
     cons, solve = (np.array(p.array, dtype=float), settings) if p.nr else (None, None)
     K = slots(len(shapes)) if world is not None else 0
-    CF = np.full(shape + (1 + 3 * K if K else 0,), np.nan)
+    CF = np.full(shape + (1 + 3 * K if world is not None else 0,), np.nan)
     CR = np.full((B, REPORT), np.nan)
     arrays = None if world is None else world_arrays(
-        model, shapes, world, 1e-3, 0.2, bool(contact_warm_start), 1e-10, 1000)
+        model, shapes, world, 1e-3, 0.2, bool(contact_warm_start), 1e-10, 1000,
+        joint_limits is not False, friction_loss is not False)
     with PARALLEL_LOCK:
         rollouts(packed, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, q_ref, v_ref,
                  cons, solve, arrays, dt, steps, every, Q, V, A, X, CF, CR, completed, status)
@@ -215,7 +230,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
 
 def _contact_world(model, world, collisions, integrator: str, constraints):
     """The collision model of a rollout with ``world`` (None without), checked: a world
-    needs ``collisions`` and semi-implicit Euler, and takes no ``constraints`` yet."""
+    needs semi-implicit Euler, ``collisions`` unless it has no ground (then None: no
+    shapes), and takes no ``constraints`` yet."""
     from ..contact.model import CollisionModel, _collisions
     from ..contact.world import World
 
@@ -226,9 +242,10 @@ def _contact_world(model, world, collisions, integrator: str, constraints):
         return None
     if not isinstance(world, World):
         raise ValueError(f"simulate: world must be a cgadyn.World, got {world!r}")
-    if collisions is None:
+    if collisions is None and world.ground:
         raise ValueError("simulate: a world needs the robot's collision shapes; pass "
-                         "collisions=cgadyn.collision_model(model, ...)")
+                         "collisions=cgadyn.collision_model(model, ...), or "
+                         "World(ground=False) for joint limits alone")
     if integrator != "semi_implicit_euler":
         raise ValueError(f"simulate: contact with a world steps with "
                          f"integrator='semi_implicit_euler' (the contact step, K24), got "
@@ -236,6 +253,8 @@ def _contact_world(model, world, collisions, integrator: str, constraints):
     if constraints:
         raise ValueError("simulate: a world with constraints is not supported yet; pass "
                          "one or the other")
+    if collisions is None:
+        return CollisionModel([], model)
     cm = _collisions(collisions, model)
     if not isinstance(cm, CollisionModel) or len(cm) == 0:
         raise ValueError("simulate: collisions hold no shape; expected "
