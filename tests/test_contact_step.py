@@ -155,4 +155,5 @@ def test_bad_input_is_named():
     with pytest.raises(ValueError, match="tau: expected shape"):
         contact_step(model, cm, q, np.zeros(6), np.zeros(5), 1e-3)
     with pytest.raises(ValueError, match="stabilization"):
-        contact_step(model, cm, q, np.zeros(6), np.zeros(6), 1e-3, stabilization=2.0)
+        contact_step(model, cm, q, np.zeros(6), np.zeros(6), 1e-3,
+                     contact=cgadyn.ContactSettings(stabilization=2.0))

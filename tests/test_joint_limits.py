@@ -114,7 +114,7 @@ def test_the_compiled_step_is_contact_step_with_limits(friction):
     q0, v0 = np.array([0.2]), np.array([-1.0])  # up, then down onto the stop
     ref = _steps(model, q0, v0, 300)
     tr = cgadyn.simulate(model, q0, v0, DT, 300, integrator=SIE, world=NOWHERE,
-                         contact_warm_start=False)
+                         contact=cgadyn.ContactSettings(warm_start=False))
     assert max(s[0][0] for s in ref) > UPPER - 1e-6  # the stop was reached
     for k, (qk, vk, _) in enumerate(ref):
         assert np.abs(tr.q[k] - qk).max() < 1e-10 and np.abs(tr.v[k] - vk).max() < 1e-10

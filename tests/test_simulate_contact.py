@@ -38,7 +38,7 @@ def test_the_compiled_step_is_contact_step_for_a_ball():
     q = cgadyn.neutral(model)
     q[2] = 0.102
     v = np.array([0.3, 0.0, -0.2, 0.0, 2.0, 0.5])
-    tr = _sim(model, cm, q, v, 50, contact_warm_start=False)
+    tr = _sim(model, cm, q, v, 50, contact=cgadyn.ContactSettings(warm_start=False))
     ref = _steps(model, cm, q, v, 50)
     assert np.max(tr.contact_count) == 1
     for k, (qk, vk) in enumerate(ref):
@@ -56,7 +56,7 @@ def test_a_dropped_ball_rests_without_bouncing_carrying_its_weight(warm):
     model, cm = _free(BALL)
     q = cgadyn.neutral(model)
     q[2] = 1.0
-    tr = _sim(model, cm, q, np.zeros(6), 700, contact_warm_start=warm)
+    tr = _sim(model, cm, q, np.zeros(6), 700, contact=cgadyn.ContactSettings(warm_start=warm))
     z = tr.q[:, 2]
     touch = int(np.argmax(tr.contact_count > 0))
     assert 0 < touch < 500
@@ -108,13 +108,42 @@ def test_bad_input_is_named():
         cgadyn.simulate(model, q, v, DT, 2, integrator=SIE, world="ground", collisions=cm)
 
 
+def test_a_step_short_of_the_tolerance_is_kept_within_accept_and_stops_above_it():
+    """The tumbling box with one iteration per solver: with ``accept`` at the tolerance the
+    first hard step stops the rollout, naming its residuals; with a loose ``accept`` the run
+    completes, each kept residual within it, and ``contact_iterations`` counts both
+    solvers (at most 2)."""
+    model, cm = _free(BOX)
+    q, v = tilted(model), np.array([0.3, 0.0, 0.0, 0.0, 1.0, 0.5])
+    strict = cgadyn.ContactSettings(max_iterations=1, tolerance=1e-10, accept=1e-10)
+    with pytest.warns(cgadyn.SimulationDiverged):
+        tr = _sim(model, cm, q, v, 300, contact=strict)
+    assert tr.diverged and tr.completed < 300
+    assert "the contact solvers did not converge in 2 iterations" in tr.message
+    assert "above ContactSettings.accept" in tr.message
+    loose = cgadyn.ContactSettings(max_iterations=1, accept=1e6)
+    tr = _sim(model, cm, q, v, 300, contact=loose)
+    assert not tr.diverged and tr.completed == 300
+    hard = tr.contact_residual > 1e-10
+    assert hard.any() and np.all(tr.contact_residual <= 1e6)
+    assert set(np.unique(tr.contact_iterations)) <= {0, 1, 2}
+    with pytest.raises(ValueError, match="accept"):
+        cgadyn.ContactSettings(tolerance=1e-6, accept=1e-8)
+    with pytest.raises(ValueError, match="solver must be one of"):
+        cgadyn.ContactSettings(solver="newton")
+    with pytest.raises(ValueError, match="ContactSettings"):
+        cgadyn.simulate(model, q, v, DT, 2, integrator=SIE, world=cgadyn.World(),
+                        collisions=cm, contact={"solver": "pgs"})
+
+
 @pytest.mark.slow
 def test_the_compiled_step_is_contact_step_for_solo12():
     """50 steps of solo12 landing under joint PD equal ``contact_step``'s (q, v to 1e-10)."""
     model, cm, q = solo12_on_the_ground()
     q[2] += 0.002
     pd = cgadyn.PD(kp=20.0, kd=0.5, q_ref=q, gravity_compensation=False)
-    tr = _sim(model, cm, q, np.zeros(model.nv), 50, controller=pd, contact_warm_start=False)
+    tr = _sim(model, cm, q, np.zeros(model.nv), 50, controller=pd,
+              contact=cgadyn.ContactSettings(warm_start=False))
 
     def tau(qk, vk):
         t = np.zeros(model.nv)

@@ -95,6 +95,7 @@ _LAZY = {
     "ground_contacts": "cgadyn.contact",
     "contact_step": "cgadyn.contact",
     "ContactStep": "cgadyn.contact",
+    "ContactSettings": "cgadyn.contact",
     "contact_problem": "cgadyn.contact",
     "solve_contacts": "cgadyn.contact",
     "ContactSolveInfo": "cgadyn.contact",

@@ -5,12 +5,14 @@ PGS, and the velocity-level step that joins them (docs/contact.md)."""
 from .api import shape_distance
 from .model import Collision, CollisionModel, collision_distances, collision_model, collision_poses
 from .problem import contact_problem
+from .settings import ContactSettings
 from .shapes import Box, Capsule, ConvexMesh, Cylinder, MeshSimplified, Plane, Shape, Sphere
 from .solve import ContactSolveInfo, solve_contacts
 from .step import ContactStep, contact_step
 from .world import Contacts, World, ground_contacts
 
-__all__ = ["Box", "Capsule", "Collision", "CollisionModel", "ContactSolveInfo", "ContactStep",
+__all__ = ["Box", "Capsule", "Collision", "CollisionModel", "ContactSettings", "ContactSolveInfo",
+           "ContactStep",
            "Contacts", "ConvexMesh", "Cylinder", "MeshSimplified", "Plane", "Shape", "Sphere",
            "World", "collision_distances", "collision_model", "collision_poses",
            "contact_problem", "contact_step", "ground_contacts", "shape_distance",

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .settings import ContactSettings, other_solver, residual
 from .world import Contacts, World, ground_contacts
 
 __all__ = ["ContactStep", "contact_step", "ground_frame"]
@@ -54,15 +55,16 @@ class ContactStep:
 
 
 def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = None,
-                 margin: float = 1e-3, stabilization: float = 0.2, solver: str = "admm",
-                 tolerance: float = 1e-10, max_iterations: int = 1000,
-                 passive: bool = True, joint_limits: bool = True,
-                 friction_loss: bool = True) -> ContactStep:
+                 contact: ContactSettings | None = None, passive: bool = True,
+                 joint_limits: bool = True, friction_loss: bool = True) -> ContactStep:
     """One step of length ``dt`` from ``(q, v)`` under the joint torques ``tau`` (nv,)
     with the ground of ``world`` (default ``World()``) touched by the shapes of
     ``collisions`` (``collision_model(model, ...)``; None: no shapes, for a
     ``World(ground=False)`` only), the joints' limits (``joint_limits``) and their friction
     loss (``friction_loss``):
+
+    ``contact`` (a ``ContactSettings``, default ``ContactSettings()``) holds the margin,
+    the stabilization and the solvers' settings named below.
 
     1. the contacts closer than ``margin`` plus the distance a point may travel in the step
        (``|v| dt``, an angular speed counted at a reach of 1 m) (K21-K22), each a point of
@@ -78,14 +80,15 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
        ``e_k`` per velocity coordinate with ``Model.friction`` ``f > 0``, its impulse in
        ``[-f dt, f dt]`` (K30);
     3. the impulses ``λ`` in the friction cones of ``World.friction`` by ``solver``
-       (``"admm"`` or ``"pgs"``, ``solve_contacts``); where ADMM does not converge (it may
-       cycle on redundant contacts with sliding, docs/contact.md), PGS goes on from its
-       last forces;
+       (``"admm"`` or ``"pgs"``, ``solve_contacts``); where it does not converge (ADMM may
+       cycle on redundant contacts with sliding, docs/contact.md), the other goes on from
+       its last forces; where neither meets ``tolerance``, forces whose residuals are all
+       at most ``accept`` are kept (``info.converged`` is then False);
     4. ``v⁺ = v_free + M⁻¹ Jᵀ λ`` and ``q⁺ = q ⊕ dt v⁺`` (K24).
 
     ``passive``: add the joints' damping and spring torques (``passive_torques``) as
-    ``simulate`` does. Raises ``ValueError`` where the solver does not converge within
-    ``max_iterations`` (naming its residuals) or for bad input.
+    ``simulate`` does. Raises ``ValueError`` where the solvers end with a residual above
+    ``accept`` (naming the residuals) or for bad input.
     """
     from ..algorithms import aba, crba, integrate, link_placements
     from ..algorithms.passive import passive_torques
@@ -97,14 +100,17 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     from .solve import solve_contacts
 
     world = World() if world is None else world
+    contact = ContactSettings() if contact is None else contact
+    if not isinstance(contact, ContactSettings):
+        raise TypeError(f"contact must be a cgadyn.ContactSettings, got "
+                        f"{type(contact).__name__}")
+    margin, stabilization = contact.margin, contact.stabilization
     try:
         step = float(dt)
     except (TypeError, ValueError):
         step = float("nan")
     if not np.isfinite(step) or step <= 0.0:
         raise ValueError(f"dt must be a finite number > 0, got {dt!r}")
-    if not (isinstance(stabilization, (int, float)) and 0.0 <= stabilization <= 1.0):
-        raise ValueError(f"stabilization must be a number in [0, 1], got {stabilization!r}")
     q = np.asarray(q, dtype=float)
     v, tau = np.asarray(v, dtype=float), np.asarray(tau, dtype=float)
     for name, x, size in (("v", v, model.nv), ("tau", tau, model.nv)):
@@ -159,19 +165,21 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     g[gap] += np.where(d > 0.0, d, stabilization * d) / step  # K23
     bounds = np.concatenate([np.tile([0.0, np.inf], (nl, 1)),  # λ >= 0 (K26)
                              step * np.outer(frictions[:, 1], [-1.0, 1.0])])  # K30
-    lam, info = solve_contacts(G, g, contacts.friction, solver=solver, tolerance=tolerance,
-                               max_iterations=max_iterations, bounds=bounds)
-    used = solver
-    if not info.converged and solver == "admm":  # PGS from ADMM's last forces (K18)
-        lam, info = solve_contacts(G, g, contacts.friction, solver="pgs",
-                                   tolerance=tolerance, max_iterations=max_iterations,
-                                   warm_start=lam, bounds=bounds)
-        used = "pgs"
-    if not info.converged:
-        raise ValueError(f"the contact solver ({used}) did not converge in "
-                         f"{info.iterations} iterations (residuals: dual {info.dual:.2e}, "
-                         f"complementarity {info.complementarity:.2e}); raise "
-                         f"max_iterations or the tolerance")
+    used, lam = contact.solver, None
+    for used in (contact.solver, other_solver(contact.solver)):  # the other from its λ
+        lam, info = solve_contacts(G, g, contacts.friction, solver=used,
+                                   tolerance=contact.tolerance,
+                                   max_iterations=contact.max_iterations, warm_start=lam,
+                                   bounds=bounds)
+        if info.converged:
+            break
+    if not info.converged and residual(info) > contact.accept:
+        raise ValueError(f"the contact solvers ({contact.solver}, then "
+                         f"{other_solver(contact.solver)}) did not converge in "
+                         f"{contact.max_iterations} iterations each (residuals: primal "
+                         f"{info.primal:.2e}, dual {info.dual:.2e}, complementarity "
+                         f"{info.complementarity:.2e}, above accept = {contact.accept:g}); "
+                         f"raise ContactSettings' max_iterations or accept")
     impulse = J.T @ lam  # joint impulses of the contacts
     v_next = v_free + aba(model, q, np.zeros(model.nv), impulse, gravity=np.zeros(3))  # K24
     forces = (lam[:3 * nc].reshape(nc, 3) @ frame) / step  # in the world frame

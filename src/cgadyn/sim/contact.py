@@ -6,21 +6,22 @@ dt q̈(q, v)`` (K20), into the velocity after the contact impulses, ``v⁺ = v_f
 λ`` (K24), as ``contact.step.contact_step`` does from Python: the contacts of the shapes
 with the ground at q (``manifold.shapes_on_plane``, K21-K22), each a point of its link held
 in the ground frame ``(t₁, t₂, n)``, ``G = J M⁻¹ Jᵀ`` and ``g = J v_free`` with the gap term
-(K23), λ by ADMM then PGS from ADMM's λ (K11-K19). A contact found in the previous step at
-the same slot (shape, patch point) starts from its λ there (K25). The bounds of the joint
-limits near which the step may take a coordinate (``contact.limits.active_limits``) are rows
-``±e_v`` after the contacts', with the same gap term and ``λ >= 0`` (K26), warm-started from
-their slot alike; then a row ``e_k`` per coordinate with a friction loss, ``|λ| <= f dt``
-(K30), warm-started from its impulse in the step before. It is one ``@serial`` function
-called from one site of the loop, compiled only for a rollout with a world (the loop passes
-None otherwise and numba prunes the call).
+(K23), λ by the solver ``ContactSettings`` names, then the other from its λ where the first
+stops short (K11-K19). A contact found in the previous step at the same slot (shape, patch
+point) starts from its λ there (K25). The bounds of the joint limits near which the step
+may take a coordinate (``contact.limits.active_limits``) are rows ``±e_v`` after the
+contacts', with the same gap term and ``λ >= 0`` (K26), warm-started from their slot alike;
+then a row ``e_k`` per coordinate with a friction loss, ``|λ| <= f dt`` (K30), warm-started
+from its impulse in the step before. It is one ``@serial`` function called from one site of
+the loop, compiled only for a rollout with a world (the loop passes None otherwise and
+numba prunes the call).
 
 The world reaches compiled code as a tuple (``world_arrays``): the shapes' kinds, sizes,
 vertices and offsets, their placements on their links, their links, which touch the ground,
-the ground plane ``[n, δ]``, its frame, ``params``: ``[margin, stabilization, friction,
-warm start]`` then the solver's settings (``contact.ncp``), the joint limits enforced
-(``contact.limits.joint_limits``; none where ``joint_limits`` is off) and the friction
-losses (``contact.limits.joint_frictions``; none where ``friction_loss`` is off).
+the ground plane ``[n, δ]``, its frame, ``params`` (``PARAMS``, then the solver's
+``ncp.SETTINGS``), the joint limits enforced (``contact.limits.joint_limits``; none where
+``joint_limits`` is off) and the friction losses (``contact.limits.joint_frictions``; none
+where ``friction_loss`` is off).
 """
 
 from __future__ import annotations
@@ -45,18 +46,23 @@ from ..contact.limits import LIMIT_COLUMNS, ROW_GAP, ROW_SIGN, ROW_SLOT, ROW_V, 
 from ..contact.solver import ADMM, PGS, solve_one
 from ..kernels.rigid import motor_matrix
 
-MARGIN, STABILIZATION, FRICTION, WARM = 0, 1, 2, 3
-PARAMS = 4
-"""``params``: the margin, the stabilization, the ground's friction, warm start (1) or not;
-then the solver's ``ncp.SETTINGS``."""
-REPORT = 3
-"""The report of a step that failed: ``[iterations, dual, complementarity]``."""
+MARGIN, STABILIZATION, FRICTION, WARM, FIRST, ACCEPT = range(6)
+PARAMS = 6
+"""``params``: the margin, the stabilization, the ground's friction, warm start (1) or not,
+the solver tried first (``contact.solver``'s code), the residual a step may end with
+(``ContactSettings.accept``); then the solver's ``ncp.SETTINGS``."""
+REPORT = 4
+"""The report of the last contact step: ``[iterations (both solvers), primal, dual,
+complementarity]`` (zeros for a step without a contact problem)."""
+KEPT = 3
+"""A kept row's first columns: the contacts' number, the solvers' iterations and the largest
+residual of the step (``_keep_contacts``); the slots' forces follow."""
 
 
-def world_arrays(model, collisions, world, margin: float, stabilization: float,
-                 warm_start: bool, tolerance: float, max_iterations: int,
-                 joint_limits: bool = True, friction_loss: bool = True) -> tuple:
-    """The tuple the loop reads (the module's docstring)."""
+def world_arrays(model, collisions, world, contact, joint_limits: bool = True,
+                 friction_loss: bool = True) -> tuple:
+    """The tuple the loop reads (the module's docstring), with the settings of
+    ``contact`` (a ``ContactSettings``)."""
     from ..contact.limits import joint_frictions
     from ..contact.limits import joint_limits as limits_of
     from ..contact.solve import _settings
@@ -65,8 +71,11 @@ def world_arrays(model, collisions, world, margin: float, stabilization: float,
 
     cm = collisions
     active = touches_ground(model, cm, world)
-    params = np.concatenate([[margin, stabilization, world.friction, float(warm_start)],
-                             _settings(tolerance, 0.0, max_iterations, False, 1e-6)])
+    first = ADMM if contact.solver == "admm" else PGS
+    params = np.concatenate([[contact.margin, contact.stabilization, world.friction,
+                              float(contact.warm_start), first, contact.accept],
+                             _settings(contact.tolerance, 0.0, contact.max_iterations, False,
+                                       1e-6)])
     return (np.ascontiguousarray(cm.kinds), np.ascontiguousarray(cm.sizes, dtype=float),
             np.ascontiguousarray(cm.vertices, dtype=float), np.ascontiguousarray(cm.offsets),
             np.ascontiguousarray(cm.placements, dtype=float),
@@ -151,8 +160,9 @@ def _gap(d, beta, dt):
 def contact_velocity(m, world, q, v, vn, dt, work):
     """``vn``: ``v_free`` in, ``v⁺`` out (the module's docstring; K20-K25); the forces of
     the contacts into the slots of ``force`` (world frame, λ / dt; zero where none), their
-    number into ``count``. A status: ``CONTACT_UNSOLVED`` (its residuals in ``report``)
-    where neither solver converges."""
+    number into ``count``, the solvers' report into ``report``. A status:
+    ``CONTACT_UNSOLVED`` where neither solver converges and a residual exceeds
+    ``accept``."""
     (arrays, poses, out, counts, cand, big, mu, info, settings, prev, force, had, tmp8, T,
      count, report, cwork, lrows, bounds, lprev, lhad) = world
     (kinds, sizes, vertices, offsets, placements, links, active, sb, Tb, frame, params,
@@ -190,6 +200,8 @@ def contact_velocity(m, world, q, v, vn, dt, work):
         for i in range(3):
             force[k, i] = 0.0
     count[0] = nc
+    for i in range(REPORT):
+        report[i] = 0.0
     if nc + nl + nf == 0:
         for k in range(K):
             had[k] = 0.0
@@ -268,13 +280,17 @@ def contact_velocity(m, world, q, v, vn, dt, work):
         for r in range(mc):
             lam[r] = 0.0
     muv, bv = mu[:nc], bounds[:nl + nf]
-    solve_one(ADMM, G, g, muv, bv, R, settings, lam, info, Cs, w)
-    if info[ncp.CONVERGED] == 0.0:  # PGS from ADMM's last forces (K18)
+    first = int(params[FIRST])
+    solve_one(first, G, g, muv, bv, R, settings, lam, info, Cs, w)
+    iterations = info[ncp.ITERATIONS]
+    if info[ncp.CONVERGED] == 0.0:  # the other solver from the first one's λ (K18)
         settings[ncp.WARM] = 1.0
-        solve_one(PGS, G, g, muv, bv, R, settings, lam, info, Cs, w)
-    if info[ncp.CONVERGED] == 0.0:
-        report[0], report[1], report[2] = info[ncp.ITERATIONS], info[ncp.DUAL], \
-            info[ncp.COMPLEMENTARITY]
+        solve_one(PGS if first == ADMM else ADMM, G, g, muv, bv, R, settings, lam, info, Cs,
+                  w)
+        iterations += info[ncp.ITERATIONS]
+    report[0], report[1], report[2], report[3] = iterations, info[ncp.PRIMAL], \
+        info[ncp.DUAL], info[ncp.COMPLEMENTARITY]
+    if info[ncp.CONVERGED] == 0.0 and max(report[1], report[2], report[3]) > params[ACCEPT]:
         return fault(CONTACT_UNSOLVED, -1)
     for i in range(m.nv):  # v⁺ = v_free + M⁻¹ Jᵀ λ (K24)
         acc = 0.0

@@ -78,7 +78,7 @@ from ..constraints.work.core import workspace as constraint_workspace
 from ..constraints.work.core import workspace_size as constraint_workspace_size
 from ..multibody.joints import joint_difference, joint_integrate
 from ..multibody.packed import unpack
-from .contact import carve_scratch, contact_velocity, scratch_size
+from .contact import KEPT, carve_scratch, contact_velocity, scratch_size
 from .work.rollout import workspace, workspace_size
 
 WORKSPACE = {  # one rollout's scratch, in order (tools/generate_workspaces.py)
@@ -250,15 +250,17 @@ def _world_size(world, n, nq, nv, nl):
 
 @serial
 def _keep_contacts(world, row):
-    """``row = [count, the forces of the slots (K, 3)]`` of the last contact step; nothing
-    without a world."""
+    """``row = [count, iterations, residual, the forces of the slots (K, 3)]`` of the last
+    contact step (``sim.contact.KEPT``); nothing without a world."""
     if world is None:
         return
-    (_, _, _, _, _, _, _, _, _, _, force, _, _, _, count, _, _, _, _, _, _) = world
+    (_, _, _, _, _, _, _, _, _, _, force, _, _, _, count, report, _, _, _, _, _) = world
     row[0] = count[0]
+    row[1] = report[0]
+    row[2] = max(report[1], report[2], report[3])
     for k in range(force.shape[0]):
         for i in range(3):
-            row[1 + 3 * k + i] = force[k, i]
+            row[KEPT + 3 * k + i] = force[k, i]
 
 
 @serial
@@ -375,7 +377,7 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, se
     compiles a loop without contact). Writes the kept states into ``Q``
     (B, rows, nq), ``V``, ``A`` (B, rows, nv), the constraints' record of each (``_record``)
     into ``X`` (B, rows, 3, nr), the contacts of each (``_keep_contacts``) into ``CF`` (B,
-    rows, 1 + 3 K), a failed contact step's report into ``CR`` (B, 3), and per rollout the
+    rows, KEPT + 3 K), a failed contact step's report into ``CR`` (B, REPORT), and per rollout the
     steps ``completed`` and the ``status`` (0, or the fault that stopped it). The
     acceleration at the last state takes the last open-loop torque. The outputs come in
     filled with NaN; a rollout that stops writes the last state it reached into the row of

@@ -34,7 +34,7 @@ from ..constraints.model import pack
 from ..constraints.operators import checked_settings
 from ..multibody.joints.table import spring_deflection
 from ..multibody.packed import DEFAULT_GRAVITY
-from .contact import REPORT, slots, world_arrays
+from .contact import KEPT, REPORT, slots, world_arrays
 from .controllers import PD, GravityCompensation, actuated_gains
 from .rollout import (
     ACTUATED,
@@ -74,7 +74,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
              f_ext=None, controller=None, record_every: int = 1,
              final_only: bool = False, passive: bool = True, ctrl=None, constraints=None,
              damping: float = 0.0, world=None, collisions=None,
-             contact_warm_start: bool = True, joint_limits: bool | None = None,
+             contact=None, joint_limits: bool | None = None,
              friction_loss: bool | None = None) -> Trajectory:
     """Integrate ``q̈ = ABA(q, v, τ)``, or the constrained dynamics of ``constraints``, for
     ``steps`` steps of ``dt`` seconds.
@@ -104,9 +104,10 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     proximal iterations, the least-norm forces of a redundant set). ``world``: None, or a
     ``cgadyn.World`` whose ground the shapes of ``collisions`` (``cgadyn.collision_model``)
     touch: every step is then ``cgadyn.contact_step``'s (semi-implicit Euler with contact
-    impulses, ADMM then PGS; docs/contact.md, "Rollouts with contact"), its forces starting
-    from the previous step's where a contact stays (``contact_warm_start``); a step whose
-    contact problem neither solver solves stops the rollout, naming the residuals.
+    impulses; docs/contact.md, "Rollouts with contact"), with the margin, stabilization,
+    solvers, tolerance, warm start and ``accept`` of ``contact`` (a
+    ``cgadyn.ContactSettings``, default ``ContactSettings()``); a step whose solvers end
+    with a residual above ``accept`` stops the rollout, naming the residuals.
     ``joint_limits``: with a world (the default there, None), the limits of the joints of
     one coordinate (``Model.lower``, ``Model.upper``) are unilateral constraints of the same
     step (docs/contact.md, "Joint limits", K26); ``False`` turns them off. Without a world
@@ -124,7 +125,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     singular (a loop through a singular pose, with ``damping`` 0) or have no solution.
     With constraints, the ``Trajectory`` also holds ``constraint_violation`` (the position
     and velocity error of each constraint at each state kept) and ``forces`` (λ). With a
-    world, ``contact_count`` and ``contact_forces`` (``Trajectory``).
+    world, ``contact_count``, ``contact_forces``, ``contact_iterations`` and
+    ``contact_residual`` (``Trajectory``).
     A run whose states would not fit in the memory available is refused before it starts,
     with what to reduce.
 
@@ -145,6 +147,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
                          f"got {integrator!r}")
     every = _every(record_every, final_only, steps)
     shapes = _contact_world(model, world, collisions, integrator, constraints)
+    contact = _contact_settings(contact, world)
     for name, flag in (("joint_limits", joint_limits), ("friction_loss", friction_loss)):
         if flag is not None and not isinstance(flag, bool):
             raise ValueError(f"simulate: {name} must be True, False or None, got {flag!r}")
@@ -193,11 +196,10 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     # without rows None: the loop compiled without the constraint core (rollout._dynamics)
     cons, solve = (np.array(p.array, dtype=float), settings) if p.nr else (None, None)
     K = slots(len(shapes)) if world is not None else 0
-    CF = np.full(shape + (1 + 3 * K if world is not None else 0,), np.nan)
+    CF = np.full(shape + (KEPT + 3 * K if world is not None else 0,), np.nan)
     CR = np.full((B, REPORT), np.nan)
     arrays = None if world is None else world_arrays(
-        model, shapes, world, 1e-3, 0.2, bool(contact_warm_start), 1e-10, 1000,
-        joint_limits is not False, friction_loss is not False)
+        model, shapes, world, contact, joint_limits is not False, friction_loss is not False)
     with PARALLEL_LOCK:
         rollouts(packed, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, q_ref, v_ref,
                  cons, solve, arrays, dt, steps, every, Q, V, A, X, CF, CR, completed, status)
@@ -208,15 +210,18 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     diverged = status != 0
     last = np.array([_last_row(int(c), steps, every) if d else rows - 1
                      for c, d in zip(completed, diverged, strict=True)], dtype=np.int64)
-    count, forces = None, None
+    count = forces = iterations = residual = None
     if world is not None:
         count = np.where(np.isnan(CF[..., 0]), -1, CF[..., 0]).astype(np.int64)
-        forces = CF[..., 1:].reshape(shape + (K, 3))
+        iterations = np.where(np.isnan(CF[..., 1]), -1, CF[..., 1]).astype(np.int64)
+        residual = CF[..., 2].copy()
+        forces = CF[..., KEPT:].reshape(shape + (K, 3))
     if not batch:
         end = int(last[0]) + 1
         Q, V, A, X, t = Q[0, :end], V[0, :end], A[0, :end], X[0, :end], t[:end].copy()
         if world is not None:
             count, forces = count[0, :end], forces[0, :end]
+            iterations, residual = iterations[0, :end], residual[0, :end]
         completed, diverged = int(completed[0]), bool(diverged[0])
         if diverged:
             t[-1] = completed * dt  # the last state it reached
@@ -225,7 +230,23 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
                       completed=completed, diverged=diverged,
                       dt=dt, integrator=integrator, message=message,
                       constraint_violation=_violation(X, p.starts), forces=X[..., 2, :],
-                      contact_count=count, contact_forces=forces)
+                      contact_count=count, contact_forces=forces,
+                      contact_iterations=iterations, contact_residual=residual)
+
+
+def _contact_settings(contact, world):
+    """``contact`` checked: a ``ContactSettings`` (None: the defaults), only with a world."""
+    from ..contact.settings import ContactSettings
+
+    if contact is None:
+        return ContactSettings()
+    if not isinstance(contact, ContactSettings):
+        raise ValueError(f"simulate: contact must be a cgadyn.ContactSettings, got "
+                         f"{contact!r}")
+    if world is None:
+        raise ValueError("simulate: contact settings given without a world; pass "
+                         "world=cgadyn.World() for the ground they touch")
+    return contact
 
 
 def _contact_world(model, world, collisions, integrator: str, constraints):
@@ -481,9 +502,9 @@ def _reason(model, code: int, joint: int, k: int, coords: np.ndarray, dt: float,
     if code in (DELASSUS_SINGULAR, CONSTRAINTS_CONFLICT) and p is not None and p.nr:
         return _constraint_reason(code, joint, p)
     if code == CONTACT_UNSOLVED and report is not None:
-        return (f"the contact solver (ADMM, then PGS) did not converge in "
-                f"{int(report[0])} iterations at step {k + 1} (residuals: dual "
-                f"{report[1]:.2e}, complementarity {report[2]:.2e})")
+        return (f"the contact solvers did not converge in {int(report[0])} iterations at "
+                f"step {k + 1} (residuals: primal {report[1]:.2e}, dual {report[2]:.2e}, "
+                f"complementarity {report[3]:.2e}, above ContactSettings.accept)")
     name = f" {model.joint_names[joint]!r}" if joint >= 0 else ""
     if code == DIVERGED:
         dofs = model.joint_dofs(joint)

@@ -80,7 +80,12 @@ class Trajectory:
     those one more step would take; -1 in a row no state reached), and ``contact_forces``
     (rows, K, 3) or (B, rows, K, 3), the world-frame force of each contact slot (K = 4 per
     shape, slot ``4 s + i`` the ``i``-th patch point of shape ``s``; 0 in a slot without
-    a contact, NaN in a row no state reached). None without a world.
+    a contact, NaN in a row no state reached); ``contact_iterations`` (rows,) or (B, rows),
+    the solvers' iterations in that step (both solvers' where the first stopped short; -1 in
+    a row no state reached), and ``contact_residual``, the largest residual (K19) of the
+    forces it kept: at most ``ContactSettings.tolerance`` where the solver converged, up to
+    ``accept`` where it stopped short (0 for a step without a contact problem). None
+    without a world.
 
     ``kinetic`` and ``potential`` from ``simulate`` are computed when one of them (or
     ``energy``) is first read, from the states ``q``, ``v`` then held, in one parallel
@@ -102,6 +107,8 @@ class Trajectory:
     forces: np.ndarray | None = None
     contact_count: np.ndarray | None = None
     contact_forces: np.ndarray | None = None
+    contact_iterations: np.ndarray | None = None
+    contact_residual: np.ndarray | None = None
 
     @property
     def energy(self) -> np.ndarray:
