@@ -493,27 +493,28 @@ def _ground(model, args, q0: np.ndarray, given: bool, registry):
                          f"nothing of it can touch the ground")
     world = World()
     q0 = q0.copy()
-    lowest = ground_contacts(model, collisions, q0, world, margin=1e9)
-    if len(lowest) == 0:
+    found = ground_contacts(model, collisions, q0, world, margin=1e9)
+    if len(found) == 0:
         raise UsageError(f"--ground: none of {model.name!r}'s collision shapes may touch "
                          f"the ground (their contype/conaffinity exclude it)")
+    distance = found.distance.copy()
     if model.floating_base and (args.drop is not None or not given):
-        lift = (args.drop or 0.0) if given else (args.drop or 0.0) - lowest.distance.min()
-        q0[2] += lift
-        lowest = ground_contacts(model, collisions, q0, world, margin=1e9)
-    k = int(np.argmin(lowest.distance))
-    if lowest.distance[k] < -PENETRATION:
-        shape = collisions[int(lowest.collision[k])].name
+        lift = (args.drop or 0.0) if given else (args.drop or 0.0) - distance.min()
+        q0[2] += lift  # the base's z: every shape rises by lift above the level ground
+        distance += lift
+    k = int(np.argmin(distance))
+    if distance[k] < -PENETRATION:
+        shape = collisions[int(found.collision[k])].name
         where = "the given --q0" if given else "its neutral configuration"
         raise UsageError(f"--ground: at {where} {model.name!r} starts "
-                         f"{-lowest.distance[k]:.3g} m inside the ground (its shape "
+                         f"{-distance[k]:.3g} m inside the ground (its shape "
                          f"{shape!r}); start it above the ground"
                          + ("" if model.floating_base else
                             " (a fixed base stays where its URDF puts it: z = 0 is the "
                             "ground, so a robot hanging below its base cannot stand on it)"))
-    lowest = lowest.distance.min()  # the links that will stand: those within 1 cm of it
-    below = ground_contacts(model, collisions, q0, world, margin=max(lowest, 0.0) + 0.01)
-    support = tuple(sorted({int(link) for link in below.link}))
+    # the links it will stand on: those within 1 cm of the lowest shape
+    support = tuple(sorted({int(link) for link, d in zip(found.link, distance, strict=True)
+                            if d <= distance[k] + 0.01}))
     return world, collisions, q0, support
 
 
