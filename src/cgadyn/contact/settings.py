@@ -38,10 +38,10 @@ class ContactSettings:
     within ``max_iterations``, a step whose residuals are all at most ``accept`` keeps the
     last forces and goes on (a rollout counts such steps, ``Trajectory.contact_residual``
     shows their residuals); a larger residual stops the rollout, naming it. ``accept`` below
-    ``tolerance`` is refused. ``margin``: a gap below it is a contact (m), besides the
-    distance a point may travel in the step (K21). ``stabilization``: the fraction of a
-    penetration corrected per step (K23), in [0, 1]. ``warm_start``: a contact that stays
-    starts from its force of the step before (K25)."""
+    ``tolerance`` is refused. ``margin``: a point whose gap at the end of the step, moving
+    as it moves at the step's start or freely, is below it is a contact (m, K21a).
+    ``stabilization``: the fraction of a penetration corrected per step (K23), in [0, 1].
+    ``warm_start``: a contact that stays starts from its force of the step before (K25)."""
 
     solver: str = "pgs"
     tolerance: float = 1e-10
