@@ -120,13 +120,26 @@ def _eligible(cand, count, margin, V, n0, n1, n2, dt, keep):
 
 
 @serial
-def reduce_patch(cand, count, margin, n0, n1, n2, out, V, dt):
+def _apart(cand, i, out, m, patch):
+    """Whether candidate ``i`` is farther than ``patch`` (and than 1e-9) from each of the
+    ``m`` points kept in ``out`` (K22)."""
+    reach = max(patch, 1e-9)
+    for k in range(m):
+        d0, d1, d2 = cand[i, 0] - out[k, 0], cand[i, 1] - out[k, 1], cand[i, 2] - out[k, 2]
+        if d0 * d0 + d1 * d1 + d2 * d2 <= reach * reach:
+            return False
+    return True
+
+
+@serial
+def reduce_patch(cand, count, margin, patch, n0, n1, n2, out, V, dt):
     """At most four of the ``count`` candidates whose gap after the step (``gap_after``
     with the twists ``V`` over ``dt``) is below ``margin``, spanning the patch (K21a,
     K22): the deepest; the one farthest from it; the one making the largest triangle with
-    those two; the one adding the largest area to that triangle. Duplicates (a point no
-    farther than 1e-9 from the chosen ones, or no area added) are not kept. Writes them to
-    ``out`` and returns their number. Column ``OUT`` of ``cand`` is scratch."""
+    those two; the one adding the largest area to that triangle. A point no farther than
+    ``patch`` (and 1e-9) from one kept, or adding no area, is not kept: a patch narrower
+    than ``patch`` is one point. Writes them to ``out`` and returns their number. Column
+    ``OUT`` of ``cand`` is scratch."""
     if _eligible(cand, count, margin, V, n0, n1, n2, dt, cand[:, OUT]) == 0:
         return 0
     first = -1
@@ -138,7 +151,7 @@ def reduce_patch(cand, count, margin, n0, n1, n2, out, V, dt):
     m = _write(out, 0, cand, first)
     second, best = -1, 1e-18
     for i in range(count):
-        if cand[i, OUT] != 0.0:
+        if cand[i, OUT] != 0.0 and _apart(cand, i, out, m, patch):
             d0, d1 = cand[i, 0] - cand[first, 0], cand[i, 1] - cand[first, 1]
             d2 = cand[i, 2] - cand[first, 2]
             s = d0 * d0 + d1 * d1 + d2 * d2
@@ -149,7 +162,7 @@ def reduce_patch(cand, count, margin, n0, n1, n2, out, V, dt):
     m = _write(out, m, cand, second)
     third, best = -1, 1e-18
     for i in range(count):
-        if cand[i, OUT] != 0.0:
+        if cand[i, OUT] != 0.0 and _apart(cand, i, out, m, patch):
             s = abs(_area2(cand, first, second, i, n0, n1, n2))
             if s > best:
                 third, best = i, s
@@ -159,7 +172,7 @@ def reduce_patch(cand, count, margin, n0, n1, n2, out, V, dt):
     sign = 1.0 if _area2(cand, first, second, third, n0, n1, n2) > 0.0 else -1.0
     fourth, best = -1, 1e-18
     for i in range(count):
-        if cand[i, OUT] != 0.0:
+        if cand[i, OUT] != 0.0 and _apart(cand, i, out, m, patch):
             # the area a point adds outside each edge of the triangle (counter-clockwise
             # about n after ``sign``): positive only beyond that edge
             s = max(-sign * _area2(cand, first, second, i, n0, n1, n2),
@@ -173,7 +186,7 @@ def reduce_patch(cand, count, margin, n0, n1, n2, out, V, dt):
 
 
 @serial
-def plane_contacts(kind, size, vertices, T, sb, Tb, margin, cand, out, V, dt):
+def plane_contacts(kind, size, vertices, T, sb, Tb, margin, patch, cand, out, V, dt):
     """The contacts of shape ``(kind, size, vertices)`` at pose ``T`` with the plane of
     size ``sb`` (``n``, ``δ`` in its frame) at pose ``Tb``: at most ``MAX_CONTACTS`` rows
     ``[x, y, z, d]`` in ``out`` (K21, K21a, K22), the plane's world normal pointing out of
@@ -182,12 +195,12 @@ def plane_contacts(kind, size, vertices, T, sb, Tb, margin, cand, out, V, dt):
     n0, n1, n2 = rotate(Tb, sb[0], sb[1], sb[2])
     delta = sb[3] + n0 * Tb[0, 3] + n1 * Tb[1, 3] + n2 * Tb[2, 3]
     count = candidates(kind, size, vertices, T, n0, n1, n2, delta, cand)
-    return reduce_patch(cand, count, margin, n0, n1, n2, out, V, dt)
+    return reduce_patch(cand, count, margin, patch, n0, n1, n2, out, V, dt)
 
 
 @serial
-def shapes_on_plane(kinds, sizes, vertices, offsets, poses, active, sb, Tb, margin, cand,
-                    out, counts, twists, dt):
+def shapes_on_plane(kinds, sizes, vertices, offsets, poses, active, sb, Tb, margin, patch,
+                    cand, out, counts, twists, dt):
     """``plane_contacts`` of every shape ``k`` with ``active[k]`` against one plane, each
     moving with its link's twists ``twists[k]`` (2, 6) over ``dt``, into ``out[k]``
     (``MAX_CONTACTS`` rows each), their number into ``counts[k]``."""
@@ -195,4 +208,5 @@ def shapes_on_plane(kinds, sizes, vertices, offsets, poses, active, sb, Tb, marg
         counts[k] = 0
         if active[k]:
             counts[k] = plane_contacts(kinds[k], sizes[k], vertices[offsets[k]:offsets[k + 1]],
-                                       poses[k], sb, Tb, margin, cand, out[k], twists[k], dt)
+                                       poses[k], sb, Tb, margin, patch, cand, out[k],
+                                       twists[k], dt)

@@ -67,7 +67,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     the stabilization and the solvers' settings named below.
 
     1. the contacts whose gap at the end of the step, moving with the more closing of
-       ``v`` and ``v_free``, is below ``margin`` (K21-K22), each a point of its link;
+       ``v`` and ``v_free``, is below ``margin``, no two of a patch closer than ``patch``
+       (K21-K22), each a point of its link;
     2. the contact problem (K20, K23): ``G = J M⁻¹ Jᵀ`` and ``g = J v_free`` in each
        contact's frame ``(t₁, t₂, n)`` (``ground_frame``), with the normal velocity allowed
        to close an open gap within the step (``g_N + d / dt`` for ``d > 0``) and a
@@ -129,7 +130,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     torque = tau + passive_torques(model, q, v) if passive else tau
     v_free = v + step * aba(model, q, v, torque)  # K20
     # a gap that the step may close is a contact (K21a)
-    contacts = ground_contacts(model, cm, q, world, margin, v, v_free, step)
+    contacts = ground_contacts(model, cm, q, world, margin, v, v_free, step, contact.patch)
     limits = joint_limits_of(model) if joint_limits else np.zeros((0, LIMIT_COLUMNS))
     rows = np.empty((2 * len(limits), LIMIT_COLUMNS))
     nl = active_limits(limits, q, v, v_free, step, float(margin), rows)  # K26

@@ -110,14 +110,16 @@ def shape_twists(model, collisions, q, v=None, v_free=None) -> np.ndarray:
 
 
 def ground_contacts(model, collisions, q, world: World | None = None,
-                    margin: float = 0.0, v=None, v_free=None, dt: float = 0.0) -> Contacts:
+                    margin: float = 0.0, v=None, v_free=None, dt: float = 0.0,
+                    patch: float = 0.0) -> Contacts:
     """The contacts of ``model``'s collision shapes (``collision_model``) at ``q`` with the
     ground of ``world`` (default: ``World()``): for each shape allowed to touch it (MuJoCo's
     filter with the ground's ``contype = conaffinity = 1``; shapes fixed in the world never:
     ``touches_ground``), at most four points spanning the shape's contact patch (K21,
     K22) whose gap is below ``margin``; with velocities ``v`` (and ``v_free``, default
     ``v``), the gap after a step of ``dt`` at the more closing of them (K21a), as the
-    contact step finds its contacts."""
+    contact step finds its contacts; no two closer than ``patch`` (K22,
+    ``ContactSettings.patch`` in the step)."""
     from .api import check_rigid
     from .model import _collisions, collision_poses
 
@@ -135,12 +137,13 @@ def ground_contacts(model, collisions, q, world: World | None = None,
     active = touches_ground(model, cm, world)
     K = len(cm)
     twists = shape_twists(model, cm, q, v, v_free)
-    if not (isinstance(dt, (int, float)) and np.isfinite(dt) and dt >= 0):
-        raise ValueError(f"dt must be a finite number >= 0, got {dt!r}")
+    for name, x in (("dt", dt), ("patch", patch)):
+        if not (isinstance(x, (int, float)) and np.isfinite(x) and x >= 0):
+            raise ValueError(f"{name} must be a finite number >= 0, got {x!r}")
     out = np.empty((K, C.MAX_CONTACTS, C.OUT))
     counts = np.zeros(K, dtype=np.int64)
     C.shapes_on_plane(cm.kinds, cm.sizes, cm.vertices, cm.offsets, poses, active,
-                      world.plane.packed_size, np.eye(4), float(margin),
+                      world.plane.packed_size, np.eye(4), float(margin), float(patch),
                       np.empty((C.CANDIDATES, C.CANDIDATE_COLUMNS)), out, counts, twists,
                       float(dt))
     rows = [(k, j) for k in range(K) for j in range(int(counts[k]))]

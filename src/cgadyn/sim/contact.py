@@ -67,11 +67,11 @@ and the report of the step (``count``, ``report``), the constraint workspace, th
 limits' rows, the interval rows' bounds and previous impulses (``lprev``, ``lhad``), the
 shapes' link twists (K21a)."""
 
-MARGIN, STABILIZATION, FRICTION, WARM, FIRST, ACCEPT = range(6)
-PARAMS = 6
+MARGIN, STABILIZATION, FRICTION, WARM, FIRST, ACCEPT, PATCH = range(7)
+PARAMS = 7
 """``params``: the margin, the stabilization, the ground's friction, warm start (1) or not,
 the solver tried first (``contact.solver``'s code), the residual a step may end with
-(``ContactSettings.accept``); then the solver's ``ncp.SETTINGS``."""
+(``ContactSettings.accept``), the narrowest patch; then the solver's ``ncp.SETTINGS``."""
 REPORT = 4
 """The report of the last contact step: ``[iterations (both solvers), primal, dual,
 complementarity]`` (zeros for a step without a contact problem)."""
@@ -94,7 +94,8 @@ def world_arrays(model, collisions, world, contact, joint_limits: bool = True,
     active = touches_ground(model, cm, world)
     first = ADMM if contact.solver == "admm" else PGS
     params = np.concatenate([[contact.margin, contact.stabilization, world.friction,
-                              float(contact.warm_start), first, contact.accept],
+                              float(contact.warm_start), first, contact.accept,
+                              contact.patch],
                              _settings(contact.tolerance, 0.0, contact.max_iterations, False,
                                        1e-6)])
     return WorldArrays(np.ascontiguousarray(cm.kinds), np.ascontiguousarray(cm.sizes, dtype=float),
@@ -239,7 +240,7 @@ def contact_velocity(m, world, q, v, vn, dt, work):
                 poses[s, i, j] = acc
     _shape_twists(m, k_.Sw, links, v, vn, twists)
     C.shapes_on_plane(kinds, sizes, vertices, offsets, poses, active, sb, Tb, params[MARGIN],
-                      cand, out, counts, twists, dt)  # K21, K21a, K22
+                      params[PATCH], cand, out, counts, twists, dt)  # K21, K21a, K22
     nc = 0
     for s in range(shapes):
         nc += int(counts[s])
