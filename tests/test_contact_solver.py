@@ -218,3 +218,22 @@ def test_contact_problem_refuses_frame_constraints():
     with pytest.raises(ValueError, match="dt must be"):
         cgadyn.contact_problem(model, cgadyn.neutral(model), np.zeros(model.nv),
                                np.zeros(model.nv), 0.0, cs)
+
+
+def test_pgs_reads_no_row_past_a_small_problem():
+    """PGS's scratch rows hold ``max(m, 6)`` floats: on one contact (m = 3) it must keep
+    ``σ`` over the problem's rows alone. Run as plain Python (``NUMBA_DISABLE_JIT``, bounds
+    checked, in a child process): reading past ``G``'s rows raises ``IndexError`` there."""
+    import os
+    import subprocess
+    import sys
+
+    code = ("import numpy as np, cgadyn\n"
+            "G = np.array([[2.0, 0.1, 0.2], [0.1, 1.5, 0.1], [0.2, 0.1, 3.0]])\n"
+            "lam, info = cgadyn.solve_contacts(G, -G @ np.array([0.3, -0.2, 1.0]), "
+            "np.array([0.8]), solver='pgs')\n"
+            "assert info.converged and np.allclose(lam, [0.3, -0.2, 1.0], atol=1e-9), lam\n")
+    env = dict(os.environ, NUMBA_DISABLE_JIT="1")
+    run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                         text=True, timeout=300)
+    assert run.returncode == 0, run.stderr[-2000:]

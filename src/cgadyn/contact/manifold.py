@@ -94,18 +94,23 @@ def _write(out, m, cand, i):
 
 @serial
 def gap_after(cand, i, V, n0, n1, n2, dt):
-    """Candidate ``i``'s gap at the end of a step of length ``dt`` (K21a): its distance
-    plus ``dt`` times its speed along the normal, ``n · (v + ω × x)``, at the more closing of
-    its link's two world twists ``V[t] = [v, ω]`` (the velocity at the step's start and the
-    free one; zeros: the distance itself), never more than the distance."""
+    """Candidate ``i``'s least gap at the end of a step of length ``dt`` (K21a): its
+    distance less the way it may travel in the step, ``dt |v_x| + dt² |ω| |v_x|`` with
+    ``v_x = v + ω × x`` (the second term for the turn of that velocity: a point of a body
+    turning at ``ω`` accelerates by ``ω × v_x``), at the larger of its link's two world
+    twists ``V[t] = [v, ω]`` (the velocity at the step's start and the free one; zeros: the
+    distance itself). In any direction, not only along the normal: the contact impulses of
+    the step turn the velocities (a joint limit's impulse swings a leg into the ground)."""
     x0, x1, x2 = cand[i, 0], cand[i, 1], cand[i, 2]
-    closing = 0.0
+    reach = 0.0
     for t in range(2):
         w0, w1, w2 = V[t, 3], V[t, 4], V[t, 5]
-        s = (n0 * (V[t, 0] + w1 * x2 - w2 * x1) + n1 * (V[t, 1] + w2 * x0 - w0 * x2)
-             + n2 * (V[t, 2] + w0 * x1 - w1 * x0))
-        closing = min(closing, s)
-    return cand[i, 3] + dt * closing
+        u0, u1, u2 = V[t, 0] + w1 * x2 - w2 * x1, V[t, 1] + w2 * x0 - w0 * x2, \
+            V[t, 2] + w0 * x1 - w1 * x0
+        u = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+        w = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+        reach = max(reach, dt * u * (1.0 + dt * w))
+    return cand[i, 3] - reach
 
 
 @serial

@@ -29,11 +29,12 @@ from .sets import interval_step
 @inline
 def _move(G, R, sigma, lam, r, value):
     """``λ_r ← value``, and ``σ = (G + R) λ + g`` (K11) kept by its change: column ``r`` of
-    ``G`` (its row: ``G`` is symmetric) times the step, plus ``R_r`` times it on row ``r``."""
+    ``G`` (its row: ``G`` is symmetric) times the step, plus ``R_r`` times it on row ``r``.
+    ``sigma`` may be longer than the problem (scratch): its first ``len(lam)`` rows."""
     step = value - lam[r]
     if step != 0.0:
         lam[r] = value
-        for c in range(sigma.shape[0]):
+        for c in range(lam.shape[0]):
             sigma[c] += G[r, c] * step
         sigma[r] += R[r] * step
 

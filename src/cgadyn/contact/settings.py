@@ -38,8 +38,8 @@ class ContactSettings:
     within ``max_iterations``, a step whose residuals are all at most ``accept`` keeps the
     last forces and goes on (a rollout counts such steps, ``Trajectory.contact_residual``
     shows their residuals); a larger residual stops the rollout, naming it. ``accept`` below
-    ``tolerance`` is refused. ``margin``: a point whose gap at the end of the step, moving
-    as it moves at the step's start or freely, is below it is a contact (m, K21a).
+    ``tolerance`` is refused. ``margin``: a point whose gap, less the way it may travel in
+    the step at its speed, is below it is a contact (m, K21a).
     ``patch``: a contact patch's points closer than it to one kept are not kept (m, K22):
     the flat facets of a curved shape's hull (a round foot's) are millimetres wide, and
     their corners would be nearly dependent rows on which both solvers take thousands of

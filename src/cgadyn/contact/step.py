@@ -66,9 +66,9 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     ``contact`` (a ``ContactSettings``, default ``ContactSettings()``) holds the margin,
     the stabilization and the solvers' settings named below.
 
-    1. the contacts whose gap at the end of the step, moving with the more closing of
-       ``v`` and ``v_free``, is below ``margin``, no two of a patch closer than ``patch``
-       (K21-K22), each a point of its link;
+    1. the contacts whose gap, less the way the point may travel in the step at ``v`` or
+       ``v_free``, is below ``margin``, no two of a patch closer than ``patch`` (K21-K22),
+       each a point of its link;
     2. the contact problem (K20, K23): ``G = J M⁻¹ Jᵀ`` and ``g = J v_free`` in each
        contact's frame ``(t₁, t₂, n)`` (``ground_frame``), with the normal velocity allowed
        to close an open gap within the step (``g_N + d / dt`` for ``d > 0``) and a

@@ -117,7 +117,7 @@ def ground_contacts(model, collisions, q, world: World | None = None,
     filter with the ground's ``contype = conaffinity = 1``; shapes fixed in the world never:
     ``touches_ground``), at most four points spanning the shape's contact patch (K21,
     K22) whose gap is below ``margin``; with velocities ``v`` (and ``v_free``, default
-    ``v``), the gap after a step of ``dt`` at the more closing of them (K21a), as the
+    ``v``), the gap less the way each point may travel in a step of ``dt`` (K21a), as the
     contact step finds its contacts; no two closer than ``patch`` (K22,
     ``ContactSettings.patch`` in the step)."""
     from .api import check_rigid
