@@ -46,13 +46,18 @@ def test_each_criterion_measures_what_it_names():
     d = np.array([0.0, -1e-4, 2e-3])
     c = step_criteria(f, s, d, mu)
     assert c.maxima() == {"signorini": 0.0, "approach": 0.0, "cone": 0.0,
-                          "dissipation": 0.0, "penetration": 1e-4}
+                          "dissipation": 0.0, "friction_direction": 0.0, "penetration": 1e-4}
     assert list(c.sliding) == [False, True, True]
     bad = step_criteria(np.array([[1.5, 0.0, 2.0]]), np.zeros((1, 3)), [0.0], [0.5])
-    assert bad.cone[0] == pytest.approx(0.5) and bad.dissipation[0] == 0.0  # outside
+    assert bad.cone[0] == pytest.approx(0.5) and bad.friction_direction[0] == 0.0  # outside
     turned = step_criteria(np.array([[0.0, 1.0, 2.0]]), np.array([[0.4, 0.0, 0.0]]), [0.0],
                            [0.5])  # on the cone, but across the sliding
-    assert turned.cone[0] == 0.0 and turned.dissipation[0] == pytest.approx(math.sqrt(2.0))
+    assert turned.cone[0] == 0.0 and turned.dissipation[0] == pytest.approx(0.4)  # μ f_N ‖σ_T‖
+    assert turned.friction_direction[0] == pytest.approx(math.sqrt(2.0))
+    weak = step_criteria(np.array([[-0.5, 0.0, 2.0]]), np.array([[0.4, 0.0, 0.0]]), [0.0],
+                         [0.5])  # against the sliding, but less than the cone allows
+    assert weak.dissipation[0] == pytest.approx(0.2) and weak.friction_direction[0] == \
+        pytest.approx(0.5)
     pushed = step_criteria(np.array([[0.0, 0.0, 2.0]]), np.array([[0.0, 0.0, 0.25]]), [0.0],
                            [0.5])  # a force on a contact that opens
     assert pushed.signorini[0] == pytest.approx(0.5) and pushed.approach[0] == 0.0
@@ -94,7 +99,8 @@ def test_a_box_sliding_down_a_slope_meets_the_criteria_and_a_wrong_force_fails_t
     turned[:, :2] = f[:, :2] @ np.array([[0.0, 1.0], [-1.0, 0.0]])
     c = step_criteria(turned, _with_forces(model, s, q0, turned), s.contacts.distance,
                       s.contacts.friction)
-    assert c.maxima()["dissipation"] > 1.0 and c.maxima()["cone"] < 1e-12
+    assert c.maxima()["dissipation"] > 1e-3 and c.maxima()["friction_direction"] > 0.1
+    assert c.maxima()["cone"] < 1e-12
     wide = f.copy()
     wide[:, :2] *= 1.5
     c = step_criteria(wide, _with_forces(model, s, q0, wide), s.contacts.distance,

@@ -22,7 +22,8 @@ SLIP = 1e-6
 """The tangential speed (m/s) above which a contact slides (K33): ``ContactSettings.accept``'s
 default, far above what a converged solver leaves on a sticking contact."""
 
-CRITERIA = ("signorini", "approach", "cone", "dissipation", "penetration")
+CRITERIA = ("signorini", "approach", "cone", "dissipation", "friction_direction",
+            "penetration")
 """The criteria of ``ContactCriteria``, in the order they are reported."""
 
 
@@ -33,16 +34,18 @@ class ContactCriteria:
     ``signorini`` (W): ``|f_N σ_N|``, the normal complementarity (K31); ``approach`` (m/s):
     ``max(0, -σ_N)``, the speed at which a contact still closes after the step (the other
     half of Signorini's condition, K31); ``cone`` (N): ``max(0, ‖f_T‖ - μ f_N, -f_N)``, how
-    far the force lies outside Coulomb's cone (K32); ``dissipation`` (N): for a sliding
-    contact (``‖σ_T‖ > slip``) ``‖f_T + μ f_N σ_T / ‖σ_T‖‖``, how far friction is from
-    opposing the sliding with all the cone allows, zero for a sticking one (K33);
-    ``penetration`` (m): ``max(0, -d)`` (K34); ``sliding``: which contacts slide.
-    ``maxima()`` gives the largest of each (0 without contacts)."""
+    far the force lies outside Coulomb's cone (K32); ``dissipation`` (W): ``max(0, μ f_N ‖σ_T‖
+    + f_T · σ_T)``, the power by which friction falls short of the most the cone allows it
+    to dissipate (K33); ``friction_direction`` (N): for a sliding contact (``‖σ_T‖ > slip``)
+    ``‖f_T + μ f_N σ_T / ‖σ_T‖‖``, how far friction is from that most dissipating force,
+    zero for a sticking one (K33); ``penetration`` (m): ``max(0, -d)`` (K34); ``sliding``:
+    which contacts slide. ``maxima()`` gives the largest of each (0 without contacts)."""
 
     signorini: np.ndarray = field(repr=False)
     approach: np.ndarray = field(repr=False)
     cone: np.ndarray = field(repr=False)
     dissipation: np.ndarray = field(repr=False)
+    friction_direction: np.ndarray = field(repr=False)
     penetration: np.ndarray = field(repr=False)
     sliding: np.ndarray = field(repr=False)
 
@@ -94,9 +97,10 @@ def step_criteria(forces, velocities, distance, friction, slip: float = SLIP
     approach = np.maximum(0.0, -sN)
     cone = np.maximum(0.0, np.maximum(np.linalg.norm(fT, axis=1) - mu * fN, -fN))  # K32
     speed = np.linalg.norm(sT, axis=1)
+    dissipation = np.maximum(0.0, mu * fN * speed + np.sum(fT * sT, axis=1))  # K33
     sliding = speed > slip
     direction = sT / np.where(sliding, speed, 1.0)[:, None]
     off = np.linalg.norm(fT + (mu * fN)[:, None] * direction, axis=1)  # K33
-    dissipation = np.where(sliding, off, 0.0)
     penetration = np.maximum(0.0, -d)  # K34
-    return ContactCriteria(signorini, approach, cone, dissipation, penetration, sliding)
+    return ContactCriteria(signorini, approach, cone, dissipation,
+                           np.where(sliding, off, 0.0), penetration, sliding)

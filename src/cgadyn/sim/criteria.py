@@ -9,6 +9,15 @@ the step's contacts again at ``q_k`` (``ground_contacts`` with the loop's margin
 dt ‖(v_k, v_free)‖``, K21-K22), and with the next state's velocity ``v_{k+1} = v⁺`` (K24)
 their velocities after the step ``σ = J(q_k) v⁺`` plus the gap's term (K23), which is all
 ``contact.criteria.step_criteria`` needs.
+
+The loop keeps forces by slot, not the points they act at. Where a shape's candidates tie
+(a box flat on the ground: four corners at the same distance to rounding), the loop and
+``ground_contacts`` may order the same patch points differently (K22), so each shape's slots
+are matched to the points found again by the step's momentum: the contact impulses satisfy
+``Σ J_cᵀ λ_c = M (v⁺ - v_free)`` on the coordinates no joint limit or friction loss acts on
+(K24; a free flyer's six), and of the orderings of a shape's slots the one that satisfies it
+best is kept (``CriteriaHistory.reordered`` counts the steps where it was not the order
+found).
 """
 
 from __future__ import annotations
@@ -55,11 +64,14 @@ class ContactPoint:
 class CriteriaHistory:
     """The criteria (K31-K34) of every step of a rollout, each the largest over the step's
     contacts (0 for a step without one, NaN for a step not taken): ``signorini`` (W),
-    ``approach`` (m/s), ``cone`` (N), ``dissipation`` (N), ``penetration`` (m), each
+    ``approach`` (m/s), ``cone`` (N), ``dissipation`` (W), ``friction_direction`` (N),
+    ``penetration`` (m), each
     (steps,) or (B, steps) for B rollouts, for the steps from the states at ``t``;
     ``contacts`` the number of contacts of each step; ``unmatched``: the steps whose
     contacts found again differ from the loop's count (a candidate exactly at the margin;
-    their criteria are those of the contacts found again). ``maxima()`` gives the largest
+    their criteria are those of the contacts found again); ``reordered``: the steps whose
+    slots were matched to the points in another order than found (the module's docstring).
+    ``maxima()`` gives the largest
     of each criterion over the run."""
 
     t: np.ndarray
@@ -67,9 +79,11 @@ class CriteriaHistory:
     approach: np.ndarray
     cone: np.ndarray
     dissipation: np.ndarray
+    friction_direction: np.ndarray
     penetration: np.ndarray
     contacts: np.ndarray
     unmatched: int = 0
+    reordered: int = 0
 
     def maxima(self) -> dict[str, float]:
         """The largest value of each criterion over every step taken (``CRITERIA``)."""
@@ -121,11 +135,65 @@ def _found(scene: ContactScene, dt: float, q, v, a):
     return contacts, slots
 
 
+def _momentum_free(model) -> np.ndarray:
+    """The velocity coordinates on which no joint limit or friction loss row may act (K26,
+    K30): there the contact impulses alone change the momentum in a step (K24)."""
+    from ..contact.limits import joint_frictions, joint_limits
+
+    busy = np.concatenate([joint_limits(model)[:, 1], joint_frictions(model)[:, 0]])
+    return np.setdiff1d(np.arange(model.nv), busy.astype(np.int64))
+
+
+def _match(scene, dt, q, v, a, v_next, contacts, slots, forces, J) -> tuple[np.ndarray, bool]:
+    """``slots`` reordered within each shape so that the slots' impulses at the points found
+    satisfy the step's momentum best (the module's docstring); whether it changed them."""
+    from itertools import permutations
+
+    from ..algorithms import crba
+
+    free = _momentum_free(scene.model)
+    shapes = [np.flatnonzero(contacts.collision == s) for s in np.unique(contacts.collision)]
+    if free.size == 0 or all(len(p) < 2 for p in shapes):
+        return slots, False
+    lam = contact_frame_forces(forces[slots], contacts.normal) * dt  # impulses, found order
+    push = np.einsum("cin,ci->cn", J.reshape(-1, 3, J.shape[1])[:, :, free], lam)
+    target = (crba(scene.model, q) @ (v_next - v - dt * a))[free]
+    residual = target - push.sum(axis=0)
+    tie = 1e-9 * (np.linalg.norm(target) + 1e-12)
+    order = slots.copy()
+    for points in shapes:
+        if len(points) < 2:
+            continue
+        base = residual + push[points].sum(axis=0)  # without this shape's impulses
+        best, best_norm = None, np.linalg.norm(residual) - tie
+        for perm in permutations(range(len(points))):
+            trial = slots[points[list(perm)]]
+            lt = contact_frame_forces(forces[trial], contacts.normal[points]) * dt
+            pt = np.einsum("cin,ci->cn", J.reshape(-1, 3, J.shape[1])[points][:, :, free], lt)
+            norm = np.linalg.norm(base - pt.sum(axis=0))
+            if norm < best_norm:
+                best, best_norm, best_push = trial, norm, pt
+        if best is not None:
+            order[points] = best
+            push[points] = best_push
+            residual = base - best_push.sum(axis=0)
+    return order, bool(np.any(order != slots))
+
+
+def _every_state(traj) -> bool:
+    """Whether ``traj`` kept every state (``record_every=1``)."""
+    t = np.asarray(traj.t)
+    return t.size >= 2 and bool(np.allclose(np.diff(t[np.isfinite(t)]), traj.dt, rtol=1e-9,
+                                            atol=0.0))
+
+
 def trajectory_contacts(traj, k: int, rollout: int | None = None) -> list[ContactPoint]:
     """The contacts of kept state ``k`` of ``traj`` (a ``Trajectory`` of
     ``simulate(..., world=...)``; ``rollout``: which one of a batch): each shape's patch
     points at ``q_k`` (K21-K22, with the margin of the step taken from it) with the force
-    the ground put on the robot there in that step. Any ``record_every`` works."""
+    the ground put on the robot there in that step. Any ``record_every`` works; with every
+    state kept the slots are matched to the points by the step's momentum (the module's
+    docstring), else taken in the order found."""
     scene = _scene(traj)
     q, v, a, forces, count = _rollout(traj, rollout)
     rows = q.shape[0]
@@ -133,7 +201,14 @@ def trajectory_contacts(traj, k: int, rollout: int | None = None) -> list[Contac
         raise ValueError(f"k must index a kept state, in [{-rows}, {rows}), got {k!r}")
     if not np.all(np.isfinite(q[k])) or count[k] < 0:
         raise ValueError(f"kept state {k} was not reached (the rollout stopped before it)")
+    k = int(k) % rows
     contacts, slots = _found(scene, traj.dt, q[k], v[k], a[k])
+    if k + 1 < rows and _every_state(traj) and np.all(np.isfinite(v[k + 1])):
+        from ..contact.problem import contact_jacobian
+
+        J = contact_jacobian(scene.model, q[k], contacts)
+        slots, _ = _match(scene, traj.dt, q[k], v[k], a[k], v[k + 1], contacts, slots,
+                          forces[k], J)
     model, cm = scene.model, scene.collisions
     return [ContactPoint(model.link_names[contacts.link[i]], cm[contacts.collision[i]].name,
                          contacts.point[i].copy(), contacts.normal[i].copy(),
@@ -153,7 +228,7 @@ def trajectory_criteria(traj, rollout: int | None = None, slip: float = SLIP
     scene = _scene(traj)
     dt = float(traj.dt)
     t = np.asarray(traj.t)
-    if t.size < 2 or not np.allclose(np.diff(t[np.isfinite(t)]), dt, rtol=1e-9, atol=0.0):
+    if not _every_state(traj):
         raise ValueError("trajectory_criteria needs every state of the run (the velocity after "
                          "each step is the next state's): simulate with record_every=1 and "
                          "final_only=False")
@@ -161,12 +236,13 @@ def trajectory_criteria(traj, rollout: int | None = None, slip: float = SLIP
         parts = [trajectory_criteria(traj, r, slip) for r in range(traj.q.shape[0])]
         return CriteriaHistory(parts[0].t, *(np.array([getattr(p, n) for p in parts])
                                              for n in (*CRITERIA, "contacts")),
-                               unmatched=sum(p.unmatched for p in parts))
+                               unmatched=sum(p.unmatched for p in parts),
+                               reordered=sum(p.reordered for p in parts))
     q, v, a, forces, count = _rollout(traj, rollout)
     steps = q.shape[0] - 1
     out = {name: np.full(steps, np.nan) for name in CRITERIA}
     number = np.full(steps, -1, dtype=np.int64)
-    unmatched = 0
+    unmatched = reordered = 0
     beta = scene.settings.stabilization
     for k in range(steps):
         if not (np.all(np.isfinite(q[k + 1])) and np.all(np.isfinite(v[k + 1]))
@@ -177,10 +253,14 @@ def trajectory_criteria(traj, rollout: int | None = None, slip: float = SLIP
         number[k] = nc
         unmatched += int(nc != count[k])
         J = contact_jacobian(scene.model, q[k], contacts)
+        slots, moved = _match(scene, dt, q[k], v[k], a[k], v[k + 1], contacts, slots,
+                              forces[k], J)
+        reordered += int(moved)
         sigma = (J @ v[k + 1]).reshape(nc, 3)  # σ = J v⁺ (K20, K24)
         sigma[:, 2] += gap_velocity(contacts.distance, beta, dt)  # K23
         crit = step_criteria(contact_frame_forces(forces[k, slots], contacts.normal), sigma,
                              contacts.distance, contacts.friction, slip)
         for name, value in crit.maxima().items():
             out[name][k] = value
-    return CriteriaHistory(t[:steps], *(out[n] for n in CRITERIA), number, unmatched)
+    return CriteriaHistory(t[:steps], *(out[n] for n in CRITERIA), number, unmatched,
+                           reordered)
