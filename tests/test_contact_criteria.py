@@ -14,7 +14,7 @@ from test_contact_step import BOX, G, _free, _on_slope, tilted
 import cgadyn
 from cgadyn.contact.criteria import contact_frame_forces, step_criteria
 from cgadyn.contact.problem import contact_jacobian
-from cgadyn.contact.step import contact_step
+from cgadyn.contact.step import contact_step, ground_frame
 
 DT = 1e-3
 SIE = "semi_implicit_euler"
@@ -72,9 +72,10 @@ def test_each_criterion_measures_what_it_names():
 def _with_forces(model, step, q, forces):
     """The contact velocities after the step had its contacts' forces been ``forces``
     (contact frames): ``σ' = σ + G (λ' - λ)`` with ``G = J M⁻¹ Jᵀ`` (K11)."""
-    J = contact_jacobian(model, q, step.contacts)
+    frames = np.array([ground_frame(n) for n in step.contacts.normal])
+    J = contact_jacobian(model, q, step.contacts, frames)
     Gm = J @ np.linalg.solve(cgadyn.crba(model, q), J.T)
-    now = contact_frame_forces(step.forces, step.contacts.normal)
+    now = contact_frame_forces(step.forces, frames)
     change = (Gm @ (forces - now).reshape(-1)) * DT
     return step.velocities + change.reshape(-1, 3)
 
@@ -94,7 +95,7 @@ def test_a_box_sliding_down_a_slope_meets_the_criteria_and_a_wrong_force_fails_t
                    worst["dissipation"]) < SOLVED, worst
         q0, q, v = q, s.q, s.v
     assert len(s.contacts) == 4 and s.criteria.sliding.all()
-    f = contact_frame_forces(s.forces, s.contacts.normal)
+    f = contact_frame_forces(s.forces, [ground_frame(n) for n in s.contacts.normal])
     turned = f.copy()
     turned[:, :2] = f[:, :2] @ np.array([[0.0, 1.0], [-1.0, 0.0]])
     c = step_criteria(turned, _with_forces(model, s, q0, turned), s.contacts.distance,

@@ -30,8 +30,8 @@ import contact_benchmark as bench  # noqa: E402
 from cgadyn.contact.criteria import CRITERIA  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results"
-UNITS = {"signorini": "W", "approach": "m/s", "cone": "N", "dissipation": "N",
-         "penetration": "m"}
+UNITS = {"signorini": "W", "approach": "m/s", "cone": "N", "dissipation": "W",
+         "friction_direction": "N", "penetration": "m"}
 
 
 def ours(scene, steps: int) -> dict:
@@ -93,8 +93,9 @@ def write(rows: list[tuple], args) -> Path:
             lines.append(f"| {name} | {label} | "
                          + ("all" if key == "all" else f"{100 * o['solved_share']:.1f} %")
                          + " | " + " | ".join(f"{o[key][n]:.2e}" for n in CRITERIA) + " |")
-        lines.append(f"| {name} | MuJoCo ({m['cone_type']} cone) | all | — | — | "
-                     f"{m['cone']:.2e} | — | {m['penetration']:.2e} |")
+        mj = {"cone": f"{m['cone']:.2e}", "penetration": f"{m['penetration']:.2e}"}
+        lines.append(f"| {name} | MuJoCo ({m['cone_type']} cone) | all | "
+                     + " | ".join(mj.get(n, "—") for n in CRITERIA) + " |")
     lines += ["", "cgadyn's rollouts: " + "; ".join(
         f"{n}: {o['stopped']} stopped, {o['contacts']:.1f} contacts per step on average, "
         f"{o['unmatched']} steps whose contacts found again differ from the loop's"

@@ -61,14 +61,12 @@ class ContactCriteria:
         return f"ContactCriteria({len(self)} contacts; maxima: {worst})"
 
 
-def contact_frame_forces(forces, normals) -> np.ndarray:
+def contact_frame_forces(forces, frames) -> np.ndarray:
     """(nc, 3): world-frame forces (nc, 3) turned into their contacts' frames ``(t₁, t₂,
-    n)`` (``step.ground_frame`` of each normal), as the solvers order them (K11)."""
-    from .step import ground_frame
-
+    n)`` (``frames`` (nc, 3, 3), those rows each: ``step.ground_frame`` of its normal), as
+    the solvers order them (K11)."""
     f = np.asarray(forces, dtype=float).reshape(-1, 3)
-    frames = np.array([ground_frame(n) for n in np.asarray(normals, float).reshape(-1, 3)])
-    return np.einsum("cij,cj->ci", frames.reshape(-1, 3, 3), f)
+    return np.einsum("cij,cj->ci", np.asarray(frames, dtype=float).reshape(-1, 3, 3), f)
 
 
 def step_criteria(forces, velocities, distance, friction, slip: float = SLIP
@@ -95,7 +93,7 @@ def step_criteria(forces, velocities, distance, friction, slip: float = SLIP
     sT, sN = s[:, :2], s[:, 2]
     signorini = np.abs(fN * sN)  # K31
     approach = np.maximum(0.0, -sN)
-    cone = np.maximum(0.0, np.maximum(np.linalg.norm(fT, axis=1) - mu * fN, -fN))  # K32
+    cone = np.maximum(0.0, np.maximum(np.linalg.norm(fT, axis=1) - mu * fN, -fN)) + 0.0  # K32
     speed = np.linalg.norm(sT, axis=1)
     dissipation = np.maximum(0.0, mu * fN * speed + np.sum(fT * sT, axis=1))  # K33
     sliding = speed > slip

@@ -46,14 +46,13 @@ def gap_velocity(distance, stabilization: float, dt: float) -> np.ndarray:
     return np.where(d > 0.0, d, stabilization * d) / dt
 
 
-def contact_jacobian(model, q, contacts) -> np.ndarray:
+def contact_jacobian(model, q, contacts, frames) -> np.ndarray:
     """(3 nc, nv): the rows ``(t₁, t₂, n)`` of each contact of ``contacts`` (a ``Contacts``)
     at ``q``, a point of its link held where it is (C1), its world rows turned into its
-    ground frame (``step.ground_frame`` of its normal): ``J v`` is the contact points'
-    velocity in their frames (K20)."""
+    frame (``frames`` (nc, 3, 3), rows ``t₁, t₂, n``: ``step.ground_frame`` of its normal):
+    ``J v`` is the contact points' velocity in their frames (K20)."""
     from ..algorithms import link_placements
     from ..constraints.model import Constraint
-    from .step import ground_frame
 
     nc = len(contacts)
     if nc == 0:
@@ -67,5 +66,4 @@ def contact_jacobian(model, q, contacts) -> np.ndarray:
                                       placement=np.linalg.inv(links[contacts.link[k]]) @ at,
                                       other_placement=at))
     J = constraint_jacobian(model, q, constraints).reshape(nc, 3, model.nv)
-    frames = np.array([ground_frame(n) for n in contacts.normal])
     return np.einsum("cij,cjk->cik", frames, J).reshape(3 * nc, model.nv)

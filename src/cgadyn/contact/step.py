@@ -63,8 +63,9 @@ class ContactStep:
         forces, its contact ``velocities`` and its contacts' distances."""
         from .criteria import contact_frame_forces, step_criteria
 
-        return step_criteria(contact_frame_forces(self.forces, self.contacts.normal),
-                             self.velocities, self.contacts.distance, self.contacts.friction)
+        frames = np.array([ground_frame(n) for n in self.contacts.normal]).reshape(-1, 3, 3)
+        return step_criteria(contact_frame_forces(self.forces, frames), self.velocities,
+                             self.contacts.distance, self.contacts.friction)
 
 
 def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = None,

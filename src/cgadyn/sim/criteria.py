@@ -155,7 +155,8 @@ def _match(scene, dt, q, v, a, v_next, contacts, slots, forces, J) -> tuple[np.n
     shapes = [np.flatnonzero(contacts.collision == s) for s in np.unique(contacts.collision)]
     if free.size == 0 or all(len(p) < 2 for p in shapes):
         return slots, False
-    lam = contact_frame_forces(forces[slots], contacts.normal) * dt  # impulses, found order
+    frames = _frames(contacts)
+    lam = contact_frame_forces(forces[slots], frames) * dt  # impulses, found order
     push = np.einsum("cin,ci->cn", J.reshape(-1, 3, J.shape[1])[:, :, free], lam)
     target = (crba(scene.model, q) @ (v_next - v - dt * a))[free]
     residual = target - push.sum(axis=0)
@@ -170,7 +171,7 @@ def _match(scene, dt, q, v, a, v_next, contacts, slots, forces, J) -> tuple[np.n
         best, best_norm = None, np.linalg.norm(residual) - tie
         for perm in permutations(range(len(points))):
             trial = slots[points[list(perm)]]
-            lt = contact_frame_forces(forces[trial], contacts.normal[points]) * dt
+            lt = contact_frame_forces(forces[trial], frames[points]) * dt
             pt = np.einsum("cin,ci->cn", J.reshape(-1, 3, J.shape[1])[points][:, :, free], lt)
             norm = np.linalg.norm(base - pt.sum(axis=0))
             if norm < best_norm:
@@ -180,6 +181,13 @@ def _match(scene, dt, q, v, a, v_next, contacts, slots, forces, J) -> tuple[np.n
             push[points] = best_push
             residual = base - best_push.sum(axis=0)
     return order, bool(np.any(order != slots))
+
+
+def _frames(contacts) -> np.ndarray:
+    """(nc, 3, 3): each contact's frame, rows ``(t₁, t₂, n)`` (``step.ground_frame``)."""
+    from ..contact.step import ground_frame
+
+    return np.array([ground_frame(n) for n in contacts.normal]).reshape(-1, 3, 3)
 
 
 def _every_state(traj) -> bool:
@@ -208,7 +216,7 @@ def trajectory_contacts(traj, k: int, rollout: int | None = None) -> list[Contac
     if k + 1 < rows and _every_state(traj) and np.all(np.isfinite(v[k + 1])):
         from ..contact.problem import contact_jacobian
 
-        J = contact_jacobian(scene.model, q[k], contacts)
+        J = contact_jacobian(scene.model, q[k], contacts, _frames(contacts))
         slots, _ = _match(scene, traj.dt, q[k], v[k], a[k], v[k + 1], contacts, slots,
                           forces[k], J)
     model, cm = scene.model, scene.collisions
@@ -254,13 +262,14 @@ def trajectory_criteria(traj, rollout: int | None = None, slip: float = SLIP
         nc = len(contacts)
         number[k] = nc
         unmatched += int(nc != count[k])
-        J = contact_jacobian(scene.model, q[k], contacts)
+        frames = _frames(contacts)
+        J = contact_jacobian(scene.model, q[k], contacts, frames)
         slots, moved = _match(scene, dt, q[k], v[k], a[k], v[k + 1], contacts, slots,
                               forces[k], J)
         reordered += int(moved)
         sigma = (J @ v[k + 1]).reshape(nc, 3)  # σ = J v⁺ (K20, K24)
         sigma[:, 2] += gap_velocity(contacts.distance, beta, dt)  # K23
-        crit = step_criteria(contact_frame_forces(forces[k, slots], contacts.normal), sigma,
+        crit = step_criteria(contact_frame_forces(forces[k, slots], frames), sigma,
                              contacts.distance, contacts.friction, slip)
         for name, value in crit.maxima().items():
             out[name][k] = value
