@@ -43,6 +43,7 @@ def ours(scene, steps: int) -> dict:
     solved = tr.contact_residual[:, :-1] <= cgadyn.ContactSettings().tolerance
     out = {"all": history.maxima(), "solved_share": float(np.mean(solved)),
            "stopped": int(np.count_nonzero(tr.diverged)), "unmatched": history.unmatched,
+           "reordered": history.reordered,
            "contacts": float(np.mean(history.contacts[history.contacts >= 0]))}
     out["solved"] = {n: float(np.nanmax(np.where(solved, getattr(history, n), np.nan)))
                      for n in CRITERIA}
@@ -98,7 +99,8 @@ def write(rows: list[tuple], args) -> Path:
                      + " | ".join(mj.get(n, "—") for n in CRITERIA) + " |")
     lines += ["", "cgadyn's rollouts: " + "; ".join(
         f"{n}: {o['stopped']} stopped, {o['contacts']:.1f} contacts per step on average, "
-        f"{o['unmatched']} steps whose contacts found again differ from the loop's"
+        f"{o['unmatched']} steps whose contacts found again differ from the loop's, "
+        f"{o['reordered']} whose slots were matched to the points in another order"
         for n, o, _ in rows) + ".", "",
         "MuJoCo's Signorini and dissipation numbers are left out: its contacts are soft "
         "(`solref`/`solimp`: a force that grows with the penetration, acting within the "
