@@ -31,9 +31,11 @@ def _pose(rng):
 
 def _contacts(shape, T, world=None, margin=1.0):
     world = World() if world is None else world
-    out, cand = np.empty((C.MAX_CONTACTS, C.OUT)), np.empty((C.CANDIDATES, C.OUT))
+    out = np.empty((C.MAX_CONTACTS, C.OUT))
+    cand = np.empty((C.CANDIDATES, C.CANDIDATE_COLUMNS))
     m = C.plane_contacts(shape.kind, shape.packed_size, shape.packed_vertices, T,
-                         world.plane.packed_size, np.eye(4), margin, cand, out)
+                         world.plane.packed_size, np.eye(4), margin, 0.0, cand, out,
+                         np.zeros((2, 6)), 0.0)
     return out[:m]
 
 

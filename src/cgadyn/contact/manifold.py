@@ -4,8 +4,9 @@ A sphere touches a plane at one point; a box lying on a face, a cylinder standin
 or a convex mesh on a flat side touch it over a patch, which one point cannot hold still:
 a contact solver needs the corners of the patch. ``plane_contacts`` gives every shape's
 candidate points, each with its signed distance ``X · π`` to the plane (K1, K21), keeps
-those closer than a margin (so that a contact is found one step before it closes) and
-reduces them to at most ``MAX_CONTACTS`` that span the patch (K22). It allocates nothing
+those whose gap after the step's free motion is below a margin (K21a: a contact is found
+one step before it closes, and a point at rest is one only where it touches) and reduces
+them to at most ``MAX_CONTACTS`` that span the patch (K22). It allocates nothing
 and returns the number of contacts written.
 """
 
@@ -25,6 +26,8 @@ a box's 8 corners, a cylinder's 8 rim points, a capsule's 2 ends, a sphere's 1."
 OUT = 4
 """Each contact's row in ``out``: ``[x, y, z, d]``, the point on the shape and its signed
 distance to the plane (negative: a penetration)."""
+CANDIDATE_COLUMNS = OUT + 1
+"""A candidate's row: ``OUT``'s, then a scratch column (``reduce_patch``)."""
 
 
 @serial
@@ -90,22 +93,65 @@ def _write(out, m, cand, i):
 
 
 @serial
-def reduce_patch(cand, count, margin, n0, n1, n2, out):
-    """At most four of the ``count`` candidates closer than ``margin``, spanning the patch
-    (K22): the deepest; the one farthest from it; the one making the largest triangle with
-    those two; the one adding the largest area to that triangle. Duplicates (a point no
-    farther than 1e-9 from the chosen ones, or no area added) are not kept. Writes them to
-    ``out`` and returns their number."""
+def gap_after(cand, i, V, n0, n1, n2, dt):
+    """Candidate ``i``'s gap at the end of a step of length ``dt`` (K21a): its distance
+    plus ``dt`` times its speed along the normal, ``n · (v + ω × x)``, at the more closing of
+    its link's two world twists ``V[t] = [v, ω]`` (the velocity at the step's start and the
+    free one; zeros: the distance itself), never more than the distance."""
+    x0, x1, x2 = cand[i, 0], cand[i, 1], cand[i, 2]
+    closing = 0.0
+    for t in range(2):
+        w0, w1, w2 = V[t, 3], V[t, 4], V[t, 5]
+        s = (n0 * (V[t, 0] + w1 * x2 - w2 * x1) + n1 * (V[t, 1] + w2 * x0 - w0 * x2)
+             + n2 * (V[t, 2] + w0 * x1 - w1 * x0))
+        closing = min(closing, s)
+    return cand[i, 3] + dt * closing
+
+
+@serial
+def _eligible(cand, count, margin, V, n0, n1, n2, dt, keep):
+    """``keep[i]`` 1 for the candidates whose gap after the step is below ``margin``
+    (K21a), else 0; their number."""
+    k = 0
+    for i in range(count):
+        keep[i] = 1.0 if gap_after(cand, i, V, n0, n1, n2, dt) < margin else 0.0
+        k += int(keep[i])
+    return k
+
+
+@serial
+def _apart(cand, i, out, m, patch):
+    """Whether candidate ``i`` is farther than ``patch`` (and than 1e-9) from each of the
+    ``m`` points kept in ``out`` (K22)."""
+    reach = max(patch, 1e-9)
+    for k in range(m):
+        d0, d1, d2 = cand[i, 0] - out[k, 0], cand[i, 1] - out[k, 1], cand[i, 2] - out[k, 2]
+        if d0 * d0 + d1 * d1 + d2 * d2 <= reach * reach:
+            return False
+    return True
+
+
+@serial
+def reduce_patch(cand, count, margin, patch, n0, n1, n2, out, V, dt):
+    """At most four of the ``count`` candidates whose gap after the step (``gap_after``
+    with the twists ``V`` over ``dt``) is below ``margin``, spanning the patch (K21a,
+    K22): the deepest; the one farthest from it; the one making the largest triangle with
+    those two; the one adding the largest area to that triangle. A point no farther than
+    ``patch`` (and 1e-9) from one kept, or adding no area, is not kept: a patch narrower
+    than ``patch`` is one point. Writes them to ``out`` and returns their number. Column
+    ``OUT`` of ``cand`` is scratch."""
+    if _eligible(cand, count, margin, V, n0, n1, n2, dt, cand[:, OUT]) == 0:
+        return 0
     first = -1
     for i in range(count):
-        if cand[i, 3] < margin and (first < 0 or cand[i, 3] < cand[first, 3]):
+        if cand[i, OUT] != 0.0 and (first < 0 or cand[i, 3] < cand[first, 3]):
             first = i
     if first < 0:
         return 0
     m = _write(out, 0, cand, first)
     second, best = -1, 1e-18
     for i in range(count):
-        if cand[i, 3] < margin:
+        if cand[i, OUT] != 0.0 and _apart(cand, i, out, m, patch):
             d0, d1 = cand[i, 0] - cand[first, 0], cand[i, 1] - cand[first, 1]
             d2 = cand[i, 2] - cand[first, 2]
             s = d0 * d0 + d1 * d1 + d2 * d2
@@ -116,7 +162,7 @@ def reduce_patch(cand, count, margin, n0, n1, n2, out):
     m = _write(out, m, cand, second)
     third, best = -1, 1e-18
     for i in range(count):
-        if cand[i, 3] < margin:
+        if cand[i, OUT] != 0.0 and _apart(cand, i, out, m, patch):
             s = abs(_area2(cand, first, second, i, n0, n1, n2))
             if s > best:
                 third, best = i, s
@@ -126,7 +172,7 @@ def reduce_patch(cand, count, margin, n0, n1, n2, out):
     sign = 1.0 if _area2(cand, first, second, third, n0, n1, n2) > 0.0 else -1.0
     fourth, best = -1, 1e-18
     for i in range(count):
-        if cand[i, 3] < margin:
+        if cand[i, OUT] != 0.0 and _apart(cand, i, out, m, patch):
             # the area a point adds outside each edge of the triangle (counter-clockwise
             # about n after ``sign``): positive only beyond that edge
             s = max(-sign * _area2(cand, first, second, i, n0, n1, n2),
@@ -140,24 +186,27 @@ def reduce_patch(cand, count, margin, n0, n1, n2, out):
 
 
 @serial
-def plane_contacts(kind, size, vertices, T, sb, Tb, margin, cand, out):
+def plane_contacts(kind, size, vertices, T, sb, Tb, margin, patch, cand, out, V, dt):
     """The contacts of shape ``(kind, size, vertices)`` at pose ``T`` with the plane of
     size ``sb`` (``n``, ``δ`` in its frame) at pose ``Tb``: at most ``MAX_CONTACTS`` rows
-    ``[x, y, z, d]`` in ``out`` (K21, K22), the plane's world normal pointing out of it.
-    Returns their number."""
+    ``[x, y, z, d]`` in ``out`` (K21, K21a, K22), the plane's world normal pointing out of
+    it, for the shape moving with the twists ``V`` (2, 6) over ``dt``. ``cand`` has
+    ``CANDIDATE_COLUMNS``. Returns their number."""
     n0, n1, n2 = rotate(Tb, sb[0], sb[1], sb[2])
     delta = sb[3] + n0 * Tb[0, 3] + n1 * Tb[1, 3] + n2 * Tb[2, 3]
     count = candidates(kind, size, vertices, T, n0, n1, n2, delta, cand)
-    return reduce_patch(cand, count, margin, n0, n1, n2, out)
+    return reduce_patch(cand, count, margin, patch, n0, n1, n2, out, V, dt)
 
 
 @serial
-def shapes_on_plane(kinds, sizes, vertices, offsets, poses, active, sb, Tb, margin, cand,
-                    out, counts):
-    """``plane_contacts`` of every shape ``k`` with ``active[k]`` against one plane, into
-    ``out[k]`` (``MAX_CONTACTS`` rows each), their number into ``counts[k]``."""
+def shapes_on_plane(kinds, sizes, vertices, offsets, poses, active, sb, Tb, margin, patch,
+                    cand, out, counts, twists, dt):
+    """``plane_contacts`` of every shape ``k`` with ``active[k]`` against one plane, each
+    moving with its link's twists ``twists[k]`` (2, 6) over ``dt``, into ``out[k]``
+    (``MAX_CONTACTS`` rows each), their number into ``counts[k]``."""
     for k in range(kinds.shape[0]):
         counts[k] = 0
         if active[k]:
             counts[k] = plane_contacts(kinds[k], sizes[k], vertices[offsets[k]:offsets[k + 1]],
-                                       poses[k], sb, Tb, margin, cand, out[k])
+                                       poses[k], sb, Tb, margin, patch, cand, out[k],
+                                       twists[k], dt)

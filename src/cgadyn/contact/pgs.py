@@ -27,12 +27,25 @@ from .sets import interval_step
 
 
 @inline
-def _block_row(G, R, g, lam, r):
-    """Row ``r`` of ``σ = (G + R) λ + g`` (K11)."""
-    acc = g[r] + R[r] * lam[r]
-    for c in range(g.shape[0]):
-        acc += G[r, c] * lam[c]
-    return acc
+def _move(G, R, sigma, lam, r, value):
+    """``λ_r ← value``, and ``σ = (G + R) λ + g`` (K11) kept by its change: column ``r`` of
+    ``G`` (its row: ``G`` is symmetric) times the step, plus ``R_r`` times it on row ``r``."""
+    step = value - lam[r]
+    if step != 0.0:
+        lam[r] = value
+        for c in range(sigma.shape[0]):
+            sigma[c] += G[r, c] * step
+        sigma[r] += R[r] * step
+
+
+@inline
+def _scales(g, sigma, lam):
+    """``(‖(G + R) λ‖∞, ‖λ‖∞)`` from ``σ - g``: the stopping rule's scales (K19)."""
+    gl = lmax = 0.0
+    for r in range(g.shape[0]):
+        gl = max(gl, abs(sigma[r] - g[r]))
+        lmax = max(lmax, abs(lam[r]))
+    return gl, lmax
 
 
 @serial
@@ -41,7 +54,9 @@ def pgs_solve(G, g, mu, bounds, R, settings, lam, info, C, w):
     force ``λ_N ← max(0, λ_N - σ_N / A_NN)``, then the tangential one ``λ_T ← λ_T - σ_T /
     L_T`` cut to the disc ``‖λ_T‖ <= μ λ_N`` (``A = G + R``, ``L_T`` the largest eigenvalue of
     the contact's tangential 2 x 2 block); then each interval row of ``bounds`` (K29);
-    ``C`` is unused. A status."""
+    ``C`` is unused. ``σ`` is formed once and then kept by each row's change (``_move``),
+    one column of ``G`` per row, and formed anew where the stopping rule passes. A
+    status."""
     m = g.shape[0]
     nc = mu.shape[0]
     nb = bounds.shape[0]
@@ -69,26 +84,29 @@ def pgs_solve(G, g, mu, bounds, R, settings, lam, info, C, w):
             o = 3 * i
             ann = G[o + 2, o + 2] + R[o + 2]
             if ann > 0.0:  # the normal force (K18)
-                lam[o + 2] = max(0.0, lam[o + 2] - _block_row(G, R, g, lam, o + 2) / ann)
+                _move(G, R, sigma, lam, o + 2, max(0.0, lam[o + 2] - sigma[o + 2] / ann))
             a, b, d = G[o, o] + R[o], G[o, o + 1], G[o + 1, o + 1] + R[o + 1]
             big = 0.5 * (a + d) + math.sqrt(0.25 * (a - d) ** 2 + b * b)
             if big > 0.0:  # the tangential force, cut to the disc (K18)
-                s0 = _block_row(G, R, g, lam, o)
-                s1 = _block_row(G, R, g, lam, o + 1)
-                t0, t1 = lam[o] - s0 / big, lam[o + 1] - s1 / big
+                t0, t1 = lam[o] - sigma[o] / big, lam[o + 1] - sigma[o + 1] / big
                 t = math.sqrt(t0 * t0 + t1 * t1)
                 cap = mu[i] * lam[o + 2]
                 scale = cap / t if t > cap else 1.0
-                lam[o], lam[o + 1] = scale * t0, scale * t1
+                _move(G, R, sigma, lam, o, scale * t0)
+                _move(G, R, sigma, lam, o + 1, scale * t1)
         for b in range(nb):  # each interval row (K29)
             r = 3 * nc + b
-            lam[r] = interval_step(bounds[b, 0], bounds[b, 1], lam[r],
-                                   _block_row(G, R, g, lam, r), G[r, r] + R[r])
-        _, gl, lmax = velocity(G, R, g, lam, sigma)
+            _move(G, R, sigma, lam, r, interval_step(bounds[b, 0], bounds[b, 1], lam[r],
+                                                     sigma[r], G[r, r] + R[r]))
+        gl, lmax = _scales(g, sigma, lam)
         primal, dual, comp = residuals(mu, bounds, lam, sigma, tmp)
         if not math.isfinite(dual):
             return fault(NONFINITE_RESULT, -1)
         ok = passes(settings, primal, dual, comp, gmax, gl, lmax)
+        if ok:  # the kept σ drifts by rounding: the rule again on σ formed anew
+            _, gl, lmax = velocity(G, R, g, lam, sigma)
+            primal, dual, comp = residuals(mu, bounds, lam, sigma, tmp)
+            ok = passes(settings, primal, dual, comp, gmax, gl, lmax)
     info[ITERATIONS], info[PRIMAL], info[DUAL], info[COMPLEMENTARITY] = it, primal, dual, comp
     info[CONVERGED] = 1.0 if ok else 0.0
     info[RHO] = 0.0

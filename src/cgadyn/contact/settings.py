@@ -29,7 +29,7 @@ class ContactSettings:
 
     ``solver``: the solver tried first, ``"pgs"`` (K18) or ``"admm"`` (K16-K17); where it
     does not converge the other goes on from its last forces. PGS first: on the redundant
-    contacts of a robot standing on patches (four points per foot, two per lying capsule;
+    contacts of a robot standing on patches (a box's four corners, two per lying capsule;
     ``G`` far from full rank) it meets the tolerance in tens of sweeps where ADMM takes
     hundreds of iterations (``validation/contact_benchmark.py`` measures both).
     ``tolerance``: the stopping rule's absolute tolerance on each residual (K19; velocities
@@ -38,16 +38,22 @@ class ContactSettings:
     within ``max_iterations``, a step whose residuals are all at most ``accept`` keeps the
     last forces and goes on (a rollout counts such steps, ``Trajectory.contact_residual``
     shows their residuals); a larger residual stops the rollout, naming it. ``accept`` below
-    ``tolerance`` is refused. ``margin``: a gap below it is a contact (m), besides the
-    distance a point may travel in the step (K21). ``stabilization``: the fraction of a
-    penetration corrected per step (K23), in [0, 1]. ``warm_start``: a contact that stays
-    starts from its force of the step before (K25)."""
+    ``tolerance`` is refused. ``margin``: a point whose gap at the end of the step, moving
+    as it moves at the step's start or freely, is below it is a contact (m, K21a).
+    ``patch``: a contact patch's points closer than it to one kept are not kept (m, K22):
+    the flat facets of a curved shape's hull (a round foot's) are millimetres wide, and
+    their corners would be nearly dependent rows on which both solvers take thousands of
+    iterations, for a torque about the facet worth nothing; a patch narrower than ``patch``
+    is one point. ``stabilization``: the fraction of a penetration corrected per step (K23),
+    in [0, 1]. ``warm_start``: a contact that stays starts from its force of the step before
+    (K25)."""
 
     solver: str = "pgs"
     tolerance: float = 1e-10
     max_iterations: int = 1000
     accept: float = 1e-6
     margin: float = 1e-3
+    patch: float = 1e-2
     stabilization: float = 0.2
     warm_start: bool = True
 
@@ -66,6 +72,7 @@ class ContactSettings:
             raise ValueError(f"ContactSettings: max_iterations must be an integer >= 1, got "
                              f"{self.max_iterations!r}")
         _number("margin", self.margin, 0.0)
+        _number("patch", self.patch, 0.0)
         stab = _number("stabilization", self.stabilization, 0.0)
         if stab > 1.0:
             raise ValueError(f"ContactSettings: stabilization must lie in [0, 1], got "

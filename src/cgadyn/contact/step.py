@@ -80,9 +80,9 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     ``contact`` (a ``ContactSettings``, default ``ContactSettings()``) holds the margin,
     the stabilization and the solvers' settings named below.
 
-    1. the contacts closer than ``margin`` plus the distance a point may travel in the step
-       (``|v| dt``, an angular speed counted at a reach of 1 m) (K21-K22), each a point of
-       its link;
+    1. the contacts whose gap at the end of the step, moving with the more closing of
+       ``v`` and ``v_free``, is below ``margin``, no two of a patch closer than ``patch``
+       (K21-K22), each a point of its link;
     2. the contact problem (K20, K23): ``G = J M⁻¹ Jᵀ`` and ``g = J v_free`` in each
        contact's frame ``(t₁, t₂, n)`` (``ground_frame``), with the normal velocity allowed
        to close an open gap within the step (``g_N + d / dt`` for ``d > 0``) and a
@@ -143,10 +143,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     cm = CollisionModel([], model) if collisions is None else _collisions(collisions, model)
     torque = tau + passive_torques(model, q, v) if passive else tau
     v_free = v + step * aba(model, q, v, torque)  # K20
-    # a gap that the step may close is a contact: the margin grows by how far a point can
-    # move in one step (|v| dt, an angular speed counted at a reach of 1 m)
-    contacts = ground_contacts(model, cm, q, world, margin + step * float(np.linalg.norm(
-        np.concatenate([v, v_free]))))
+    # a gap that the step may close is a contact (K21a)
+    contacts = ground_contacts(model, cm, q, world, margin, v, v_free, step, contact.patch)
     limits = joint_limits_of(model) if joint_limits else np.zeros((0, LIMIT_COLUMNS))
     rows = np.empty((2 * len(limits), LIMIT_COLUMNS))
     nl = active_limits(limits, q, v, v_free, step, float(margin), rows)  # K26

@@ -14,7 +14,7 @@ import numpy as np
 from . import manifold as C
 from .shapes import Plane
 
-__all__ = ["Contacts", "World", "ground_contacts", "touches_ground"]
+__all__ = ["Contacts", "World", "ground_contacts", "shape_twists", "touches_ground"]
 
 
 @dataclass(frozen=True)
@@ -82,13 +82,44 @@ def touches_ground(model, collisions, world: World) -> np.ndarray:
                     dtype=np.bool_)
 
 
+def shape_twists(model, collisions, q, v=None, v_free=None) -> np.ndarray:
+    """(K, 2, 6): the world twist ``[v, ω]`` (Pinocchio's WORLD: ``v`` the velocity of the
+    point at the world's origin) of each shape's link at the velocities ``v`` and
+    ``v_free`` (default ``v``); zeros for ``v`` None and for shapes that do not move."""
+    from ..algorithms import jacobian
+
+    twists = np.zeros((len(collisions), 2, 6))
+    if v is None:
+        return twists
+    pair = []
+    for name, x in (("v", v), ("v_free", v if v_free is None else v_free)):
+        x = np.asarray(x, dtype=float)
+        if x.shape != (model.nv,) or not np.all(np.isfinite(x)):
+            raise ValueError(f"{name}: expected a finite array of shape ({model.nv},) for "
+                             f"{model.name!r}, got {x.shape}")
+        pair.append(x)
+    seen = {}
+    for k, c in enumerate(collisions):
+        if c.link < 0 or model.link_joint[c.link] < 0:
+            continue
+        if c.link not in seen:
+            J = jacobian(model, q, int(c.link), "world")
+            seen[c.link] = np.stack([J @ pair[0], J @ pair[1]])
+        twists[k] = seen[c.link]
+    return twists
+
+
 def ground_contacts(model, collisions, q, world: World | None = None,
-                    margin: float = 0.0) -> Contacts:
+                    margin: float = 0.0, v=None, v_free=None, dt: float = 0.0,
+                    patch: float = 0.0) -> Contacts:
     """The contacts of ``model``'s collision shapes (``collision_model``) at ``q`` with the
     ground of ``world`` (default: ``World()``): for each shape allowed to touch it (MuJoCo's
     filter with the ground's ``contype = conaffinity = 1``; shapes fixed in the world never:
-    ``touches_ground``), at most four points closer than ``margin`` spanning the
-    shape's contact patch (K21, K22)."""
+    ``touches_ground``), at most four points spanning the shape's contact patch (K21,
+    K22) whose gap is below ``margin``; with velocities ``v`` (and ``v_free``, default
+    ``v``), the gap after a step of ``dt`` at the more closing of them (K21a), as the
+    contact step finds its contacts; no two closer than ``patch`` (K22,
+    ``ContactSettings.patch`` in the step)."""
     from .api import check_rigid
     from .model import _collisions, collision_poses
 
@@ -105,11 +136,16 @@ def ground_contacts(model, collisions, q, world: World | None = None,
     check_rigid(poses, "collision poses")
     active = touches_ground(model, cm, world)
     K = len(cm)
+    twists = shape_twists(model, cm, q, v, v_free)
+    for name, x in (("dt", dt), ("patch", patch)):
+        if not (isinstance(x, (int, float)) and np.isfinite(x) and x >= 0):
+            raise ValueError(f"{name} must be a finite number >= 0, got {x!r}")
     out = np.empty((K, C.MAX_CONTACTS, C.OUT))
     counts = np.zeros(K, dtype=np.int64)
     C.shapes_on_plane(cm.kinds, cm.sizes, cm.vertices, cm.offsets, poses, active,
-                      world.plane.packed_size, np.eye(4), float(margin),
-                      np.empty((C.CANDIDATES, C.OUT)), out, counts)
+                      world.plane.packed_size, np.eye(4), float(margin), float(patch),
+                      np.empty((C.CANDIDATES, C.CANDIDATE_COLUMNS)), out, counts, twists,
+                      float(dt))
     rows = [(k, j) for k in range(K) for j in range(int(counts[k]))]
     which = np.array([k for k, _ in rows], dtype=np.int64)
     found = out[which, [j for _, j in rows]] if rows else np.empty((0, C.OUT))

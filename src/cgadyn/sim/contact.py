@@ -4,17 +4,17 @@ contact", K20-K26, K30).
 ``contact_velocity`` turns the free velocity of a semi-implicit Euler step, ``v_free = v +
 dt q̈(q, v)`` (K20), into the velocity after the contact impulses, ``v⁺ = v_free + M⁻¹ Jᵀ
 λ`` (K24), as ``contact.step.contact_step`` does from Python: the contacts of the shapes
-with the ground at q (``manifold.shapes_on_plane``, K21-K22), each a point of its link held
-in the ground frame ``(t₁, t₂, n)``, ``G = J M⁻¹ Jᵀ`` and ``g = J v_free`` with the gap term
-(K23), λ by the solver ``ContactSettings`` names, then the other from its λ where the first
-stops short (K11-K19). A contact found in the previous step at the same slot (shape, patch
-point) starts from its λ there (K25). The bounds of the joint limits near which the step
-may take a coordinate (``contact.limits.active_limits``) are rows ``±e_v`` after the
-contacts', with the same gap term and ``λ >= 0`` (K26), warm-started from their slot alike;
-then a row ``e_k`` per coordinate with a friction loss, ``|λ| <= f dt`` (K30), warm-started
-from its impulse in the step before. It is one ``@serial`` function called from one site of
-the loop, compiled only for a rollout with a world (the loop passes None otherwise and
-numba prunes the call).
+with the ground at q whose gap the step may close (``manifold.shapes_on_plane``, K21-K22),
+each a point of its link held in the ground frame ``(t₁, t₂, n)``, ``G = J M⁻¹ Jᵀ`` and ``g
+= J v_free`` with the gap term (K23), λ by the solver ``ContactSettings`` names, then the
+other from its λ where the first stops short (K11-K19). A contact found in the previous step
+at the same slot (shape, patch point) starts from its λ there (K25). The bounds of the joint
+limits near which the step may take a coordinate (``contact.limits.active_limits``) are rows
+``±e_v`` after the contacts', with the same gap term and ``λ >= 0`` (K26), warm-started from
+their slot alike; then a row ``e_k`` per coordinate with a friction loss, ``|λ| <= f dt``
+(K30), warm-started from its impulse in the step before. It is one ``@serial`` function
+called from one site of the loop, compiled only for a rollout with a world (the loop passes
+None otherwise and numba prunes the call).
 
 The world reaches compiled code as a tuple (``world_arrays``): the shapes' kinds, sizes,
 vertices and offsets, their placements on their links, their links, which touch the ground,
@@ -27,6 +27,7 @@ where ``friction_loss`` is off).
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 
@@ -46,11 +47,31 @@ from ..contact.limits import LIMIT_COLUMNS, ROW_GAP, ROW_SIGN, ROW_SLOT, ROW_V, 
 from ..contact.solver import ADMM, PGS, solve_one
 from ..kernels.rigid import motor_matrix
 
-MARGIN, STABILIZATION, FRICTION, WARM, FIRST, ACCEPT = range(6)
-PARAMS = 6
+WorldArrays = namedtuple("WorldArrays", (
+    "kinds", "sizes", "vertices", "offsets", "placements", "links", "active", "ground",
+    "ground_pose", "frame", "params", "limits", "frictions"))
+"""The world as the loop reads it (``world_arrays``): the shapes' kinds, sizes, vertices
+and offsets, their placements on their links, their links, which touch the ground, the
+ground plane ``[n, δ]`` and its pose, the ground's frame ``(t₁, t₂, n)``, ``params``, the
+joint limits (``contact.limits.joint_limits``) and the friction losses."""
+
+ContactScratch = namedtuple("ContactScratch", (
+    "world", "poses", "out", "counts", "cand", "big", "mu", "info", "settings", "prev",
+    "force", "had", "tmp8", "T", "count", "report", "cwork", "lrows", "bounds", "lprev",
+    "lhad", "twists"))
+"""A rollout's contact scratch (``carve_scratch``) beside its ``WorldArrays`` (``world``):
+the shapes' poses, the contacts found (``out``, ``counts``), candidates, the problem's
+matrices (``big``), the cones' μ, the solver's info and settings, each slot's impulse of the
+previous step (``prev``, ``had``) and force of this one (``force``), the contacts' number
+and the report of the step (``count``, ``report``), the constraint workspace, the active
+limits' rows, the interval rows' bounds and previous impulses (``lprev``, ``lhad``), the
+shapes' link twists (K21a)."""
+
+MARGIN, STABILIZATION, FRICTION, WARM, FIRST, ACCEPT, PATCH = range(7)
+PARAMS = 7
 """``params``: the margin, the stabilization, the ground's friction, warm start (1) or not,
 the solver tried first (``contact.solver``'s code), the residual a step may end with
-(``ContactSettings.accept``); then the solver's ``ncp.SETTINGS``."""
+(``ContactSettings.accept``), the narrowest patch; then the solver's ``ncp.SETTINGS``."""
 REPORT = 4
 """The report of the last contact step: ``[iterations (both solvers), primal, dual,
 complementarity]`` (zeros for a step without a contact problem)."""
@@ -73,10 +94,11 @@ def world_arrays(model, collisions, world, contact, joint_limits: bool = True,
     active = touches_ground(model, cm, world)
     first = ADMM if contact.solver == "admm" else PGS
     params = np.concatenate([[contact.margin, contact.stabilization, world.friction,
-                              float(contact.warm_start), first, contact.accept],
+                              float(contact.warm_start), first, contact.accept,
+                              contact.patch],
                              _settings(contact.tolerance, 0.0, contact.max_iterations, False,
                                        1e-6)])
-    return (np.ascontiguousarray(cm.kinds), np.ascontiguousarray(cm.sizes, dtype=float),
+    return WorldArrays(np.ascontiguousarray(cm.kinds), np.ascontiguousarray(cm.sizes, dtype=float),
             np.ascontiguousarray(cm.vertices, dtype=float), np.ascontiguousarray(cm.offsets),
             np.ascontiguousarray(cm.placements, dtype=float),
             np.ascontiguousarray(cm.links, dtype=np.int64), active,
@@ -99,7 +121,8 @@ def scratch_size(n, nq, nv, nl, shapes, limits, frictions):
     K = C.MAX_CONTACTS * shapes
     L = 2 * limits
     m = 3 * K + L + frictions
-    return (shapes * 16 + shapes * C.MAX_CONTACTS * C.OUT + shapes + C.CANDIDATES * C.OUT
+    return (shapes * 16 + shapes * C.MAX_CONTACTS * C.OUT + shapes
+            + C.CANDIDATES * C.CANDIDATE_COLUMNS + shapes * 12
             + m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6) + K + ncp.INFO
             + ncp.SETTINGS + 2 * K * 3 + K + 8 + 16 + 1 + REPORT
             + L * LIMIT_COLUMNS + 2 * (L + frictions) + 2 * (L + frictions)
@@ -110,17 +133,16 @@ def scratch_size(n, nq, nv, nl, shapes, limits, frictions):
 def carve_scratch(world, buf, n, nq, nv, nl):
     """The world of ``world_arrays`` and a rollout's scratch carved from ``buf``
     (``scratch_size``), as one tuple."""
-    (kinds, _, _, _, _, _, _, _, _, _, _, limits, frictions) = world
-    shapes = kinds.shape[0]
+    shapes = world.kinds.shape[0]
     K = C.MAX_CONTACTS * shapes
-    L = 2 * limits.shape[0]
-    F = frictions.shape[0]
+    L = 2 * world.limits.shape[0]
+    F = world.frictions.shape[0]
     m = 3 * K + L + F
     p = ws.data_pointer(buf)
     poses, o = ws.carve(p, 0, (shapes, 4, 4))
     out, o = ws.carve(p, o, (shapes, C.MAX_CONTACTS, C.OUT))
     counts, o = ws.carve(p, o, (shapes,))
-    cand, o = ws.carve(p, o, (C.CANDIDATES, C.OUT))
+    cand, o = ws.carve(p, o, (C.CANDIDATES, C.CANDIDATE_COLUMNS))
     big, o = ws.carve(p, o, (m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6),))
     mu, o = ws.carve(p, o, (K,))
     info, o = ws.carve(p, o, (ncp.INFO,))
@@ -137,6 +159,7 @@ def carve_scratch(world, buf, n, nq, nv, nl):
     bounds, o = ws.carve(p, o, (L + F, 2))
     lprev, o = ws.carve(p, o, (L + F,))  # the limits' slots, then the friction rows'
     lhad, o = ws.carve(p, o, (L + F,))
+    twists, o = ws.carve(p, o, (shapes, 2, 6))
     for k in range(K):
         had[k] = 0.0
         for i in range(3):
@@ -145,8 +168,9 @@ def carve_scratch(world, buf, n, nq, nv, nl):
     for k in range(L + F):
         lhad[k], lprev[k] = 0.0, 0.0
     count[0] = 0.0
-    return (world, poses, out, counts, cand, big, mu, info, settings, prev, force, had, tmp8,
-            T, count, report, cwork, lrows, bounds, lprev, lhad)
+    return ContactScratch(world, poses, out, counts, cand, big, mu, info, settings, prev,
+                          force, had, tmp8, T, count, report, cwork, lrows, bounds, lprev,
+                          lhad, twists)
 
 
 @inline
@@ -157,16 +181,45 @@ def _gap(d, beta, dt):
 
 
 @serial
+def _shape_twists(m, Sw, links, v, vn, twists):
+    """``twists[s]``: the world twists ``[v, ω]`` of shape ``s``'s link at the velocities
+    ``v`` and ``vn`` (``Σ S_k v_k`` over the joints from the root, C1's columns ``Sw``),
+    zeros for a shape that does not move (K21a)."""
+    for s in range(links.shape[0]):
+        for t in range(2):
+            for i in range(6):
+                twists[s, t, i] = 0.0
+        if links[s] < 0:
+            continue
+        j = m.link_joint[links[s]]
+        while j >= 0:
+            for k in range(m.iv[j], m.iv[j + 1]):
+                for i in range(6):
+                    twists[s, 0, i] += Sw[k, i] * v[k]
+                    twists[s, 1, i] += Sw[k, i] * vn[k]
+            j = m.parents[j]
+
+
+@serial
 def contact_velocity(m, world, q, v, vn, dt, work):
     """``vn``: ``v_free`` in, ``v⁺`` out (the module's docstring; K20-K25); the forces of
     the contacts into the slots of ``force`` (world frame, λ / dt; zero where none), their
     number into ``count``, the solvers' report into ``report``. A status:
     ``CONTACT_UNSOLVED`` where neither solver converges and a residual exceeds
     ``accept``."""
-    (arrays, poses, out, counts, cand, big, mu, info, settings, prev, force, had, tmp8, T,
-     count, report, cwork, lrows, bounds, lprev, lhad) = world
-    (kinds, sizes, vertices, offsets, placements, links, active, sb, Tb, frame, params,
-     limits, frictions) = arrays
+    w_ = world
+    kinds, sizes, vertices, offsets = w_.world.kinds, w_.world.sizes, w_.world.vertices, \
+        w_.world.offsets
+    placements, links, active, sb, Tb = w_.world.placements, w_.world.links, \
+        w_.world.active, w_.world.ground, w_.world.ground_pose
+    frame, params, limits, frictions = w_.world.frame, w_.world.params, w_.world.limits, \
+        w_.world.frictions
+    poses, out, counts, cand, big, mu, info = w_.poses, w_.out, w_.counts, w_.cand, w_.big, \
+        w_.mu, w_.info
+    settings, prev, force, had, tmp8, T, count = w_.settings, w_.prev, w_.force, w_.had, \
+        w_.tmp8, w_.T, w_.count
+    report, cwork, lrows, bounds, lprev, lhad, twists = w_.report, w_.cwork, w_.lrows, \
+        w_.bounds, w_.lprev, w_.lhad, w_.twists
     shapes = kinds.shape[0]
     K = C.MAX_CONTACTS * shapes
     k_ = constraint_workspace(ws.data_pointer(cwork), m, 0)
@@ -185,12 +238,9 @@ def contact_velocity(m, world, q, v, vn, dt, work):
                 for r in range(4):
                     acc += T[i, r] * placements[s, r, j]
                 poses[s, i, j] = acc
-    speed = 0.0  # |(v, v_free)|: how far a point may move in the step
-    for k in range(m.nv):
-        speed += v[k] * v[k] + vn[k] * vn[k]
-    margin = params[MARGIN] + dt * math.sqrt(speed)
-    C.shapes_on_plane(kinds, sizes, vertices, offsets, poses, active, sb, Tb, margin, cand,
-                      out, counts)
+    _shape_twists(m, k_.Sw, links, v, vn, twists)
+    C.shapes_on_plane(kinds, sizes, vertices, offsets, poses, active, sb, Tb, params[MARGIN],
+                      params[PATCH], cand, out, counts, twists, dt)  # K21, K21a, K22
     nc = 0
     for s in range(shapes):
         nc += int(counts[s])

@@ -244,8 +244,8 @@ def _world_size(world, n, nq, nv, nl):
     """Floats of a rollout's contact scratch; 0 without a world."""
     if world is None:
         return 0
-    (kinds, _, _, _, _, _, _, _, _, _, _, limits, frictions) = world
-    return scratch_size(n, nq, nv, nl, kinds.shape[0], limits.shape[0], frictions.shape[0])
+    return scratch_size(n, nq, nv, nl, world.kinds.shape[0], world.limits.shape[0],
+                        world.frictions.shape[0])
 
 
 @serial
@@ -254,7 +254,7 @@ def _keep_contacts(world, row):
     contact step (``sim.contact.KEPT``); nothing without a world."""
     if world is None:
         return
-    (_, _, _, _, _, _, _, _, _, _, force, _, _, _, count, report, _, _, _, _, _) = world
+    force, count, report = world.force, world.count, world.report
     row[0] = count[0]
     row[1] = report[0]
     row[2] = max(report[1], report[2], report[3])
@@ -268,9 +268,8 @@ def _report(world, out):
     """The report of a contact step that failed (``sim.contact.REPORT``) into ``out``."""
     if world is None:
         return
-    (_, _, _, _, _, _, _, _, _, _, _, _, _, _, _, report, _, _, _, _, _) = world
     for i in range(out.shape[0]):
-        out[i] = report[i]
+        out[i] = world.report[i]
 
 
 @inline
