@@ -5,8 +5,9 @@ criteria of a step", K31-K34).
 The compiled loop keeps, for the step taken from each state ``(q_k, v_k)``, the world-frame
 force of each contact slot (slot ``4 s + i``: the ``i``-th patch point of shape ``s``) and
 the free acceleration ``a_k`` (``v_free = v_k + dt a_k``, K20). From them this module finds
-the step's contacts again at ``q_k`` (``ground_contacts`` with the loop's margin, ``margin +
-dt ‖(v_k, v_free)‖``, K21-K22), and with the next state's velocity ``v_{k+1} = v⁺`` (K24)
+the step's contacts again at ``q_k`` (``ground_contacts`` as the step finds them: each
+point's gap at the end of the step at ``v_k`` and ``v_free`` below the margin, K21a, K22,
+with ``ContactSettings.patch``), and with the next state's velocity ``v_{k+1} = v⁺`` (K24)
 their velocities after the step ``σ = J(q_k) v⁺`` plus the gap's term (K23), which is all
 ``contact.criteria.step_criteria`` needs.
 
@@ -122,13 +123,13 @@ def _rollout(traj, rollout):
 
 def _found(scene: ContactScene, dt: float, q, v, a):
     """The contacts of the step taken from ``(q, v)`` (free acceleration ``a``) and the
-    slot of each (K21-K22 with the loop's margin)."""
+    slot of each (K21a, K22, as the step finds them)."""
     from ..contact.manifold import MAX_CONTACTS
     from ..contact.world import ground_contacts
 
-    v_free = v + dt * a  # K20
-    margin = scene.settings.margin + dt * float(np.linalg.norm(np.concatenate([v, v_free])))
-    contacts = ground_contacts(scene.model, scene.collisions, q, scene.world, margin)
+    settings = scene.settings
+    contacts = ground_contacts(scene.model, scene.collisions, q, scene.world, settings.margin,
+                               v, v + dt * a, dt, settings.patch)  # v_free (K20), K21a
     slots = np.empty(len(contacts), dtype=np.int64)
     for i, s in enumerate(contacts.collision):
         slots[i] = MAX_CONTACTS * s + np.count_nonzero(contacts.collision[:i] == s)
@@ -200,7 +201,7 @@ def _every_state(traj) -> bool:
 def trajectory_contacts(traj, k: int, rollout: int | None = None) -> list[ContactPoint]:
     """The contacts of kept state ``k`` of ``traj`` (a ``Trajectory`` of
     ``simulate(..., world=...)``; ``rollout``: which one of a batch): each shape's patch
-    points at ``q_k`` (K21-K22, with the margin of the step taken from it) with the force
+    points at ``q_k`` (K21a, K22, as the step taken from it found them) with the force
     the ground put on the robot there in that step. Any ``record_every`` works; with every
     state kept the slots are matched to the points by the step's momentum (the module's
     docstring), else taken in the order found."""
