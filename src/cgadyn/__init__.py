@@ -99,6 +99,8 @@ _LAZY = {
     "contact_problem": "cgadyn.contact",
     "solve_contacts": "cgadyn.contact",
     "ContactSolveInfo": "cgadyn.contact",
+    "ContactCriteria": "cgadyn.contact",
+    "step_criteria": "cgadyn.contact",
     "simulate": "cgadyn.sim",
     "Trajectory": "cgadyn.sim",
     "PD": "cgadyn.sim",

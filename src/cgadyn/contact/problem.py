@@ -36,3 +36,34 @@ def contact_problem(model, q, v, tau, dt: float, constraints) -> tuple[np.ndarra
     v_free = np.asarray(v, dtype=float) + step * aba(model, q, v, tau)  # K20
     g = np.einsum("...rk,...k->...r", J, v_free)
     return G, g
+
+
+def gap_velocity(distance, stabilization: float, dt: float) -> np.ndarray:
+    """The gap's term of a contact's normal row (K23): ``d / dt`` for an open gap (the step
+    may close it, no sooner), ``β d / dt`` for a penetration (a fraction ``β`` of it
+    corrected per step)."""
+    d = np.asarray(distance, dtype=float)
+    return np.where(d > 0.0, d, stabilization * d) / dt
+
+
+def contact_jacobian(model, q, contacts, frames) -> np.ndarray:
+    """(3 nc, nv): the rows ``(t₁, t₂, n)`` of each contact of ``contacts`` (a ``Contacts``)
+    at ``q``, a point of its link held where it is (C1), its world rows turned into its
+    frame (``frames`` (nc, 3, 3), rows ``t₁, t₂, n``: ``step.ground_frame`` of its normal):
+    ``J v`` is the contact points' velocity in their frames (K20)."""
+    from ..algorithms import link_placements
+    from ..constraints.model import Constraint
+
+    nc = len(contacts)
+    if nc == 0:
+        return np.zeros((0, model.nv))
+    links = link_placements(model, q)
+    constraints = []
+    for k in range(nc):
+        at = np.eye(4)
+        at[:3, 3] = contacts.point[k]
+        constraints.append(Constraint(model, "point", int(contacts.link[k]),
+                                      placement=np.linalg.inv(links[contacts.link[k]]) @ at,
+                                      other_placement=at))
+    J = constraint_jacobian(model, q, constraints).reshape(nc, 3, model.nv)
+    return np.einsum("cij,cjk->cik", frames, J).reshape(3 * nc, model.nv)

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .problem import gap_velocity
 from .settings import ContactSettings, other_solver, residual
 from .world import Contacts, World, ground_contacts
 
@@ -42,7 +43,9 @@ class ContactStep:
     limits (``limit_torques`` (nv,), their impulse over ``dt``; zero where no limit acts)
     and of the friction losses (``friction_torques`` (nv,));
     the solver's report (``info``, a ``ContactSolveInfo``; None without contacts or limits)
-    and which solver gave the forces (``solver``)."""
+    and which solver gave the forces (``solver``); ``velocities`` (K, 3), each contact's
+    velocity after the step in its frame ``(t₁, t₂, n)`` with the gap's term of K23,
+    ``σ = G λ + g`` (K11), and ``criteria``, the step's physical criteria (K31-K34)."""
 
     q: np.ndarray
     v: np.ndarray
@@ -52,6 +55,17 @@ class ContactStep:
     friction_torques: np.ndarray = field(repr=False, default=None)
     info: object = None
     solver: str = ""
+    velocities: np.ndarray = field(repr=False, default=None)
+
+    @property
+    def criteria(self):
+        """The physical criteria of this step (a ``ContactCriteria``, K31-K34), from its
+        forces, its contact ``velocities`` and its contacts' distances."""
+        from .criteria import contact_frame_forces, step_criteria
+
+        frames = np.array([ground_frame(n) for n in self.contacts.normal]).reshape(-1, 3, 3)
+        return step_criteria(contact_frame_forces(self.forces, frames), self.velocities,
+                             self.contacts.distance, self.contacts.friction)
 
 
 def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = None,
@@ -138,7 +152,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     nc, nf = len(contacts), len(frictions)
     if nc + nl + nf == 0:
         return ContactStep(integrate(model, q, step * v_free), v_free, contacts,
-                           np.zeros((0, 3)), np.zeros(model.nv), np.zeros(model.nv))
+                           np.zeros((0, 3)), np.zeros(model.nv), np.zeros(model.nv),
+                           velocities=np.zeros((0, 3)))
     links = link_placements(model, q)
     frame = ground_frame(world.ground_normal)
     constraints = []
@@ -160,7 +175,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     g = J @ v_free
     d = np.concatenate([contacts.distance, rows[:nl, ROW_GAP]])
     gap = np.concatenate([np.arange(nc) * 3 + 2, 3 * nc + np.arange(nl)])  # normals, limits
-    g[gap] += np.where(d > 0.0, d, stabilization * d) / step  # K23
+    g[gap] += gap_velocity(d, stabilization, step)  # K23
     bounds = np.concatenate([np.tile([0.0, np.inf], (nl, 1)),  # λ >= 0 (K26)
                              step * np.outer(frictions[:, 1], [-1.0, 1.0])])  # K30
     used, lam = contact.solver, None
@@ -183,5 +198,6 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     forces = (lam[:3 * nc].reshape(nc, 3) @ frame) / step  # in the world frame
     limit_torques = J[3 * nc:n1].T @ lam[3 * nc:n1] / step
     friction_torques = J[n1:].T @ lam[n1:] / step
+    sigma = (G[:3 * nc] @ lam + g[:3 * nc]).reshape(nc, 3)  # σ = G λ + g (K11)
     return ContactStep(integrate(model, q, step * v_next), v_next, contacts, forces,
-                       limit_torques, friction_torques, info, used)
+                       limit_torques, friction_torques, info, used, sigma)

@@ -36,6 +36,7 @@ from ..multibody.joints.table import spring_deflection
 from ..multibody.packed import DEFAULT_GRAVITY
 from .contact import KEPT, REPORT, slots, world_arrays
 from .controllers import PD, GravityCompensation, actuated_gains
+from .criteria import ContactScene
 from .rollout import (
     ACTUATED,
     COORDS,
@@ -231,7 +232,9 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
                       dt=dt, integrator=integrator, message=message,
                       constraint_violation=_violation(X, p.starts), forces=X[..., 2, :],
                       contact_count=count, contact_forces=forces,
-                      contact_iterations=iterations, contact_residual=residual)
+                      contact_iterations=iterations, contact_residual=residual,
+                      scene=None if world is None else ContactScene(model, shapes, world,
+                                                                    contact))
 
 
 def _contact_settings(contact, world):

@@ -85,7 +85,10 @@ class Trajectory:
     a row no state reached), and ``contact_residual``, the largest residual (K19) of the
     forces it kept: at most ``ContactSettings.tolerance`` where the solver converged, up to
     ``accept`` where it stopped short (0 for a step without a contact problem). None
-    without a world.
+    without a world. ``scene`` (a ``sim.criteria.ContactScene``: the model, collisions,
+    world and contact settings of the run) lets ``contacts(k)`` find the contacts of a kept
+    state again, with their forces, and ``contact_criteria()`` compute the physical
+    criteria of every step (docs/contact.md, K31-K34).
 
     ``kinetic`` and ``potential`` from ``simulate`` are computed when one of them (or
     ``energy``) is first read, from the states ``q``, ``v`` then held, in one parallel
@@ -109,6 +112,7 @@ class Trajectory:
     contact_forces: np.ndarray | None = None
     contact_iterations: np.ndarray | None = None
     contact_residual: np.ndarray | None = None
+    scene: object = None
 
     @property
     def energy(self) -> np.ndarray:
@@ -129,3 +133,22 @@ class Trajectory:
         scale = np.abs(e[..., 0])
         out = np.where(scale > 0, drift / np.where(scale > 0, scale, 1.0), drift)
         return float(out) if out.ndim == 0 else out
+
+    def contacts(self, k: int, rollout: int | None = None) -> list:
+        """The contacts of kept state ``k`` (``rollout``: which one of a batch), each a
+        ``ContactPoint``: link and shape names, point, normal, signed distance and the
+        world-frame force of the step taken from that state
+        (``sim.criteria.trajectory_contacts``). Needs a rollout with a world."""
+        from .criteria import trajectory_contacts
+
+        return trajectory_contacts(self, k, rollout)
+
+    def contact_criteria(self, rollout: int | None = None, slip: float | None = None):
+        """The physical criteria of every step (Signorini, Coulomb's cone, maximum
+        dissipation, penetration; docs/contact.md, K31-K34) as a ``CriteriaHistory``
+        (``sim.criteria.trajectory_criteria``). Needs a rollout with a world and every
+        state kept (``record_every=1``)."""
+        from ..contact.criteria import SLIP
+        from .criteria import trajectory_criteria
+
+        return trajectory_criteria(self, rollout, SLIP if slip is None else slip)
