@@ -209,3 +209,21 @@ def with_bodies(model, collisions, bodies) -> tuple[object, CollisionModel, np.n
     shapes = [*cm, *(Collision(name, b.shape, int(li), np.eye(4), friction=b.friction)
                      for b, name, li in zip(bodies, names, links, strict=True))]
     return extended, CollisionModel(shapes, extended), np.concatenate([b.q for b in bodies])
+
+
+_EXTENDED: dict = {}
+"""``with_bodies``' results by the ids of its arguments (kept alive with them), so that a
+loop of ``contact_step`` calls builds the model once."""
+
+
+def world_model(model, collisions, world) -> tuple[object, CollisionModel, np.ndarray]:
+    """``with_bodies(model, collisions, world.bodies)``, built once per model, collisions and
+    bodies (a cache of the last few)."""
+    key = (id(model), id(collisions), tuple(id(b) for b in world.bodies))
+    hit = _EXTENDED.get(key)
+    if hit is None:
+        if len(_EXTENDED) >= 8:
+            _EXTENDED.pop(next(iter(_EXTENDED)))
+        hit = (with_bodies(model, collisions, world.bodies), model, collisions, world.bodies)
+        _EXTENDED[key] = hit
+    return hit[0]

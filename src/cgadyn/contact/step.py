@@ -18,13 +18,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .settings import ContactSettings, other_solver, residual
-from .world import Contacts, World, ground_contacts
+from .pairs import candidate_pairs
+from .world import Contacts, World, world_contacts
 
 __all__ = ["ContactStep", "contact_step", "ground_frame"]
 
 
 def ground_frame(normal) -> np.ndarray:
-    """The rows ``(t₁, t₂, n)`` of the contact frame of a ground with unit normal ``n``:
+    """The rows ``(t₁, t₂, n)`` of the contact frame of a ground with unit normal ``n``, or
+    of a contact between two shapes with its normal from ``b`` to ``a`` (K32):
     ``t₁`` the world's x made orthogonal to ``n`` (the world's y where x is along ``n``),
     ``t₂ = n × t₁``; for a level ground the world's own axes."""
     n = np.asarray(normal, dtype=float)
@@ -111,14 +113,21 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         step = float("nan")
     if not np.isfinite(step) or step <= 0.0:
         raise ValueError(f"dt must be a finite number > 0, got {dt!r}")
+    if not isinstance(world, World):
+        raise TypeError(f"world must be a cgadyn.World, got {type(world).__name__}")
+    robot_joints, robot_nv = model.njoints, model.nv
+    if world.bodies:  # the bodies are links of the model (K31)
+        from .bodies import world_model
+
+        model, collisions = world_model(model, collisions, world)[:2]
     q = np.asarray(q, dtype=float)
     v, tau = np.asarray(v, dtype=float), np.asarray(tau, dtype=float)
+    if tau.shape == (robot_nv,) and robot_nv != model.nv:  # the bodies are not actuated
+        tau = np.concatenate([tau, np.zeros(model.nv - robot_nv)])
     for name, x, size in (("v", v, model.nv), ("tau", tau, model.nv)):
         if x.shape != (size,):
             raise ValueError(f"{name}: expected shape ({size},) for {model.name!r}, got "
                              f"{x.shape}")
-    if not isinstance(world, World):
-        raise TypeError(f"world must be a cgadyn.World, got {type(world).__name__}")
     if collisions is None and world.ground:
         raise ValueError("contact_step: collisions is None but the world has a ground; pass "
                          "collisions=cgadyn.collision_model(model, ...), or "
@@ -131,8 +140,9 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     v_free = v + step * aba(model, q, v, torque)  # K20
     # a gap that the step may close is a contact: the margin grows by how far a point can
     # move in one step (|v| dt, an angular speed counted at a reach of 1 m)
-    contacts = ground_contacts(model, cm, q, world, margin + step * float(np.linalg.norm(
-        np.concatenate([v, v_free]))))
+    pairs = candidate_pairs(cm, robot_joints, world.self_collision)  # K33
+    contacts = world_contacts(model, cm, q, world, margin + step * float(np.linalg.norm(
+        np.concatenate([v, v_free]))), pairs)
     limits = joint_limits_of(model) if joint_limits else np.zeros((0, LIMIT_COLUMNS))
     rows = np.empty((2 * len(limits), LIMIT_COLUMNS))
     nl = active_limits(limits, q, v, v_free, step, float(margin), rows)  # K26
@@ -142,15 +152,20 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         return ContactStep(integrate(model, q, step * v_free), v_free, contacts,
                            np.zeros((0, 3)), np.zeros(model.nv), np.zeros(model.nv))
     links = link_placements(model, q)
-    frame = ground_frame(world.ground_normal)
+    frames = np.array([ground_frame(n) for n in contacts.normal]).reshape(nc, 3, 3)  # K32
     constraints = []
     for k in range(len(contacts)):  # each contact a point of its link, held where it is
-        at = np.eye(4)
-        at[:3, 3] = contacts.point[k]
-        constraints.append(Constraint(model, "point", int(contacts.link[k]),
-                                      placement=np.linalg.inv(links[contacts.link[k]]) @ at,
-                                      other_placement=at))
-    R = np.kron(np.eye(nc), frame)  # world rows to contact rows (t₁, t₂, n) per contact
+        at, other = np.eye(4), np.eye(4)  # or, on another link, the relative velocity
+        at[:3, 3], other[:3, 3] = contacts.point[k], contacts.other_point[k]
+        b = int(contacts.other_link[k])
+        constraints.append(Constraint(
+            model, "point", int(contacts.link[k]),
+            placement=np.linalg.inv(links[contacts.link[k]]) @ at,
+            other=b if b >= 0 else None,
+            other_placement=np.linalg.inv(links[b]) @ other if b >= 0 else other))
+    R = np.zeros((3 * nc, 3 * nc))  # world rows to contact rows (t₁, t₂, n) per contact
+    for k in range(nc):
+        R[3 * k:3 * k + 3, 3 * k:3 * k + 3] = frames[k]
     J = np.zeros((3 * nc + nl + nf, model.nv))
     n1 = 3 * nc + nl  # the first friction row
     if nc:
@@ -182,7 +197,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
                          f"raise ContactSettings' max_iterations or accept")
     impulse = J.T @ lam  # joint impulses of the contacts
     v_next = v_free + aba(model, q, np.zeros(model.nv), impulse, gravity=np.zeros(3))  # K24
-    forces = (lam[:3 * nc].reshape(nc, 3) @ frame) / step  # in the world frame
+    forces = np.einsum("ki,kij->kj", lam[:3 * nc].reshape(nc, 3), frames) / step  # world
     limit_torques = J[3 * nc:n1].T @ lam[3 * nc:n1] / step
     friction_torques = J[n1:].T @ lam[n1:] / step
     return ContactStep(integrate(model, q, step * v_next), v_next, contacts, forces,
