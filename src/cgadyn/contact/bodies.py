@@ -19,7 +19,7 @@ import numpy as np
 from .model import Collision, CollisionModel, _collisions
 from .shapes import BOX, CAPSULE, CYLINDER, MESH, PLANE, SPHERE, Shape
 
-__all__ = ["Body", "shape_inertia", "with_bodies"]
+__all__ = ["Body", "check_start", "empty_model", "shape_inertia", "with_bodies", "world_model"]
 
 _NEUTRAL = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0])
 """A free flyer's neutral configuration (Pinocchio's layout)."""
@@ -227,3 +227,33 @@ def world_model(model, collisions, world) -> tuple[object, CollisionModel, np.nd
         hit = (with_bodies(model, collisions, world.bodies), model, collisions, world.bodies)
         _EXTENDED[key] = hit
     return hit[0]
+
+
+INSIDE_GROUND = 1e-3
+"""How deep (m) a body may start inside the ground before ``check_start`` refuses it."""
+
+
+def check_start(world) -> None:
+    """Raise ``ValueError`` naming a body of ``world`` that starts more than
+    ``INSIDE_GROUND`` inside its ground (a penetration the step would throw it out of)."""
+    from ..cga.conventions import motor_from_quaternion
+    from .api import shape_distance
+
+    if not world.ground:
+        return
+    for b, name in zip(world.bodies, body_names(world.bodies), strict=True):
+        x, y, z, w = b.orientation
+        pose = motor_from_quaternion((w, x, y, z), b.position)
+        d = shape_distance(b.shape, pose, world.plane, None)[0]
+        if d < -INSIDE_GROUND:
+            raise ValueError(f"Body {name!r} starts {-d:.4g} m inside the ground (more than "
+                             f"{INSIDE_GROUND:g} m); raise its position")
+
+
+def empty_model(name: str = "world"):
+    """A model without joints (the world alone, a fixed root link): a robot for scenes of
+    free bodies only, ``World(bodies=[...])`` with ``q0`` and ``v0`` empty."""
+    from ..multibody.model import build_model
+
+    return build_model(name, [], [], [], np.zeros((0, 4, 4)), np.zeros((0, 3)), np.zeros(0),
+                       np.zeros((0, 3)), np.zeros((0, 3, 3)), root_link=name)

@@ -15,6 +15,8 @@ bounding spheres (K34). Nothing allocates.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .._jit import serial
@@ -22,11 +24,26 @@ from .distance import OK, pair_distance
 from .manifold import CANDIDATES, MAX_CONTACTS, OUT, candidates, reduce_patch
 from .shapes import BOX, CAPSULE, CYLINDER, MESH, PLANE, SPHERE
 
-__all__ = ["PAIR_CANDIDATES", "bounding_radii", "candidate_pairs", "pair_contacts",
-           "pair_patch"]
+__all__ = ["PAIR_CANDIDATES", "bounding_radii", "candidate_pairs", "contact_frame",
+           "pair_contacts", "pair_patch"]
 
 PAIR_CANDIDATES = 2 * CANDIDATES + 1
 """Scratch rows of ``pair_patch``: each shape's candidates and the witness pair."""
+
+
+@serial
+def contact_frame(n0, n1, n2, F):
+    """The rows ``(t₁, t₂, n)`` of the frame of a contact with unit normal ``n`` (the
+    ground's, or a pair's from ``b`` to ``a``) into ``F`` (K32): ``t₁`` the world's x made
+    orthogonal to ``n`` (the world's y where x is nearly along ``n``), ``t₂ = n × t₁``."""
+    x0, x1 = (1.0, 0.0) if abs(n0) < 0.9 else (0.0, 1.0)
+    s = x0 * n0 + x1 * n1
+    t0, t1, t2 = x0 - s * n0, x1 - s * n1, -s * n2
+    r = math.sqrt(t0 * t0 + t1 * t1 + t2 * t2)
+    t0, t1, t2 = t0 / r, t1 / r, t2 / r
+    F[0, 0], F[0, 1], F[0, 2] = t0, t1, t2
+    F[1, 0], F[1, 1], F[1, 2] = n1 * t2 - n2 * t1, n2 * t0 - n0 * t2, n0 * t1 - n1 * t0
+    F[2, 0], F[2, 1], F[2, 2] = n0, n1, n2
 
 
 @serial
@@ -162,9 +179,9 @@ def pair_rows(model, cm, poses, pairs, margin: float) -> tuple:
 
     P = len(pairs)
     out = np.empty((P, MAX_CONTACTS, OUT))
-    counts = np.zeros(P, dtype=np.int64)
+    counts = np.zeros(P)  # floats, as in the compiled loop's scratch: one signature
     normals = np.zeros((P, 3))
-    status = np.zeros(P, dtype=np.int64)
+    status = np.zeros(P)
     pair_contacts(cm.kinds, cm.sizes, cm.vertices, cm.offsets, np.ascontiguousarray(poses),
                   pairs, bounding_radii(cm), float(margin), np.zeros(4), np.empty((4, 4)),
                   np.empty(WORK), np.empty(10), np.empty((PAIR_CANDIDATES, OUT)), out, counts,
@@ -174,6 +191,7 @@ def pair_rows(model, cm, poses, pairs, margin: float) -> tuple:
         i, j = pairs[int(bad[0])]
         raise ValueError(f"collisions {cm[i].name!r} and {cm[j].name!r}: "
                          f"{explain(int(status[bad[0]]), cm[i].shape, cm[j].shape)}")
+    counts = counts.astype(np.int64)
     which = np.repeat(np.arange(P), counts)
     rows = out[which, np.concatenate([np.arange(k) for k in counts]).astype(np.int64)] \
         if P else np.zeros((0, OUT))

@@ -17,23 +17,21 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .pairs import candidate_pairs, contact_frame
 from .settings import ContactSettings, other_solver, residual
-from .pairs import candidate_pairs
 from .world import Contacts, World, world_contacts
 
 __all__ = ["ContactStep", "contact_step", "ground_frame"]
 
 
 def ground_frame(normal) -> np.ndarray:
-    """The rows ``(t₁, t₂, n)`` of the contact frame of a ground with unit normal ``n``, or
-    of a contact between two shapes with its normal from ``b`` to ``a`` (K32):
-    ``t₁`` the world's x made orthogonal to ``n`` (the world's y where x is along ``n``),
-    ``t₂ = n × t₁``; for a level ground the world's own axes."""
+    """The rows ``(t₁, t₂, n)`` of the frame of a contact with unit normal ``n``: the
+    ground's, or a pair's from ``b`` to ``a`` (``pairs.contact_frame``, K32); for a level
+    ground the world's own axes."""
     n = np.asarray(normal, dtype=float)
-    x = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    t1 = x - (x @ n) * n
-    t1 /= np.linalg.norm(t1)
-    return np.array([t1, np.cross(n, t1), n])
+    F = np.empty((3, 3))
+    contact_frame(float(n[0]), float(n[1]), float(n[2]), F)
+    return F
 
 
 @dataclass(frozen=True)

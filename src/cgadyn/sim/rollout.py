@@ -79,6 +79,7 @@ from ..constraints.work.core import workspace_size as constraint_workspace_size
 from ..multibody.joints import joint_difference, joint_integrate
 from ..multibody.packed import unpack
 from .contact import KEPT, carve_scratch, contact_velocity, scratch_size
+from .pairs import pair_count, pair_scratch_size
 from .work.rollout import workspace, workspace_size
 
 WORKSPACE = {  # one rollout's scratch, in order (tools/generate_workspaces.py)
@@ -244,8 +245,9 @@ def _world_size(world, n, nq, nv, nl):
     """Floats of a rollout's contact scratch; 0 without a world."""
     if world is None:
         return 0
-    (kinds, _, _, _, _, _, _, _, _, _, _, limits, frictions) = world
-    return scratch_size(n, nq, nv, nl, kinds.shape[0], limits.shape[0], frictions.shape[0])
+    (kinds, _, _, _, _, _, _, _, _, _, _, limits, frictions, pairs) = world
+    return scratch_size(n, nq, nv, nl, kinds.shape[0] + pair_count(pairs), limits.shape[0],
+                        frictions.shape[0]) + pair_scratch_size(pairs)
 
 
 @serial
@@ -254,7 +256,7 @@ def _keep_contacts(world, row):
     contact step (``sim.contact.KEPT``); nothing without a world."""
     if world is None:
         return
-    (_, _, _, _, _, _, _, _, _, _, force, _, _, _, count, report, _, _, _, _, _) = world
+    (_, _, _, _, _, _, _, _, _, _, force, _, _, _, count, report, _, _, _, _, _, _) = world
     row[0] = count[0]
     row[1] = report[0]
     row[2] = max(report[1], report[2], report[3])
@@ -268,7 +270,7 @@ def _report(world, out):
     """The report of a contact step that failed (``sim.contact.REPORT``) into ``out``."""
     if world is None:
         return
-    (_, _, _, _, _, _, _, _, _, _, _, _, _, _, _, report, _, _, _, _, _) = world
+    (_, _, _, _, _, _, _, _, _, _, _, _, _, _, _, report, _, _, _, _, _, _) = world
     for i in range(out.shape[0]):
         out[i] = report[i]
 
