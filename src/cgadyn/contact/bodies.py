@@ -235,19 +235,22 @@ INSIDE_GROUND = 1e-3
 
 def check_start(world) -> None:
     """Raise ``ValueError`` naming a body of ``world`` that starts more than
-    ``INSIDE_GROUND`` inside its ground (a penetration the step would throw it out of)."""
-    from ..cga.conventions import motor_from_quaternion
-    from .api import shape_distance
+    ``INSIDE_GROUND`` inside its ground (a penetration the step would throw it out of): its
+    deepest point against the ground's plane (``distance.against_plane``, K5)."""
+    from ..cga.conventions import matrix_from_motor, motor_from_quaternion
+    from .distance import OUT, against_plane
 
     if not world.ground:
         return
+    out = np.empty(OUT)
     for b, name in zip(world.bodies, body_names(world.bodies), strict=True):
         x, y, z, w = b.orientation
-        pose = motor_from_quaternion((w, x, y, z), b.position)
-        d = shape_distance(b.shape, pose, world.plane, None)[0]
-        if d < -INSIDE_GROUND:
-            raise ValueError(f"Body {name!r} starts {-d:.4g} m inside the ground (more than "
-                             f"{INSIDE_GROUND:g} m); raise its position")
+        pose = matrix_from_motor(motor_from_quaternion((w, x, y, z), b.position))
+        against_plane(b.shape.kind, b.shape.packed_size, b.shape.packed_vertices, pose,
+                      world.plane.packed_size, np.eye(4), out)
+        if out[0] < -INSIDE_GROUND:
+            raise ValueError(f"Body {name!r} starts {-out[0]:.4g} m inside the ground (more "
+                             f"than {INSIDE_GROUND:g} m); raise its position")
 
 
 def empty_model(name: str = "world"):

@@ -21,9 +21,9 @@ vertices and offsets, their placements on their links, their links, which touch 
 the ground plane ``[n, δ]``, its frame, ``params`` (``PARAMS``, then the solver's
 ``ncp.SETTINGS``), the joint limits enforced (``contact.limits.joint_limits``; none where
 ``joint_limits`` is off) and the friction losses (``contact.limits.joint_frictions``; none
-where ``friction_loss`` is off), and the pairs of shapes that may touch
-(``sim.pairs.pair_world``; None without free bodies and self-collision, which prunes the
-pairs' code, K32-K34).
+where ``friction_loss`` is off), and the pairs of shapes that may touch, the shapes'
+bounding radii and friction coefficients (``sim.pairs.pair_world``; three None without free
+bodies and self-collision, which prunes the pairs' code, K32-K34).
 """
 
 from __future__ import annotations
@@ -99,8 +99,8 @@ def world_arrays(model, collisions, world, contact, joint_limits: bool = True,
             np.ascontiguousarray(limits_of(model) if joint_limits
                                  else np.zeros((0, LIMIT_COLUMNS))),
             joint_frictions(model) if friction_loss else np.zeros((0, 2)),
-            pair_world(model, cm, world, model.njoints if robot_joints is None
-                       else robot_joints))
+            *pair_world(model, cm, world, model.njoints if robot_joints is None
+                        else robot_joints))
 
 
 def slots(shapes: int) -> int:
@@ -126,10 +126,9 @@ def scratch_size(n, nq, nv, nl, shapes, limits, frictions):
 def carve_scratch(world, buf, n, nq, nv, nl):
     """The world of ``world_arrays`` and a rollout's scratch carved from ``buf``
     (``scratch_size``), as one tuple."""
-    (kinds, _, _, _, _, _, _, _, _, _, _, limits, frictions, pw) = world
+    (kinds, _, _, _, _, _, _, _, _, _, _, limits, frictions, pairs, _, _) = world
     shapes = kinds.shape[0]
-    K = C.MAX_CONTACTS * (shapes + pair_count(pw))  # the pairs' slots after the shapes'
-
+    K = C.MAX_CONTACTS * (shapes + pair_count(pairs))  # the pairs' slots after the shapes'
     L = 2 * limits.shape[0]
     F = frictions.shape[0]
     m = 3 * K + L + F
@@ -154,7 +153,7 @@ def carve_scratch(world, buf, n, nq, nv, nl):
     bounds, o = ws.carve(p, o, (L + F, 2))
     lprev, o = ws.carve(p, o, (L + F,))  # the limits' slots, then the friction rows'
     lhad, o = ws.carve(p, o, (L + F,))
-    ps = carve_pairs(pw, p, o)
+    ps = carve_pairs(pairs, p, o)
     for k in range(K):
         had[k] = 0.0
         for i in range(3):
@@ -177,9 +176,9 @@ def contact_velocity(m, world, q, v, vn, dt, work):
     (arrays, poses, out, counts, cand, big, mu, info, settings, prev, force, had, tmp8, T,
      count, report, cwork, lrows, bounds, lprev, lhad, ps) = world
     (kinds, sizes, vertices, offsets, placements, links, active, sb, Tb, frame, params,
-     limits, frictions, pw) = arrays
+     limits, frictions, pairs, radii, shape_mu) = arrays
     shapes = kinds.shape[0]
-    K = C.MAX_CONTACTS * (shapes + pair_count(pw))
+    K = C.MAX_CONTACTS * (shapes + pair_count(pairs))
     k_ = constraint_workspace(ws.data_pointer(cwork), m, 0)
     _world_columns(m, q, v, False, k_)  # the joints' world motors and Jacobian columns
     for s in range(shapes):  # each shape's pose: its link's frame times its placement (K10)
@@ -205,7 +204,8 @@ def contact_velocity(m, world, q, v, vn, dt, work):
     nc = 0
     for s in range(shapes):
         nc += int(counts[s])
-    nc += detect_pairs(pw, ps, kinds, sizes, vertices, offsets, poses, margin)  # K32, K34
+    nc += detect_pairs(pairs, radii, ps, kinds, sizes, vertices, offsets, poses,
+                       margin)  # K32, K34
     nl = active_limits(limits, q, v, vn, dt, params[MARGIN], lrows)  # K26
     nf, L = frictions.shape[0], 2 * limits.shape[0]
     for k in range(K):
@@ -245,14 +245,15 @@ def contact_velocity(m, world, q, v, vn, dt, work):
                 x, y, z = J[r0, k], J[r0 + 1, k], J[r0 + 2, k]
                 for i in range(3):
                     J[r0 + i, k] = frame[i, 0] * x + frame[i, 1] * y + frame[i, 2] * z
-            mu[c] = ground_friction(pw, s, params[FRICTION])  # K33
+            mu[c] = ground_friction(shape_mu, s, params[FRICTION])  # K33
             slot = C.MAX_CONTACTS * s + j
             for i in range(3):  # warm start from the slot's λ of the previous step (K25)
                 lam[r0 + i] = prev[slot, i] if had[slot] != 0.0 else 0.0
             if had[slot] != 0.0:
                 warm = True
             c += 1
-    c, warm_pairs = pair_rows(pw, ps, m, k_.Sw, links, J, mu, lam, prev, had, c, shapes)
+    c, warm_pairs = pair_rows(pairs, shape_mu, ps, m, k_.Sw, links, J, mu, lam, prev, had, c,
+                              shapes)
     warm = warm or warm_pairs
     for k in range(nl):  # a row ±e_v per bound near which the step may go (K26)
         r, slot = 3 * nc + k, int(lrows[k, ROW_SLOT])
@@ -285,7 +286,7 @@ def contact_velocity(m, world, q, v, vn, dt, work):
         for j in range(int(counts[s])):
             g[3 * c + 2] += _gap(out[s, j, 3], params[STABILIZATION], dt)
             c += 1
-    pair_gaps(pw, ps, g, c, params[STABILIZATION], dt)
+    pair_gaps(pairs, ps, g, c, params[STABILIZATION], dt)
     for k in range(nl):
         g[3 * nc + k] += _gap(lrows[k, ROW_GAP], params[STABILIZATION], dt)
     for i in range(ncp.SETTINGS):
@@ -324,7 +325,7 @@ def contact_velocity(m, world, q, v, vn, dt, work):
                 force[slot, i] = (frame[0, i] * lam[3 * c] + frame[1, i] * lam[3 * c + 1]
                                   + frame[2, i] * lam[3 * c + 2]) / dt
             c += 1
-    keep_pairs(pw, ps, lam, prev, had, force, c, shapes, dt)
+    keep_pairs(pairs, ps, lam, prev, had, force, c, shapes, dt)
     for k in range(lhad.shape[0]):
         lhad[k] = 0.0
     for k in range(nl):

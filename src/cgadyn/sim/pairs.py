@@ -2,11 +2,13 @@
 K32-K34): the additions ``sim.contact.contact_velocity`` calls for the contacts between
 shapes of different links, as ``contact.step.contact_step`` makes them from Python.
 
-The world's ``pairs`` element (``pair_world``) is None for a rollout without free bodies and
-without self-collision: every function here then returns at its first line, and numba
-prunes the rest (nothing of it is compiled). Otherwise it is ``(pairs (P, 2), radii (K,),
-friction (K,))``: the candidate pairs (``contact.pairs.candidate_pairs``), the shapes'
-bounding radii (K34) and friction coefficients (K33). Pair ``p``'s contacts take the slots
+The world tuple ends with three elements (``pair_world``): the candidate pairs (P, 2)
+(``contact.pairs.candidate_pairs``), the shapes' bounding radii (K,) (K34) and their
+friction coefficients (K,) (K33); three None for a rollout without free bodies and without
+self-collision: every function here then returns at its first line, and numba prunes the
+rest (nothing of it is compiled). (Three elements, not one tuple of three: the parallel
+loop passes the world's elements on as its own arguments, which may be arrays or None but
+not tuples.) Pair ``p``'s contacts take the slots
 ``MAX_CONTACTS (shapes + p) ..`` after the shapes' own (K25's warm start, the forces kept).
 """
 
@@ -22,43 +24,44 @@ from ..contact.pairs import PAIR_CANDIDATES, contact_frame, pair_contacts
 __all__ = ["pair_world"]
 
 
-def pair_world(model, collisions, world, robot_joints: int):
-    """The world tuple's ``pairs`` element (the module's docstring) for a model whose joints
-    from ``robot_joints`` on are free bodies; None where no pair of shapes may touch and
-    every shape takes the World's friction."""
+def pair_world(model, collisions, world, robot_joints: int) -> tuple:
+    """The world tuple's last three elements (the module's docstring) for a model whose
+    joints from ``robot_joints`` on are free bodies; three None where no pair of shapes may
+    touch and every shape takes the World's friction."""
     from ..contact.pairs import bounding_radii, candidate_pairs
     from ..contact.world import shape_friction
 
     pairs = candidate_pairs(collisions, robot_joints, world.self_collision)
     if len(pairs) == 0 and all(c.friction is None for c in collisions):
-        return None
-    return (pairs, bounding_radii(collisions), shape_friction(collisions, world))
+        return None, None, None
+    return pairs, bounding_radii(collisions), shape_friction(collisions, world)
 
 
 @serial
-def pair_count(pw):
+def pair_count(pairs):
     """The number of candidate pairs P (0 without)."""
-    if pw is None:
+    if pairs is None:
         return 0
-    return pw[0].shape[0]
+    return pairs.shape[0]
 
 
 @serial
-def pair_scratch_size(pw):
+def pair_scratch_size(pairs):
     """Floats of the pairs' scratch (``carve_pairs``)."""
-    if pw is None:
+    if pairs is None:
         return 0
-    P = pw[0].shape[0]
+    P = pairs.shape[0]
     return P * MAX_CONTACTS * OUT + 3 * P + 2 * P + PAIR_CANDIDATES * OUT + WORK + 10 + 4 + 16
 
 
 @serial
-def carve_pairs(pw, p, o):
+def carve_pairs(pairs, p, o):
     """The pairs' scratch from the buffer at pointer ``p``, offset ``o``: None without
-    pairs, else ``(out, counts, normals, status, cand, work, tmp, zero, P)``."""
-    if pw is None:
+    pairs, else ``(out, counts, normals, status, cand, work, tmp, zero, P)`` (typed
+    Optional: unpack it, never index it)."""
+    if pairs is None:
         return None
-    n = pw[0].shape[0]
+    n = pairs.shape[0]
     out, o = ws.carve(p, o, (n, MAX_CONTACTS, OUT))
     normals, o = ws.carve(p, o, (n, 3))
     counts, o = ws.carve(p, o, (n,))
@@ -74,23 +77,23 @@ def carve_pairs(pw, p, o):
 
 
 @serial
-def ground_friction(pw, s, friction):
+def ground_friction(shape_friction, s, friction):
     """The friction of shape ``s`` on the ground: the smaller of the ground's and the
     shape's (K33)."""
-    if pw is None:
+    if shape_friction is None:
         return friction
-    return min(friction, pw[2][s])
+    return min(friction, shape_friction[s])
 
 
 @serial
-def detect_pairs(pw, ps, kinds, sizes, vertices, offsets, poses, margin):
+def detect_pairs(pairs, radii, ps, kinds, sizes, vertices, offsets, poses, margin):
     """The pairs' contacts at ``poses`` (``contact.pairs.pair_contacts``, K32, K34) into
     the scratch ``ps``; returns their number. A pair whose distance is not computed gets
     none."""
-    if pw is None:
+    if pairs is None:
         return 0
     out, counts, normals, status, cand, work, tmp, zero, P = ps
-    pair_contacts(kinds, sizes, vertices, offsets, poses, pw[0], pw[1], margin, zero, P, work,
+    pair_contacts(kinds, sizes, vertices, offsets, poses, pairs, radii, margin, zero, P, work,
                   tmp, cand, out, counts, normals, status)
     total = 0
     for p in range(counts.shape[0]):
@@ -99,15 +102,14 @@ def detect_pairs(pw, ps, kinds, sizes, vertices, offsets, poses, margin):
 
 
 @serial
-def pair_rows(pw, ps, m, Sw, links, J, mu, lam, prev, had, c, shapes):
+def pair_rows(pairs, friction, ps, m, Sw, links, J, mu, lam, prev, had, c, shapes):
     """The rows ``(t₁, t₂, n)`` of each pair contact from row ``3 c`` of ``J``: ``J_a(x_a)
     - J_b(x_b)`` turned into the contact's frame (K32), its friction (K33) into ``mu``,
     ``lam`` warm-started from its slot's λ of the previous step (K25). Returns the next
     contact and whether any row was warm-started."""
     warm = False
-    if pw is None:
+    if pairs is None:
         return c, warm
-    pairs, friction = pw[0], pw[2]
     out, counts, normals, _, _, _, tmp, _, F = ps
     for p in range(pairs.shape[0]):
         a, b = pairs[p, 0], pairs[p, 1]
@@ -143,11 +145,11 @@ def gap_term(d, beta, dt):
 
 
 @serial
-def pair_gaps(pw, ps, g, c, beta, dt):
+def pair_gaps(pairs, ps, g, c, beta, dt):
     """The gap's term (K23) on each pair contact's normal row, from contact ``c``."""
-    if pw is None:
+    if pairs is None:
         return
-    out, counts = ps[0], ps[1]
+    out, counts, _, _, _, _, _, _, _ = ps  # unpacked: ps may be typed Optional
     for p in range(counts.shape[0]):
         for j in range(int(counts[p])):
             g[3 * c + 2] += gap_term(out[p, j, 3], beta, dt)
@@ -155,10 +157,10 @@ def pair_gaps(pw, ps, g, c, beta, dt):
 
 
 @serial
-def keep_pairs(pw, ps, lam, prev, had, force, c, shapes, dt):
+def keep_pairs(pairs, ps, lam, prev, had, force, c, shapes, dt):
     """Each pair contact's λ into its slot (K25) and its force on shape ``a`` (world frame,
     λ / dt) into ``force``, from contact ``c``."""
-    if pw is None:
+    if pairs is None:
         return
     out, counts, normals, _, _, _, _, _, F = ps
     for p in range(counts.shape[0]):

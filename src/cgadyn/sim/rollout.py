@@ -245,7 +245,7 @@ def _world_size(world, n, nq, nv, nl):
     """Floats of a rollout's contact scratch; 0 without a world."""
     if world is None:
         return 0
-    (kinds, _, _, _, _, _, _, _, _, _, _, limits, frictions, pairs) = world
+    (kinds, _, _, _, _, _, _, _, _, _, _, limits, frictions, pairs, _, _) = world
     return scratch_size(n, nq, nv, nl, kinds.shape[0] + pair_count(pairs), limits.shape[0],
                         frictions.shape[0]) + pair_scratch_size(pairs)
 
