@@ -33,9 +33,10 @@ def robot_and_bodies(model, world, collisions, q0, v0, tau, f_ext, controller):
     the bodies of ``world`` appended (the module's docstring); the inputs unchanged where
     the world has none."""
     from ..contact.bodies import check_start, world_model
+    from ..contact.world import World
 
     n = model.njoints
-    if world is None or not world.bodies:
+    if not isinstance(world, World) or not world.bodies:  # a bad world: named later
         return model, collisions, q0, v0, tau, f_ext, controller, n
     check_start(world)
     robot = model
