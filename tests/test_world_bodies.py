@@ -218,9 +218,10 @@ def test_a_rollout_without_bodies_has_no_pairs():
 def test_the_panda_pushes_a_box_along_the_ground():
     """The panda (fixed base) under PD swings its hand low through a box standing on the
     ground: the box is pushed 0.2 m away or more (it tips onto its side) and comes to rest,
-    never sinking into the ground by 1e-3 m, and the arm reaches its goal. (A ball pushed so rolls away spinning: the
-    explicit Euler term ``ω × v`` of a free flyer's body-frame velocity then feeds energy
-    into it, a limit of the integrator noted in docs/contact.md.)"""
+    never sinking into the ground by 1e-3 m, and the arm reaches its goal. (A ball pushed
+    so rolls away spinning: the explicit Euler term ``ω × v`` of a free flyer's body-frame
+    velocity then feeds energy into it, a limit of the integrator noted in
+    docs/contact.md.)"""
     model, cm = _panda()
     start = np.array([-0.6, 1.0, 0.0, -1.2, 0.0, 2.2, 0.8, 0.02, 0.02])
     goal = start.copy()

@@ -37,8 +37,9 @@ def ground_frame(normal) -> np.ndarray:
 @dataclass(frozen=True)
 class ContactStep:
     """The result of ``contact_step``: the state after the step ``q``, ``v``; the contacts
-    found at the start of the step (``contacts``) and the force of each on the robot in the
-    world frame (``forces`` (K, 3), the impulse over ``dt``); the joint torques of the
+    found at the start of the step (``contacts``) and the force of each on its shape in the
+    world frame (``forces`` (K, 3), the impulse over ``dt``; a pair contact's on its first
+    shape, ``a``, K32); the joint torques of the
     limits (``limit_torques`` (nv,), their impulse over ``dt``; zero where no limit acts)
     and of the friction losses (``friction_torques`` (nv,));
     the solver's report (``info``, a ``ContactSolveInfo``; None without contacts or limits)
@@ -61,14 +62,17 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     with the ground of ``world`` (default ``World()``) touched by the shapes of
     ``collisions`` (``collision_model(model, ...)``; None: no shapes, for a
     ``World(ground=False)`` only), the joints' limits (``joint_limits``) and their friction
-    loss (``friction_loss``):
+    loss (``friction_loss``). With ``World(bodies=[...])`` the bodies are links of the
+    model (``bodies.with_bodies``, built once): ``q`` and ``v`` are then the whole model's
+    (the robot's, then 7 and 6 per body), ``tau`` the robot's (nv,) or the whole model's,
+    and the contacts include those between shapes of different links (K32-K34):
 
     ``contact`` (a ``ContactSettings``, default ``ContactSettings()``) holds the margin,
     the stabilization and the solvers' settings named below.
 
     1. the contacts closer than ``margin`` plus the distance a point may travel in the step
        (``|v| dt``, an angular speed counted at a reach of 1 m) (K21-K22), each a point of
-       its link;
+       its link (held in the world, or, for a pair, to the other shape's point, K32);
     2. the contact problem (K20, K23): ``G = J M⁻¹ Jᵀ`` and ``g = J v_free`` in each
        contact's frame ``(t₁, t₂, n)`` (``ground_frame``), with the normal velocity allowed
        to close an open gap within the step (``g_N + d / dt`` for ``d > 0``) and a
