@@ -91,6 +91,8 @@ _LAZY = {
     "collision_poses": "cgadyn.contact",
     "collision_distances": "cgadyn.contact",
     "World": "cgadyn.contact",
+    "Body": "cgadyn.contact",
+    "with_bodies": "cgadyn.contact",
     "Contacts": "cgadyn.contact",
     "ground_contacts": "cgadyn.contact",
     "contact_step": "cgadyn.contact",

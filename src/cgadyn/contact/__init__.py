@@ -3,6 +3,7 @@ and the contact points with it, the frictional contact problem with its solvers,
 PGS, and the velocity-level step that joins them (docs/contact.md)."""
 
 from .api import shape_distance
+from .bodies import Body, with_bodies
 from .criteria import ContactCriteria, step_criteria
 from .model import Collision, CollisionModel, collision_distances, collision_model, collision_poses
 from .problem import contact_problem
@@ -12,9 +13,10 @@ from .solve import ContactSolveInfo, solve_contacts
 from .step import ContactStep, contact_step
 from .world import Contacts, World, ground_contacts
 
-__all__ = ["Box", "Capsule", "Collision", "CollisionModel", "ContactCriteria", "ContactSettings",
+__all__ = ["Body", "Box", "Capsule", "Collision", "CollisionModel", "ContactCriteria",
+           "ContactSettings",
            "ContactSolveInfo", "ContactStep",
            "Contacts", "ConvexMesh", "Cylinder", "MeshSimplified", "Plane", "Shape", "Sphere",
            "World", "collision_distances", "collision_model", "collision_poses",
            "contact_problem", "contact_step", "ground_contacts", "shape_distance",
-           "solve_contacts", "step_criteria"]
+           "solve_contacts", "step_criteria", "with_bodies"]

@@ -114,13 +114,24 @@ def gap_after(cand, i, V, n0, n1, n2, dt):
 
 
 @serial
-def _eligible(cand, count, margin, V, n0, n1, n2, dt, keep):
-    """``keep[i]`` 1 for the candidates whose gap after the step is below ``margin``
-    (K21a), else 0; their number."""
+def mark_reach(cand, count, margin, V, n0, n1, n2, dt):
+    """Column ``OUT`` of the ``count`` candidates: 1 where the gap less the way the point may
+    travel in the step (``gap_after``) is below ``margin`` (K21a), else 0. Their number."""
     k = 0
     for i in range(count):
-        keep[i] = 1.0 if gap_after(cand, i, V, n0, n1, n2, dt) < margin else 0.0
-        k += int(keep[i])
+        cand[i, OUT] = 1.0 if gap_after(cand, i, V, n0, n1, n2, dt) < margin else 0.0
+        k += int(cand[i, OUT])
+    return k
+
+
+@serial
+def mark_within(cand, count, margin):
+    """Column ``OUT`` of the ``count`` candidates: 1 where the distance is below ``margin``,
+    else 0. Their number."""
+    k = 0
+    for i in range(count):
+        cand[i, OUT] = 1.0 if cand[i, 3] < margin else 0.0
+        k += int(cand[i, OUT])
     return k
 
 
@@ -137,16 +148,13 @@ def _apart(cand, i, out, m, patch):
 
 
 @serial
-def reduce_patch(cand, count, margin, patch, n0, n1, n2, out, V, dt):
-    """At most four of the ``count`` candidates whose gap after the step (``gap_after``
-    with the twists ``V`` over ``dt``) is below ``margin``, spanning the patch (K21a,
-    K22): the deepest; the one farthest from it; the one making the largest triangle with
-    those two; the one adding the largest area to that triangle. A point no farther than
-    ``patch`` (and 1e-9) from one kept, or adding no area, is not kept: a patch narrower
-    than ``patch`` is one point. Writes them to ``out`` and returns their number. Column
-    ``OUT`` of ``cand`` is scratch."""
-    if _eligible(cand, count, margin, V, n0, n1, n2, dt, cand[:, OUT]) == 0:
-        return 0
+def reduce_patch(cand, count, patch, n0, n1, n2, out):
+    """At most four of the ``count`` candidates marked in column ``OUT`` (``mark_reach``,
+    ``mark_within``), spanning the patch (K22): the deepest; the one farthest from it; the
+    one making the largest triangle with those two; the one adding the largest area to that
+    triangle. A point no farther than ``patch`` (and 1e-9) from one kept, or adding no
+    area, is not kept: a patch narrower than ``patch`` is one point. Writes them to ``out``
+    and returns their number."""
     first = -1
     for i in range(count):
         if cand[i, OUT] != 0.0 and (first < 0 or cand[i, 3] < cand[first, 3]):
@@ -200,7 +208,9 @@ def plane_contacts(kind, size, vertices, T, sb, Tb, margin, patch, cand, out, V,
     n0, n1, n2 = rotate(Tb, sb[0], sb[1], sb[2])
     delta = sb[3] + n0 * Tb[0, 3] + n1 * Tb[1, 3] + n2 * Tb[2, 3]
     count = candidates(kind, size, vertices, T, n0, n1, n2, delta, cand)
-    return reduce_patch(cand, count, margin, patch, n0, n1, n2, out, V, dt)
+    if mark_reach(cand, count, margin, V, n0, n1, n2, dt) == 0:
+        return 0
+    return reduce_patch(cand, count, patch, n0, n1, n2, out)
 
 
 @serial

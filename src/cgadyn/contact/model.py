@@ -32,7 +32,8 @@ class Collision:
     ``-1`` for the world, where a link of the model is not one), at ``placement`` (4x4)
     in that link's frame. ``contype`` and ``conaffinity`` are MuJoCo's bit masks (two
     shapes may touch where ``contype_a & conaffinity_b or contype_b & conaffinity_a``);
-    URDF shapes take MuJoCo's default, 1 and 1."""
+    URDF shapes take MuJoCo's default, 1 and 1. ``friction``: the Coulomb coefficient of
+    the shape's surface (a free ``Body``'s); None: the ``World``'s (K38)."""
 
     name: str
     shape: Shape
@@ -40,6 +41,7 @@ class Collision:
     placement: np.ndarray = field(repr=False)
     contype: int = 1
     conaffinity: int = 1
+    friction: float | None = None
 
 
 class CollisionModel(tuple):

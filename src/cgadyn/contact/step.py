@@ -17,29 +17,30 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .pairs import candidate_pairs, contact_frame
 from .problem import gap_velocity
 from .settings import ContactSettings, other_solver, residual
-from .world import Contacts, World, ground_contacts
+from .world import Contacts, World, world_contacts
 
 __all__ = ["ContactStep", "contact_step", "ground_frame"]
 
 
 def ground_frame(normal) -> np.ndarray:
-    """The rows ``(t₁, t₂, n)`` of the contact frame of a ground with unit normal ``n``:
-    ``t₁`` the world's x made orthogonal to ``n`` (the world's y where x is along ``n``),
-    ``t₂ = n × t₁``; for a level ground the world's own axes."""
+    """The rows ``(t₁, t₂, n)`` of the frame of a contact with unit normal ``n``: the
+    ground's, or a pair's from ``b`` to ``a`` (``pairs.contact_frame``, K37); for a level
+    ground the world's own axes."""
     n = np.asarray(normal, dtype=float)
-    x = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    t1 = x - (x @ n) * n
-    t1 /= np.linalg.norm(t1)
-    return np.array([t1, np.cross(n, t1), n])
+    F = np.empty((3, 3))
+    contact_frame(float(n[0]), float(n[1]), float(n[2]), F)
+    return F
 
 
 @dataclass(frozen=True)
 class ContactStep:
     """The result of ``contact_step``: the state after the step ``q``, ``v``; the contacts
-    found at the start of the step (``contacts``) and the force of each on the robot in the
-    world frame (``forces`` (K, 3), the impulse over ``dt``); the joint torques of the
+    found at the start of the step (``contacts``) and the force of each on its shape in the
+    world frame (``forces`` (K, 3), the impulse over ``dt``; a pair contact's on its first
+    shape, ``a``, K37); the joint torques of the
     limits (``limit_torques`` (nv,), their impulse over ``dt``; zero where no limit acts)
     and of the friction losses (``friction_torques`` (nv,));
     the solver's report (``info``, a ``ContactSolveInfo``; None without contacts or limits)
@@ -75,14 +76,18 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     with the ground of ``world`` (default ``World()``) touched by the shapes of
     ``collisions`` (``collision_model(model, ...)``; None: no shapes, for a
     ``World(ground=False)`` only), the joints' limits (``joint_limits``) and their friction
-    loss (``friction_loss``):
+    loss (``friction_loss``). With ``World(bodies=[...])`` the bodies are links of the
+    model (``bodies.with_bodies``, built once): ``q`` and ``v`` are then the whole model's
+    (the robot's, then 7 and 6 per body), ``tau`` the robot's (nv,) or the whole model's,
+    and the contacts include those between shapes of different links (K37-K39):
 
     ``contact`` (a ``ContactSettings``, default ``ContactSettings()``) holds the margin,
     the stabilization and the solvers' settings named below.
 
     1. the contacts whose gap, less the way the point may travel in the step at ``v`` or
        ``v_free``, is below ``margin``, no two of a patch closer than ``patch`` (K21-K22),
-       each a point of its link;
+       each a point of its link (held in the world, or, for a pair, to the other shape's
+       point, K37);
     2. the contact problem (K20, K23): ``G = J M⁻¹ Jᵀ`` and ``g = J v_free`` in each
        contact's frame ``(t₁, t₂, n)`` (``ground_frame``), with the normal velocity allowed
        to close an open gap within the step (``g_N + d / dt`` for ``d > 0``) and a
@@ -125,14 +130,21 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         step = float("nan")
     if not np.isfinite(step) or step <= 0.0:
         raise ValueError(f"dt must be a finite number > 0, got {dt!r}")
+    if not isinstance(world, World):
+        raise TypeError(f"world must be a cgadyn.World, got {type(world).__name__}")
+    robot_joints, robot_nv = model.njoints, model.nv
+    if world.bodies:  # the bodies are links of the model (K36)
+        from .bodies import world_model
+
+        model, collisions = world_model(model, collisions, world)[:2]
     q = np.asarray(q, dtype=float)
     v, tau = np.asarray(v, dtype=float), np.asarray(tau, dtype=float)
+    if tau.shape == (robot_nv,) and robot_nv != model.nv:  # the bodies are not actuated
+        tau = np.concatenate([tau, np.zeros(model.nv - robot_nv)])
     for name, x, size in (("v", v, model.nv), ("tau", tau, model.nv)):
         if x.shape != (size,):
             raise ValueError(f"{name}: expected shape ({size},) for {model.name!r}, got "
                              f"{x.shape}")
-    if not isinstance(world, World):
-        raise TypeError(f"world must be a cgadyn.World, got {type(world).__name__}")
     if collisions is None and world.ground:
         raise ValueError("contact_step: collisions is None but the world has a ground; pass "
                          "collisions=cgadyn.collision_model(model, ...), or "
@@ -144,7 +156,9 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     torque = tau + passive_torques(model, q, v) if passive else tau
     v_free = v + step * aba(model, q, v, torque)  # K20
     # a gap that the step may close is a contact (K21a)
-    contacts = ground_contacts(model, cm, q, world, margin, v, v_free, step, contact.patch)
+    pairs = candidate_pairs(cm, robot_joints, world.self_collision)  # K38
+    contacts = world_contacts(model, cm, q, world, margin, pairs, v, v_free, step,
+                              contact.patch)
     limits = joint_limits_of(model) if joint_limits else np.zeros((0, LIMIT_COLUMNS))
     rows = np.empty((2 * len(limits), LIMIT_COLUMNS))
     nl = active_limits(limits, q, v, v_free, step, float(margin), rows)  # K26
@@ -155,15 +169,20 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
                            np.zeros((0, 3)), np.zeros(model.nv), np.zeros(model.nv),
                            velocities=np.zeros((0, 3)))
     links = link_placements(model, q)
-    frame = ground_frame(world.ground_normal)
+    frames = np.array([ground_frame(n) for n in contacts.normal]).reshape(nc, 3, 3)  # K37
     constraints = []
     for k in range(len(contacts)):  # each contact a point of its link, held where it is
-        at = np.eye(4)
-        at[:3, 3] = contacts.point[k]
-        constraints.append(Constraint(model, "point", int(contacts.link[k]),
-                                      placement=np.linalg.inv(links[contacts.link[k]]) @ at,
-                                      other_placement=at))
-    R = np.kron(np.eye(nc), frame)  # world rows to contact rows (t₁, t₂, n) per contact
+        at, other = np.eye(4), np.eye(4)  # or, on another link, the relative velocity
+        at[:3, 3], other[:3, 3] = contacts.point[k], contacts.other_point[k]
+        b = int(contacts.other_link[k])
+        constraints.append(Constraint(
+            model, "point", int(contacts.link[k]),
+            placement=np.linalg.inv(links[contacts.link[k]]) @ at,
+            other=b if b >= 0 else None,
+            other_placement=np.linalg.inv(links[b]) @ other if b >= 0 else other))
+    R = np.zeros((3 * nc, 3 * nc))  # world rows to contact rows (t₁, t₂, n) per contact
+    for k in range(nc):
+        R[3 * k:3 * k + 3, 3 * k:3 * k + 3] = frames[k]
     J = np.zeros((3 * nc + nl + nf, model.nv))
     n1 = 3 * nc + nl  # the first friction row
     if nc:
@@ -195,7 +214,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
                          f"raise ContactSettings' max_iterations or accept")
     impulse = J.T @ lam  # joint impulses of the contacts
     v_next = v_free + aba(model, q, np.zeros(model.nv), impulse, gravity=np.zeros(3))  # K24
-    forces = (lam[:3 * nc].reshape(nc, 3) @ frame) / step  # in the world frame
+    forces = np.einsum("ki,kij->kj", lam[:3 * nc].reshape(nc, 3), frames) / step  # world
     limit_torques = J[3 * nc:n1].T @ lam[3 * nc:n1] / step
     friction_torques = J[n1:].T @ lam[n1:] / step
     sigma = (G[:3 * nc] @ lam + g[:3 * nc]).reshape(nc, 3)  # σ = G λ + g (K11)

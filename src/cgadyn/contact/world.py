@@ -1,8 +1,11 @@
-"""The world a robot touches: a ground plane, which may be tilted, and its friction.
+"""The world a robot touches: a ground plane, which may be tilted, its friction, and free
+bodies.
 
-``World`` says where the ground is; ``ground_contacts(model, collisions, q, world)`` finds
-where the robot's collision shapes touch it (``manifold``, K21-K22): for each contact the
-shape and its link, the point on the shape, the ground's normal and the signed distance.
+``World`` says where the ground is and which free bodies lie about (``bodies.Body``);
+``ground_contacts(model, collisions, q, world)`` finds where the robot's collision shapes
+touch the ground (``manifold``, K21-K22): for each contact the shape and its link, the point
+on the shape, the ground's normal and the signed distance. ``world_contacts`` adds the
+contacts between shapes of different links (``pairs``, K37-K39).
 """
 
 from __future__ import annotations
@@ -14,22 +17,43 @@ import numpy as np
 from . import manifold as C
 from .shapes import Plane
 
-__all__ = ["Contacts", "World", "ground_contacts", "shape_twists", "touches_ground"]
+__all__ = ["Contacts", "World", "ground_contacts", "shape_friction", "shape_twists",
+           "touches_ground", "world_contacts"]
 
 
 @dataclass(frozen=True)
 class World:
     """A ground plane through the point ``(0, 0, ground_height)`` with the unit normal
     ``ground_normal`` (normalised here; it points out of the ground), and its Coulomb
-    friction coefficient ``friction`` (a contact's coefficient is the ground's: the shapes
-    carry none yet). ``ground=False``: no ground."""
+    friction coefficient ``friction`` (also every shape's that carries none: the robot's;
+    a contact's coefficient is the smaller of its two surfaces', K38). ``ground=False``: no
+    ground. ``bodies``: free rigid bodies (``cgadyn.Body``) appended to the robot's model as
+    free-flyer roots (``contact.bodies.with_bodies``), touching the ground, the robot and
+    each other; ``self_collision``: the robot's shapes touch each other too (never those on
+    one body, or on a parent and its child)."""
 
     ground: bool = True
     ground_normal: tuple = (0.0, 0.0, 1.0)
     ground_height: float = 0.0
     friction: float = 1.0
+    bodies: tuple = ()
+    self_collision: bool = False
 
     def __post_init__(self):
+        from .bodies import Body
+
+        try:
+            bodies = tuple(self.bodies)
+        except TypeError:
+            raise ValueError(f"World: bodies must be a list of cgadyn.Body, got "
+                             f"{self.bodies!r}") from None
+        for b in bodies:
+            if not isinstance(b, Body):
+                raise ValueError(f"World: bodies must be cgadyn.Body records, got {b!r}")
+        if not isinstance(self.self_collision, bool):
+            raise ValueError(f"World: self_collision must be True or False, got "
+                             f"{self.self_collision!r}")
+        object.__setattr__(self, "bodies", bodies)
         n = np.asarray(self.ground_normal, dtype=float)
         if n.shape != (3,) or not np.all(np.isfinite(n)) or np.linalg.norm(n) < 1e-9:
             raise ValueError(f"World: ground_normal must be a finite nonzero 3-vector, got "
@@ -58,7 +82,10 @@ class Contacts:
     index of the shape in its ``CollisionModel``), ``link`` (an index of
     ``model.link_names``), ``point`` (K, 3) on the shape in the world, ``normal`` (K, 3)
     the ground's (out of it), ``distance`` (K,) signed (negative: a penetration), and
-    ``friction`` (K,)."""
+    ``friction`` (K,). A contact between two shapes (K37) also names the other shape
+    (``other``, -1 for the ground), its link (``other_link``, -1 for the ground or the
+    world) and its point ``other_point`` (K, 3) (the ground's: the point itself); its
+    ``normal`` points from the other shape to this one."""
 
     collision: np.ndarray
     link: np.ndarray
@@ -66,6 +93,17 @@ class Contacts:
     normal: np.ndarray = field(repr=False)
     distance: np.ndarray = field(repr=False)
     friction: np.ndarray = field(repr=False)
+    other: np.ndarray = field(repr=False, default=None)
+    other_link: np.ndarray = field(repr=False, default=None)
+    other_point: np.ndarray = field(repr=False, default=None)
+
+    def __post_init__(self):
+        n = self.collision.size
+        for name, value in (("other", np.full(n, -1, dtype=np.int64)),
+                            ("other_link", np.full(n, -1, dtype=np.int64)),
+                            ("other_point", self.point)):
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, value)
 
     def __len__(self) -> int:
         return int(self.collision.size)
@@ -152,4 +190,39 @@ def ground_contacts(model, collisions, q, world: World | None = None,
     n = len(rows)
     return Contacts(which, cm.links[which], found[:, :3].copy(),
                     np.tile(np.asarray(world.ground_normal), (n, 1)), found[:, 3].copy(),
-                    np.full(n, world.friction))
+                    np.minimum(shape_friction(cm, world)[which], world.friction))
+
+
+def shape_friction(collisions, world: World) -> np.ndarray:
+    """(K,) each shape's friction coefficient: its own (a free body's), else the World's;
+    a contact takes the smaller of its two surfaces' (K38)."""
+    return np.array([world.friction if c.friction is None else float(c.friction)
+                     for c in collisions], dtype=float).reshape(len(collisions))
+
+
+def world_contacts(model, collisions, q, world: World, margin: float, pairs, v=None,
+                   v_free=None, dt: float = 0.0, patch: float = 0.0) -> Contacts:
+    """The contacts of ``ground_contacts`` (with ``v``, ``v_free``, ``dt`` and ``patch``)
+    followed by those of the shapes' ``pairs`` ((P, 2), ``pairs.candidate_pairs``) within
+    ``pairs.pair_margin`` of ``margin`` (K21a, K37-K39), each pair's points on its first
+    shape ``a``, the normal from ``b`` to ``a``."""
+    from .model import _collisions, collision_poses
+    from .pairs import bounding_radii, pair_margin, pair_rows
+
+    cm = _collisions(collisions, model)
+    ground = ground_contacts(model, cm, q, world, margin, v, v_free, dt, patch)
+    if len(pairs) == 0:
+        return ground
+    poses = np.ascontiguousarray(collision_poses(model, cm, q))
+    reach = pair_margin(float(margin), bounding_radii(cm), poses,
+                        shape_twists(model, cm, q, v, v_free), float(dt))
+    which, xa, xb, normal, d = pair_rows(model, cm, poses, pairs, reach, patch)
+    a, b = pairs[which, 0], pairs[which, 1]
+    mu = shape_friction(cm, world)
+    cat = np.concatenate
+    return Contacts(cat([ground.collision, a]), cat([ground.link, cm.links[a]]),
+                    cat([ground.point, xa]), cat([ground.normal, normal]),
+                    cat([ground.distance, d]), cat([ground.friction,
+                                                    np.minimum(mu[a], mu[b])]),
+                    cat([ground.other, b]), cat([ground.other_link, cm.links[b]]),
+                    cat([ground.other_point, xb]))

@@ -21,7 +21,9 @@ vertices and offsets, their placements on their links, their links, which touch 
 the ground plane ``[n, δ]``, its frame, ``params`` (``PARAMS``, then the solver's
 ``ncp.SETTINGS``), the joint limits enforced (``contact.limits.joint_limits``; none where
 ``joint_limits`` is off) and the friction losses (``contact.limits.joint_frictions``; none
-where ``friction_loss`` is off).
+where ``friction_loss`` is off), and the pairs of shapes that may touch, the shapes'
+bounding radii and friction coefficients (``sim.pairs.pair_world``; three None without free
+bodies and self-collision, which prunes the pairs' code, K37-K39).
 """
 
 from __future__ import annotations
@@ -31,7 +33,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from .._jit import inline, serial
+from .._jit import serial
 from ..algorithms import _workspace as ws
 from ..algorithms.crba import crba_core
 from ..algorithms.kinematics import link_motor
@@ -46,26 +48,41 @@ from ..contact.admm import SCRATCH_ROWS
 from ..contact.limits import LIMIT_COLUMNS, ROW_GAP, ROW_SIGN, ROW_SLOT, ROW_V, active_limits
 from ..contact.solver import ADMM, PGS, solve_one
 from ..kernels.rigid import motor_matrix
+from .pairs import (
+    carve_pairs,
+    detect_pairs,
+    ground_friction,
+    keep_pairs,
+    pair_count,
+    pair_gaps,
+    pair_rows,
+    pair_world,
+)
+from .pairs import gap_term as _gap
 
 WorldArrays = namedtuple("WorldArrays", (
     "kinds", "sizes", "vertices", "offsets", "placements", "links", "active", "ground",
-    "ground_pose", "frame", "params", "limits", "frictions"))
+    "ground_pose", "frame", "params", "limits", "frictions", "pairs", "radii",
+    "shape_friction"))
 """The world as the loop reads it (``world_arrays``): the shapes' kinds, sizes, vertices
 and offsets, their placements on their links, their links, which touch the ground, the
 ground plane ``[n, δ]`` and its pose, the ground's frame ``(t₁, t₂, n)``, ``params``, the
-joint limits (``contact.limits.joint_limits``) and the friction losses."""
+joint limits (``contact.limits.joint_limits``) and the friction losses; then the pairs of
+shapes that may touch, the shapes' bounding radii and their friction (``sim.pairs.pair_world``:
+each None without free bodies or self-collision, which prunes the pairs' code)."""
 
 ContactScratch = namedtuple("ContactScratch", (
     "world", "poses", "out", "counts", "cand", "big", "mu", "info", "settings", "prev",
     "force", "had", "tmp8", "T", "count", "report", "cwork", "lrows", "bounds", "lprev",
-    "lhad", "twists"))
+    "lhad", "twists", "pairs"))
 """A rollout's contact scratch (``carve_scratch``) beside its ``WorldArrays`` (``world``):
 the shapes' poses, the contacts found (``out``, ``counts``), candidates, the problem's
 matrices (``big``), the cones' μ, the solver's info and settings, each slot's impulse of the
 previous step (``prev``, ``had``) and force of this one (``force``), the contacts' number
 and the report of the step (``count``, ``report``), the constraint workspace, the active
 limits' rows, the interval rows' bounds and previous impulses (``lprev``, ``lhad``), the
-shapes' link twists (K21a)."""
+shapes' link twists (K21a), the pairs' scratch (``sim.pairs.carve_pairs``; None without
+pairs)."""
 
 MARGIN, STABILIZATION, FRICTION, WARM, FIRST, ACCEPT, PATCH = range(7)
 PARAMS = 7
@@ -81,9 +98,10 @@ residual of the step (``_keep_contacts``); the slots' forces follow."""
 
 
 def world_arrays(model, collisions, world, contact, joint_limits: bool = True,
-                 friction_loss: bool = True) -> tuple:
+                 friction_loss: bool = True, robot_joints: int | None = None) -> tuple:
     """The tuple the loop reads (the module's docstring), with the settings of
-    ``contact`` (a ``ContactSettings``)."""
+    ``contact`` (a ``ContactSettings``); the joints from ``robot_joints`` on (default: none)
+    are the World's free bodies."""
     from ..contact.limits import joint_frictions
     from ..contact.limits import joint_limits as limits_of
     from ..contact.solve import _settings
@@ -98,15 +116,18 @@ def world_arrays(model, collisions, world, contact, joint_limits: bool = True,
                               contact.patch],
                              _settings(contact.tolerance, 0.0, contact.max_iterations, False,
                                        1e-6)])
-    return WorldArrays(np.ascontiguousarray(cm.kinds), np.ascontiguousarray(cm.sizes, dtype=float),
-            np.ascontiguousarray(cm.vertices, dtype=float), np.ascontiguousarray(cm.offsets),
-            np.ascontiguousarray(cm.placements, dtype=float),
-            np.ascontiguousarray(cm.links, dtype=np.int64), active,
-            np.array(world.plane.packed_size, dtype=float), np.eye(4),
-            ground_frame(world.ground_normal), params,
-            np.ascontiguousarray(limits_of(model) if joint_limits
-                                 else np.zeros((0, LIMIT_COLUMNS))),
-            joint_frictions(model) if friction_loss else np.zeros((0, 2)))
+    return WorldArrays(
+        np.ascontiguousarray(cm.kinds), np.ascontiguousarray(cm.sizes, dtype=float),
+        np.ascontiguousarray(cm.vertices, dtype=float), np.ascontiguousarray(cm.offsets),
+        np.ascontiguousarray(cm.placements, dtype=float),
+        np.ascontiguousarray(cm.links, dtype=np.int64), active,
+        np.array(world.plane.packed_size, dtype=float), np.eye(4),
+        ground_frame(world.ground_normal), params,
+        np.ascontiguousarray(limits_of(model) if joint_limits
+                             else np.zeros((0, LIMIT_COLUMNS))),
+        joint_frictions(model) if friction_loss else np.zeros((0, 2)),
+        *pair_world(model, cm, world, model.njoints if robot_joints is None
+                    else robot_joints))
 
 
 def slots(shapes: int) -> int:
@@ -134,7 +155,7 @@ def carve_scratch(world, buf, n, nq, nv, nl):
     """The world of ``world_arrays`` and a rollout's scratch carved from ``buf``
     (``scratch_size``), as one tuple."""
     shapes = world.kinds.shape[0]
-    K = C.MAX_CONTACTS * shapes
+    K = C.MAX_CONTACTS * (shapes + pair_count(world.pairs))  # the pairs' slots after the shapes'
     L = 2 * world.limits.shape[0]
     F = world.frictions.shape[0]
     m = 3 * K + L + F
@@ -160,6 +181,7 @@ def carve_scratch(world, buf, n, nq, nv, nl):
     lprev, o = ws.carve(p, o, (L + F,))  # the limits' slots, then the friction rows'
     lhad, o = ws.carve(p, o, (L + F,))
     twists, o = ws.carve(p, o, (shapes, 2, 6))
+    ps = carve_pairs(world.pairs, p, o)
     for k in range(K):
         had[k] = 0.0
         for i in range(3):
@@ -170,14 +192,7 @@ def carve_scratch(world, buf, n, nq, nv, nl):
     count[0] = 0.0
     return ContactScratch(world, poses, out, counts, cand, big, mu, info, settings, prev,
                           force, had, tmp8, T, count, report, cwork, lrows, bounds, lprev,
-                          lhad, twists)
-
-
-@inline
-def _gap(d, beta, dt):
-    """The gap's term of a normal or limit row (K23): ``d / dt`` for an open gap, ``β d /
-    dt`` for a penetration."""
-    return (d if d > 0.0 else beta * d) / dt
+                          lhad, twists, ps)
 
 
 @serial
@@ -220,8 +235,10 @@ def contact_velocity(m, world, q, v, vn, dt, work):
         w_.tmp8, w_.T, w_.count
     report, cwork, lrows, bounds, lprev, lhad, twists = w_.report, w_.cwork, w_.lrows, \
         w_.bounds, w_.lprev, w_.lhad, w_.twists
+    pairs, radii, shape_mu, ps = w_.world.pairs, w_.world.radii, w_.world.shape_friction, \
+        w_.pairs
     shapes = kinds.shape[0]
-    K = C.MAX_CONTACTS * shapes
+    K = C.MAX_CONTACTS * (shapes + pair_count(pairs))
     k_ = constraint_workspace(ws.data_pointer(cwork), m, 0)
     _world_columns(m, q, v, False, k_)  # the joints' world motors and Jacobian columns
     for s in range(shapes):  # each shape's pose: its link's frame times its placement (K10)
@@ -244,6 +261,8 @@ def contact_velocity(m, world, q, v, vn, dt, work):
     nc = 0
     for s in range(shapes):
         nc += int(counts[s])
+    nc += detect_pairs(pairs, radii, ps, kinds, sizes, vertices, offsets, poses,
+                       params[MARGIN], params[PATCH], twists, dt)  # K21a, K37, K39
     nl = active_limits(limits, q, v, vn, dt, params[MARGIN], lrows)  # K26
     nf, L = frictions.shape[0], 2 * limits.shape[0]
     for k in range(K):
@@ -283,13 +302,16 @@ def contact_velocity(m, world, q, v, vn, dt, work):
                 x, y, z = J[r0, k], J[r0 + 1, k], J[r0 + 2, k]
                 for i in range(3):
                     J[r0 + i, k] = frame[i, 0] * x + frame[i, 1] * y + frame[i, 2] * z
-            mu[c] = params[FRICTION]
+            mu[c] = ground_friction(shape_mu, s, params[FRICTION])  # K38
             slot = C.MAX_CONTACTS * s + j
             for i in range(3):  # warm start from the slot's λ of the previous step (K25)
                 lam[r0 + i] = prev[slot, i] if had[slot] != 0.0 else 0.0
             if had[slot] != 0.0:
                 warm = True
             c += 1
+    c, warm_pairs = pair_rows(pairs, shape_mu, ps, m, k_.Sw, links, J, mu, lam, prev, had, c,
+                              shapes)
+    warm = warm or warm_pairs
     for k in range(nl):  # a row ±e_v per bound near which the step may go (K26)
         r, slot = 3 * nc + k, int(lrows[k, ROW_SLOT])
         J[r, int(lrows[k, ROW_V])] = lrows[k, ROW_SIGN]
@@ -321,6 +343,7 @@ def contact_velocity(m, world, q, v, vn, dt, work):
         for j in range(int(counts[s])):
             g[3 * c + 2] += _gap(out[s, j, 3], params[STABILIZATION], dt)
             c += 1
+    pair_gaps(pairs, ps, g, c, params[STABILIZATION], dt)
     for k in range(nl):
         g[3 * nc + k] += _gap(lrows[k, ROW_GAP], params[STABILIZATION], dt)
     for i in range(ncp.SETTINGS):
@@ -359,6 +382,7 @@ def contact_velocity(m, world, q, v, vn, dt, work):
                 force[slot, i] = (frame[0, i] * lam[3 * c] + frame[1, i] * lam[3 * c + 1]
                                   + frame[2, i] * lam[3 * c + 2]) / dt
             c += 1
+    keep_pairs(pairs, ps, lam, prev, had, force, c, shapes, dt)
     for k in range(lhad.shape[0]):
         lhad[k] = 0.0
     for k in range(nl):

@@ -79,6 +79,7 @@ from ..constraints.work.core import workspace_size as constraint_workspace_size
 from ..multibody.joints import joint_difference, joint_integrate
 from ..multibody.packed import unpack
 from .contact import KEPT, carve_scratch, contact_velocity, scratch_size
+from .pairs import pair_count, pair_scratch_size
 from .work.rollout import workspace, workspace_size
 
 WORKSPACE = {  # one rollout's scratch, in order (tools/generate_workspaces.py)
@@ -244,8 +245,9 @@ def _world_size(world, n, nq, nv, nl):
     """Floats of a rollout's contact scratch; 0 without a world."""
     if world is None:
         return 0
-    return scratch_size(n, nq, nv, nl, world.kinds.shape[0], world.limits.shape[0],
-                        world.frictions.shape[0])
+    return scratch_size(n, nq, nv, nl, world.kinds.shape[0] + pair_count(world.pairs),
+                        world.limits.shape[0], world.frictions.shape[0]) \
+        + pair_scratch_size(world.pairs)
 
 
 @serial

@@ -34,6 +34,7 @@ from ..constraints.model import pack
 from ..constraints.operators import checked_settings
 from ..multibody.joints.table import spring_deflection
 from ..multibody.packed import DEFAULT_GRAVITY
+from .bodies import robot_and_bodies
 from .contact import KEPT, REPORT, slots, world_arrays
 from .controllers import PD, GravityCompensation, actuated_gains
 from .criteria import ContactScene
@@ -143,6 +144,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
                              f"{len(model.actuator_names)}) or (B, steps, na), got "
                              f"{np.shape(ctrl)}")
         tau = u_ctrl if tau is None else np.asarray(tau, dtype=float) + u_ctrl
+    model, collisions, q0, v0, tau, f_ext, controller, robot_joints = robot_and_bodies(
+        model, world, collisions, q0, v0, tau, f_ext, controller)  # the bodies: links
     if integrator not in INTEGRATORS:
         raise ValueError(f"integrator must be one of {', '.join(map(repr, INTEGRATORS))}, "
                          f"got {integrator!r}")
@@ -174,7 +177,13 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     batch = _batch({"q0": q0, "v0": v0, "tau": u if u.ndim == 3 else None})
     B = batch or 1
     rows = kept_rows(steps, every)
-    _fits(model, B, steps, rows, p.nr, slots(len(shapes)) if world is not None else 0)
+    arrays = None if world is None else world_arrays(
+        model, shapes, world, contact, joint_limits is not False, friction_loss is not False,
+        robot_joints)
+    # the contact slots: each shape's, then each pair's (sim.pairs)
+    K = 0 if world is None else slots(len(shapes) + (0 if arrays[-3] is None
+                                                     else len(arrays[-3])))
+    _fits(model, B, steps, rows, p.nr, K)
     q0 = np.array(np.broadcast_to(q0, (B, model.nq)), order="C")  # own copies, C order:
     v0 = np.array(np.broadcast_to(v0, (B, model.nv)), order="C")  # one compiled signature
     _energy(model, q0, v0, gravity)  # finite states, unit quaternions: its ValueError
@@ -196,11 +205,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     status = np.zeros(B, dtype=np.int64)
     # without rows None: the loop compiled without the constraint core (rollout._dynamics)
     cons, solve = (np.array(p.array, dtype=float), settings) if p.nr else (None, None)
-    K = slots(len(shapes)) if world is not None else 0
     CF = np.full(shape + (KEPT + 3 * K if world is not None else 0,), np.nan)
     CR = np.full((B, REPORT), np.nan)
-    arrays = None if world is None else world_arrays(
-        model, shapes, world, contact, joint_limits is not False, friction_loss is not False)
     with PARALLEL_LOCK:
         rollouts(packed, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, q_ref, v_ref,
                  cons, solve, arrays, dt, steps, every, Q, V, A, X, CF, CR, completed, status)
