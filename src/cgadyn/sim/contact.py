@@ -53,6 +53,7 @@ from .pairs import (
     detect_pairs,
     ground_friction,
     keep_pairs,
+    keep_slot,
     pair_count,
     pair_gaps,
     pair_rows,
@@ -375,12 +376,7 @@ def contact_velocity(m, world, q, v, vn, dt, work):
     c = 0
     for s in range(shapes):
         for j in range(int(counts[s])):
-            slot = C.MAX_CONTACTS * s + j
-            had[slot] = 1.0
-            for i in range(3):
-                prev[slot, i] = lam[3 * c + i]
-                force[slot, i] = (frame[0, i] * lam[3 * c] + frame[1, i] * lam[3 * c + 1]
-                                  + frame[2, i] * lam[3 * c + 2]) / dt
+            keep_slot(C.MAX_CONTACTS * s + j, lam, c, frame, dt, prev, had, force)
             c += 1
     keep_pairs(pairs, ps, lam, prev, had, force, c, shapes, dt)
     for k in range(lhad.shape[0]):

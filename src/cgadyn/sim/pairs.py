@@ -160,6 +160,18 @@ def pair_gaps(pairs, ps, g, c, beta, dt):
             c += 1
 
 
+@inline
+def keep_slot(slot, lam, c, F, dt, prev, had, force):
+    """Contact ``c``'s impulse ``λ`` (rows ``3c ..``, in its frame ``F``'s rows ``(t₁, t₂,
+    n)``) into its slot for the next step's warm start (K25), and its world-frame force
+    ``Fᵀ λ / dt`` into ``force``."""
+    had[slot] = 1.0
+    for i in range(3):
+        prev[slot, i] = lam[3 * c + i]
+        force[slot, i] = (F[0, i] * lam[3 * c] + F[1, i] * lam[3 * c + 1]
+                          + F[2, i] * lam[3 * c + 2]) / dt
+
+
 @serial
 def keep_pairs(pairs, ps, lam, prev, had, force, c, shapes, dt):
     """Each pair contact's λ into its slot (K25) and its force on shape ``a`` (world frame,
@@ -170,10 +182,5 @@ def keep_pairs(pairs, ps, lam, prev, had, force, c, shapes, dt):
     for p in range(counts.shape[0]):
         contact_frame(normals[p, 0], normals[p, 1], normals[p, 2], F)
         for j in range(int(counts[p])):
-            slot = MAX_CONTACTS * (shapes + p) + j
-            had[slot] = 1.0
-            for i in range(3):
-                prev[slot, i] = lam[3 * c + i]
-                force[slot, i] = (F[0, i] * lam[3 * c] + F[1, i] * lam[3 * c + 1]
-                                  + F[2, i] * lam[3 * c + 2]) / dt
+            keep_slot(MAX_CONTACTS * (shapes + p) + j, lam, c, F, dt, prev, had, force)
             c += 1
