@@ -16,14 +16,15 @@ their slot alike; then a row ``e_k`` per coordinate with a friction loss, ``|λ|
 called from one site of the loop, compiled only for a rollout with a world (the loop passes
 None otherwise and numba prunes the call).
 
-The world reaches compiled code as a tuple (``world_arrays``): the shapes' kinds, sizes,
-vertices and offsets, their placements on their links, their links, which touch the ground,
-the ground plane ``[n, δ]``, its frame, ``params`` (``PARAMS``, then the solver's
-``ncp.SETTINGS``), the joint limits enforced (``contact.limits.joint_limits``; none where
-``joint_limits`` is off) and the friction losses (``contact.limits.joint_frictions``; none
-where ``friction_loss`` is off), and the pairs of shapes that may touch, the shapes'
-bounding radii and friction coefficients (``sim.pairs.pair_world``; three None without free
-bodies and self-collision, which prunes the pairs' code, K37-K39).
+The world reaches compiled code as a named tuple (``WorldArrays``, ``world_arrays``): the
+shapes' kinds, sizes, vertices and offsets, their placements on their links, their links,
+which touch the ground, the ground plane ``[n, δ]``, its frame, ``params`` (``PARAMS``, then
+the solver's ``ncp.SETTINGS``), the joint limits enforced (``contact.limits.joint_limits``;
+none where ``joint_limits`` is off) and the friction losses
+(``contact.limits.joint_frictions``; none where ``friction_loss`` is off), and the pairs of
+shapes that may touch, the shapes' bounding radii and friction coefficients
+(``sim.pairs.pair_world``; three None without free bodies and self-collision, which prunes
+the pairs' code, K37-K39).
 """
 
 from __future__ import annotations
