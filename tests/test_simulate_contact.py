@@ -137,26 +137,6 @@ def test_a_step_short_of_the_tolerance_is_kept_within_accept_and_stops_above_it(
 
 
 @pytest.mark.slow
-def test_the_compiled_step_is_contact_step_for_solo12():
-    """50 steps of solo12 landing under joint PD equal ``contact_step``'s (q, v to 1e-10)."""
-    model, cm, q = solo12_on_the_ground()
-    q[2] += 0.002
-    pd = cgadyn.PD(kp=20.0, kd=0.5, q_ref=q, gravity_compensation=False)
-    tr = _sim(model, cm, q, np.zeros(model.nv), 50, controller=pd,
-              contact=cgadyn.ContactSettings(warm_start=False))
-
-    def tau(qk, vk):
-        t = np.zeros(model.nv)
-        t[6:] = 20.0 * (q[7:] - qk[7:]) - 0.5 * vk[6:]
-        return t
-
-    ref = _steps(model, cm, q, np.zeros(model.nv), 50, tau)
-    assert np.max(tr.contact_count) >= 4
-    for k, (qk, vk) in enumerate(ref):
-        assert np.abs(tr.q[k] - qk).max() < 1e-10 and np.abs(tr.v[k] - vk).max() < 1e-10
-
-
-@pytest.mark.slow
 def test_solo12_stands_for_five_seconds():
     """solo12 on its feet under joint PD for 5 s: its base moves less than 1e-6 m over the
     last second, only the feet touch, and the ground carries its weight."""

@@ -287,8 +287,7 @@ def _compiling() -> None:
     sys.stderr.flush()
 
 
-def pd_gains(model, q_ref: np.ndarray, wn: float, support=(),
-             dt: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+def pd_gains(model, q_ref: np.ndarray, wn: float, support=()) -> tuple[np.ndarray, np.ndarray]:
     """``K_p = I wn²``, ``K_d = 2 I wn``: each joint alone, with the inertia ``I`` it moves
     at ``q_ref``, a critically damped oscillator of frequency ``wn``; zero on the
     coordinates no actuator drives (a free flyer's). ``I`` is ``diag(M(q_ref))``, the
@@ -296,15 +295,12 @@ def pd_gains(model, q_ref: np.ndarray, wn: float, support=(),
     the ground) turns, at each joint between its base and a support link (a leg's), the
     rest of the robot about that joint: ``I`` adds the whole mass at the distance from the
     joint to the centre of mass, ``m |p_j - c|²``. Such a leg also swings in the air, where
-    it moves its subtree alone, and the controller acts explicitly over a step of ``dt``:
-    its gains are capped where that joint alone stays stable, ``K_d dt <= m_j`` and
-    ``K_p dt² <= m_j / 4``, with ``m_j = 1 / (M⁻¹)_jj`` the inertia a torque on joint ``j``
-    alone meets when nothing holds the robot."""
+    the same gains meet its subtree alone: stable at any step, because a step with a world
+    takes the gains at its end (K40)."""
     from ..algorithms import center_of_mass, crba, link_placements
 
     M = np.asarray(crba(model, q_ref))
     inertia = np.diag(M).copy()
-    legs = np.zeros(model.nv, dtype=bool)
     if model.floating_base and len(support):
         joints = set()
         for link in support:  # every joint from the support link up to the base
@@ -322,12 +318,7 @@ def pd_gains(model, q_ref: np.ndarray, wn: float, support=(),
             p = origin[child[int(model.dof_joint[k])]]
             inertia[k] += mass * float(np.sum((p - c) ** 2))
     m = np.where(model.actuated, inertia, 0.0)
-    kp, kd = m * wn**2, 2.0 * m * wn
-    if legs.any() and dt is not None:
-        alone = 1.0 / np.diag(np.linalg.inv(M))
-        kp = np.where(legs, np.minimum(kp, alone / (4.0 * dt**2)), kp)
-        kd = np.where(legs, np.minimum(kd, alone / dt), kd)
-    return kp, kd
+    return m * wn**2, 2.0 * m * wn
 
 
 def _gains(tokens, model, name: str) -> np.ndarray | None:
@@ -359,8 +350,7 @@ def _controller(args, model, support=()):
         return GravityCompensation()
     if args.controller == "pd":
         q_ref = np.asarray(neutral(model), float)
-        kp, kd = pd_gains(model, q_ref, WN if args.wn is None else args.wn, support,
-                          dt=args.dt)
+        kp, kd = pd_gains(model, q_ref, WN if args.wn is None else args.wn, support)
         kp_user, kd_user = _gains(args.kp, model, "--kp"), _gains(args.kd, model, "--kd")
         kp = kp if kp_user is None else kp_user
         kd = kd if kd_user is None else kd_user

@@ -14,7 +14,7 @@ link frames of ``cgadyn.link_placements`` composed with each shape's placement.
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -33,7 +33,10 @@ class Collision:
     in that link's frame. ``contype`` and ``conaffinity`` are MuJoCo's bit masks (two
     shapes may touch where ``contype_a & conaffinity_b or contype_b & conaffinity_a``);
     URDF shapes take MuJoCo's default, 1 and 1. ``friction``: the Coulomb coefficient of
-    the shape's surface (a free ``Body``'s); None: the ``World``'s (K38)."""
+    the shape's surface (a free ``Body``'s); None: the ``World``'s (K38). ``stiffness``
+    (N/m) and ``damping`` (N s/m): each of the shape's contact points with the ground a
+    spring and damper along the normal (K41, ``CollisionModel.compliant``); both zero: a
+    rigid contact."""
 
     name: str
     shape: Shape
@@ -42,13 +45,16 @@ class Collision:
     contype: int = 1
     conaffinity: int = 1
     friction: float | None = None
+    stiffness: float = 0.0
+    damping: float = 0.0
 
 
 class CollisionModel(tuple):
     """The collisions of a model (``model``, whose links they name), a tuple of
     :class:`Collision` with the arrays compiled code reads: ``kinds`` (K,), ``sizes``
     (K, 4), ``vertices`` (every mesh's hull, stacked) and ``offsets`` (K + 1,), ``links``
-    (K,), ``placements`` (K, 4, 4); ``bodies`` (K,), the joint moving each shape."""
+    (K,), ``placements`` (K, 4, 4); ``bodies`` (K,), the joint moving each shape;
+    ``compliance`` (K, 2), each shape's normal stiffness and damping (K41)."""
 
     def __new__(cls, collisions=(), model=None):
         self = super().__new__(cls, collisions)
@@ -70,7 +76,36 @@ class CollisionModel(tuple):
         self.vertices = np.ascontiguousarray(np.concatenate([np.zeros((0, 3)), *verts]))
         self.links = np.array([c.link for c in self], dtype=np.int64)
         self.placements = np.array([c.placement for c in self]).reshape(len(self), 4, 4)
+        self.compliance = np.array([[c.stiffness, c.damping] for c in self],
+                                   dtype=float).reshape(len(self), 2)
         return self
+
+    def compliant(self, stiffness: float, damping: float = 0.0, links=None
+                  ) -> CollisionModel:
+        """A copy whose shapes on ``links`` (names or indices; None: every shape) touch the
+        ground through a spring of ``stiffness`` (N/m) and a damper of ``damping`` (N s/m)
+        at each contact point, along its normal (K41): a soft sole, which sinks by its
+        load over its stiffness and settles on its outermost points, where a rigid one
+        rocks on the highest bumps of its mesh. ``stiffness = damping = 0``: rigid again."""
+        k, c = _non_negative(stiffness, "stiffness"), _non_negative(damping, "damping")
+        chosen = None
+        if links is not None:
+            names = [links] if isinstance(links, (str, int, np.integer)) else list(links)
+            chosen = set()
+            for li in names:
+                if isinstance(li, str):
+                    if li not in self.link_names:
+                        raise ValueError(f"compliant: no link {li!r} in the model (links: "
+                                         f"{', '.join(self.link_names[:8])} ...)")
+                    li = self.link_names.index(li)
+                chosen.add(int(li))
+            missing = chosen - {int(x.link) for x in self}
+            if missing:
+                raise ValueError(f"compliant: link(s) {sorted(missing)} carry no collision "
+                                 f"shape")
+        return CollisionModel([replace(x, stiffness=k, damping=c)
+                               if chosen is None or x.link in chosen else x for x in self],
+                              self.model)
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -98,6 +133,16 @@ class CollisionModel(tuple):
     def __repr__(self):
         return f"CollisionModel({len(self)} shapes: {', '.join(self.names[:6])}" \
                f"{' ...' if len(self) > 6 else ''})"
+
+
+def _non_negative(x, name: str) -> float:
+    try:
+        value = float(x)
+    except (TypeError, ValueError):
+        value = float("nan")
+    if not (np.isfinite(value) and value >= 0.0):
+        raise ValueError(f"compliant: {name} must be a finite number >= 0, got {x!r}")
+    return value
 
 
 def collision_model(model, source=None, max_vertices: int = 64) -> CollisionModel:

@@ -91,13 +91,14 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     2. the contact problem (K20, K23): ``G = J M⁻¹ Jᵀ`` and ``g = J v_free`` in each
        contact's frame ``(t₁, t₂, n)`` (``ground_frame``), with the normal velocity allowed
        to close an open gap within the step (``g_N + d / dt`` for ``d > 0``) and a
-       penetration corrected by a fraction ``stabilization`` per step (``g_N +
-       stabilization · d / dt`` for ``d < 0``); with ``joint_limits``, after the contacts'
-       rows, one row ``±e_v`` per bound of a joint of one coordinate (``limits.py``) whose
-       gap is below ``margin`` plus ``|v_i| dt``, with the same gap term and ``λ >= 0``
-       (K26; joints of several coordinates get none); with ``friction_loss``, one row
-       ``e_k`` per velocity coordinate with ``Model.friction`` ``f > 0``, its impulse in
-       ``[-f dt, f dt]`` (K30);
+       penetration corrected by a fraction ``stabilization`` per step (``g_N + stabilization
+       · d / dt`` for ``d < 0``), or, on a shape made compliant
+       (``CollisionModel.compliant``), a spring and damper's term and compliance (K41); with
+       ``joint_limits``, after the contacts' rows, one row ``±e_v`` per bound of a joint of
+       one coordinate (``limits.py``) whose gap is below ``margin`` plus ``|v_i| dt``, with
+       the same gap term and ``λ >= 0`` (K26; joints of several coordinates get none); with
+       ``friction_loss``, one row ``e_k`` per velocity coordinate with ``Model.friction``
+       ``f > 0``, its impulse in ``[-f dt, f dt]`` (K30);
     3. the impulses ``λ`` in the friction cones of ``World.friction`` by ``solver``
        (``"admm"`` or ``"pgs"``, ``solve_contacts``); where it does not converge (ADMM may
        cycle on redundant contacts with sliding, docs/contact.md), the other goes on from
@@ -192,14 +193,17 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     G = J @ np.linalg.solve(crba(model, q), J.T)  # G = J M⁻¹ Jᵀ (C7) over every row
     G = 0.5 * (G + G.T)
     g = J @ v_free
-    d = np.concatenate([contacts.distance, rows[:nl, ROW_GAP]])
-    gap = np.concatenate([np.arange(nc) * 3 + 2, 3 * nc + np.arange(nl)])  # normals, limits
-    g[gap] += gap_velocity(d, stabilization, step)  # K23
+    soft = np.where((contacts.other < 0)[:, None], cm.compliance[contacts.collision], 0.0)
+    term, compliance = gap_velocity(contacts.distance, stabilization, step, soft)  # K41
+    g[3 * np.arange(nc) + 2] += term  # K23, K41
+    g[3 * nc + np.arange(nl)] += gap_velocity(rows[:nl, ROW_GAP], stabilization, step)[0]
+    soft_rows = np.zeros(len(g))  # R: the compliance of each row (K41)
+    soft_rows[3 * np.arange(nc) + 2] = compliance
     bounds = np.concatenate([np.tile([0.0, np.inf], (nl, 1)),  # λ >= 0 (K26)
                              step * np.outer(frictions[:, 1], [-1.0, 1.0])])  # K30
     used, lam = contact.solver, None
     for used in (contact.solver, other_solver(contact.solver)):  # the other from its λ
-        lam, info = solve_contacts(G, g, contacts.friction, solver=used,
+        lam, info = solve_contacts(G, g, contacts.friction, compliance=soft_rows, solver=used,
                                    tolerance=contact.tolerance,
                                    max_iterations=contact.max_iterations, warm_start=lam,
                                    bounds=bounds)

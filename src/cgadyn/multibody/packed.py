@@ -88,6 +88,15 @@ def with_gravity(packed: np.ndarray, gravity) -> np.ndarray:
     return out
 
 
+def with_armature(packed: np.ndarray, extra: np.ndarray) -> np.ndarray:
+    """A copy of a packed model whose armature is ``armature + extra`` (nv,): the mass
+    matrix every core then uses is ``M + diag(extra)`` (the implicit step's, K40)."""
+    nv = int(packed[:HEADER].view(np.int64)[2])
+    out = packed.copy()
+    out[out.shape[0] - nv:] += np.asarray(extra, dtype=np.float64)  # armature comes last
+    return out
+
+
 @inline
 def unpack(packed):
     """The ``ModelView`` of a packed buffer: views valid while the buffer lives (pass the

@@ -6,15 +6,16 @@ dt q̈(q, v)`` (K20), into the velocity after the contact impulses, ``v⁺ = v_f
 λ`` (K24), as ``contact.step.contact_step`` does from Python: the contacts of the shapes
 with the ground at q whose gap the step may close (``manifold.shapes_on_plane``, K21-K22),
 each a point of its link held in the ground frame ``(t₁, t₂, n)``, ``G = J M⁻¹ Jᵀ`` and ``g
-= J v_free`` with the gap term (K23), λ by the solver ``ContactSettings`` names, then the
-other from its λ where the first stops short (K11-K19). A contact found in the previous step
-at the same slot (shape, patch point) starts from its λ there (K25). The bounds of the joint
-limits near which the step may take a coordinate (``contact.limits.active_limits``) are rows
-``±e_v`` after the contacts', with the same gap term and ``λ >= 0`` (K26), warm-started from
-their slot alike; then a row ``e_k`` per coordinate with a friction loss, ``|λ| <= f dt``
-(K30), warm-started from its impulse in the step before. It is one ``@serial`` function
-called from one site of the loop, compiled only for a rollout with a world (the loop passes
-None otherwise and numba prunes the call).
+= J v_free`` with the gap term (K23; a compliant shape's spring and damper instead, with
+their compliance ``R`` on the normal row, K41), λ by the solver ``ContactSettings`` names,
+then the other from its λ where the first stops short (K11-K19). A contact found in the
+previous step at the same slot (shape, patch point) starts from its λ there (K25). The
+bounds of the joint limits near which the step may take a coordinate
+(``contact.limits.active_limits``) are rows ``±e_v`` after the contacts', with the same gap
+term and ``λ >= 0`` (K26), warm-started from their slot alike; then a row ``e_k`` per
+coordinate with a friction loss, ``|λ| <= f dt`` (K30), warm-started from its impulse in
+the step before. It is one ``@serial`` function called from one site of the loop, compiled
+only for a rollout with a world (the loop passes None otherwise and numba prunes the call).
 
 The world reaches compiled code as a named tuple (``WorldArrays``, ``world_arrays``): the
 shapes' kinds, sizes, vertices and offsets, their placements on their links, their links,
@@ -47,6 +48,8 @@ from ..contact import manifold as C
 from ..contact import ncp
 from ..contact.admm import SCRATCH_ROWS
 from ..contact.limits import LIMIT_COLUMNS, ROW_GAP, ROW_SIGN, ROW_SLOT, ROW_V, active_limits
+from ..contact.problem import gap_term as _gap
+from ..contact.problem import normal_row
 from ..contact.solver import ADMM, PGS, solve_one
 from ..kernels.rigid import motor_matrix
 from .pairs import (
@@ -60,16 +63,16 @@ from .pairs import (
     pair_rows,
     pair_world,
 )
-from .pairs import gap_term as _gap
 
 WorldArrays = namedtuple("WorldArrays", (
     "kinds", "sizes", "vertices", "offsets", "placements", "links", "active", "ground",
-    "ground_pose", "frame", "params", "limits", "frictions", "pairs", "radii",
+    "ground_pose", "frame", "params", "limits", "frictions", "compliance", "pairs", "radii",
     "shape_friction"))
 """The world as the loop reads it (``world_arrays``): the shapes' kinds, sizes, vertices
 and offsets, their placements on their links, their links, which touch the ground, the
 ground plane ``[n, δ]`` and its pose, the ground's frame ``(t₁, t₂, n)``, ``params``, the
-joint limits (``contact.limits.joint_limits``) and the friction losses; then the pairs of
+joint limits (``contact.limits.joint_limits``), the friction losses and each shape's normal
+stiffness and damping on the ground (``CollisionModel.compliance``, K41); then the pairs of
 shapes that may touch, the shapes' bounding radii and their friction (``sim.pairs.pair_world``:
 each None without free bodies or self-collision, which prunes the pairs' code)."""
 
@@ -128,6 +131,7 @@ def world_arrays(model, collisions, world, contact, joint_limits: bool = True,
         np.ascontiguousarray(limits_of(model) if joint_limits
                              else np.zeros((0, LIMIT_COLUMNS))),
         joint_frictions(model) if friction_loss else np.zeros((0, 2)),
+        np.ascontiguousarray(cm.compliance, dtype=float),
         *pair_world(model, cm, world, model.njoints if robot_joints is None
                     else robot_joints))
 
@@ -239,6 +243,7 @@ def contact_velocity(m, world, q, v, vn, dt, work):
         w_.bounds, w_.lprev, w_.lhad, w_.twists
     pairs, radii, shape_mu, ps = w_.world.pairs, w_.world.radii, w_.world.shape_friction, \
         w_.pairs
+    compliance = w_.world.compliance
     shapes = kinds.shape[0]
     K = C.MAX_CONTACTS * (shapes + pair_count(pairs))
     k_ = constraint_workspace(ws.data_pointer(cwork), m, 0)
@@ -341,9 +346,11 @@ def contact_velocity(m, world, q, v, vn, dt, work):
         for k in range(m.nv):
             acc += J[r, k] * vn[k]
         g[r] = acc
-    for s in range(shapes):
+    for s in range(shapes):  # K23, or a spring and damper's (K41)
         for j in range(int(counts[s])):
-            g[3 * c + 2] += _gap(out[s, j, 3], params[STABILIZATION], dt)
+            term, R[3 * c + 2] = normal_row(out[s, j, 3], compliance[s, 0], compliance[s, 1],
+                                            params[STABILIZATION], dt)
+            g[3 * c + 2] += term
             c += 1
     pair_gaps(pairs, ps, g, c, params[STABILIZATION], dt)
     for k in range(nl):

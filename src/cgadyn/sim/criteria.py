@@ -37,12 +37,14 @@ __all__ = ["ContactPoint", "ContactScene", "CriteriaHistory", "trajectory_contac
 class ContactScene:
     """What a rollout with contact ran with, kept by ``simulate`` on its ``Trajectory``
     (``Trajectory.scene``) so that its contacts can be found again: the model, the collision
-    model, the ``World`` and the ``ContactSettings``."""
+    model, the ``World`` and the ``ContactSettings``, and the diagonal the step added to the
+    mass matrix for its implicit gains (``dt D + dt² K``, K40; None without them)."""
 
     model: object = field(repr=False)
     collisions: object = field(repr=False)
     world: object
     settings: object
+    step_inertia: object = field(default=None, repr=False)
 
 
 @dataclass(frozen=True)
@@ -159,7 +161,10 @@ def _match(scene, dt, q, v, a, v_next, contacts, slots, forces, J) -> tuple[np.n
     frames = _frames(contacts)
     lam = contact_frame_forces(forces[slots], frames) * dt  # impulses, found order
     push = np.einsum("cin,ci->cn", J.reshape(-1, 3, J.shape[1])[:, :, free], lam)
-    target = (crba(scene.model, q) @ (v_next - v - dt * a))[free]
+    M = np.asarray(crba(scene.model, q))
+    if scene.step_inertia is not None:  # the step's mass matrix (K40)
+        M = M + np.diag(scene.step_inertia)
+    target = (M @ (v_next - v - dt * a))[free]
     residual = target - push.sum(axis=0)
     tie = 1e-9 * (np.linalg.norm(target) + 1e-12)
     if np.linalg.norm(residual) <= tie:  # the order found satisfies it: no other needed
@@ -269,7 +274,9 @@ def trajectory_criteria(traj, rollout: int | None = None, slip: float = SLIP
                               forces[k], J)
         reordered += int(moved)
         sigma = (J @ v[k + 1]).reshape(nc, 3)  # σ = J v⁺ (K20, K24)
-        sigma[:, 2] += gap_velocity(contacts.distance, beta, dt)  # K23
+        soft = np.where((contacts.other < 0)[:, None],
+                        scene.collisions.compliance[contacts.collision], 0.0)
+        sigma[:, 2] += gap_velocity(contacts.distance, beta, dt, soft)[0]  # K23, K41
         crit = step_criteria(contact_frame_forces(forces[k, slots], frames), sigma,
                              contacts.distance, contacts.friction, slip)
         for name, value in crit.maxima().items():

@@ -20,6 +20,7 @@ from ..constraints.core import _add_columns
 from ..contact.distance import WORK
 from ..contact.manifold import CANDIDATE_COLUMNS, MAX_CONTACTS, OUT
 from ..contact.pairs import PAIR_CANDIDATES, contact_frame, pair_contacts, pair_margin
+from ..contact.problem import gap_term
 
 __all__ = ["pair_world"]
 
@@ -139,13 +140,6 @@ def pair_rows(pairs, friction, ps, m, Sw, links, J, mu, lam, prev, had, c, shape
                 warm = True
             c += 1
     return c, warm
-
-
-@inline
-def gap_term(d, beta, dt):
-    """The gap's term of a normal or limit row (K23): ``d / dt`` for an open gap, ``β d /
-    dt`` for a penetration."""
-    return (d if d > 0.0 else beta * d) / dt
 
 
 @serial

@@ -108,16 +108,18 @@ WORKSPACE = {  # one rollout's scratch, in order (tools/generate_workspaces.py)
 RK4, SEMI_IMPLICIT_EULER, EULER = 0, 1, 2
 """The integrators, by number."""
 
-PD, GRAVITY, PASSIVE = 1, 2, 4
+PD, GRAVITY, PASSIVE, IMPLICIT = 1, 2, 4, 8
 """Controller flags: joint-space PD around ``(q_ref, v_ref)``, gravity compensation, the
-passive joint torques (dampers and springs, ``cgadyn.passive_torques``)."""
+passive joint torques (dampers and springs, ``cgadyn.passive_torques``), and the implicit
+step's shift of the torque by ``-dt (K_p + k) v`` (K40, ``docs/contact.md``)."""
 
-KP, KD, ACTUATED, SPEED_BOUND, DAMPING, STIFFNESS, SPRING = 0, 1, 2, 3, 4, 5, 6
-COORDS = 7
+KP, KD, ACTUATED, SPEED_BOUND, DAMPING, STIFFNESS, SPRING, SHIFT = 0, 1, 2, 3, 4, 5, 6, 7
+COORDS = 8
 """The rows of ``coords`` (COORDS, nv), one value per velocity coordinate: the PD gains K_p
 and K_d, the actuation selector (1 actuated, 0 not), the speed bound, the joint damping and
-stiffness, and the spring reference of the coordinate (of the joints whose coordinates add,
-the only ones with springs: ``Model.stiffness``)."""
+stiffness, the spring reference of the coordinate (of the joints whose coordinates add,
+the only ones with springs: ``Model.stiffness``), and ``dt (K_p + k)``, by which the
+implicit step shifts the torque (K40)."""
 
 
 @inline
@@ -159,6 +161,9 @@ def _closed_loop(m, q, v, u, f, ctrl, con, qdd, sc, work):
             if coords[STIFFNESS, k] != 0.0:
                 j = m.dof_joint[k]
                 tau[k] -= coords[STIFFNESS, k] * (q[m.iq[j] + k - m.iv[j]] - coords[SPRING, k])
+    if flags & IMPLICIT:  # the stiffnesses at q ⊕ dt v⁺, linearised (K40)
+        for k in range(m.nv):
+            tau[k] -= coords[SHIFT, k] * v[k]
     return _dynamics(m, q, v, tau, f, con, qdd, sc, work)
 
 

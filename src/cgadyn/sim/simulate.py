@@ -33,7 +33,7 @@ from ..algorithms.status import (
 from ..constraints.model import pack
 from ..constraints.operators import checked_settings
 from ..multibody.joints.table import spring_deflection
-from ..multibody.packed import DEFAULT_GRAVITY
+from ..multibody.packed import DEFAULT_GRAVITY, with_armature
 from .bodies import robot_and_bodies
 from .contact import KEPT, REPORT, slots, world_arrays
 from .controllers import PD, GravityCompensation, actuated_gains
@@ -43,11 +43,13 @@ from .rollout import (
     COORDS,
     DAMPING,
     EULER,
+    IMPLICIT,
     KD,
     KP,
     PASSIVE,
     RK4,
     SEMI_IMPLICIT_EULER,
+    SHIFT,
     SPEED_BOUND,
     SPRING,
     STIFFNESS,
@@ -57,6 +59,7 @@ from .rollout import (
     rollouts,
     stop_row,
 )
+from .rollout import PD as PD_FLAG
 from .trajectory import Deferred, Trajectory
 
 INTEGRATORS = {"rk4": RK4, "semi_implicit_euler": SEMI_IMPLICIT_EULER, "euler": EULER}
@@ -197,6 +200,10 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     flags, q_ref, v_ref = _controller(model, controller, q0, B, coords)
     if passive and (np.any(model.damping) or np.any(model.stiffness)):
         flags |= _passive(model, coords)
+    step_model, step_inertia = packed, None
+    if world is not None and flags & (PD_FLAG | PASSIVE):  # the contact step's gains implicit
+        step_model, step_inertia = _implicit(packed, coords, dt)
+        flags |= IMPLICIT
 
     shape = (B, rows)
     Q, V, A = (np.full(shape + (n,), np.nan) for n in (model.nq, model.nv, model.nv))
@@ -208,7 +215,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     CF = np.full(shape + (KEPT + 3 * K if world is not None else 0,), np.nan)
     CR = np.full((B, REPORT), np.nan)
     with PARALLEL_LOCK:
-        rollouts(packed, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, q_ref, v_ref,
+        rollouts(step_model, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, q_ref, v_ref,
                  cons, solve, arrays, dt, steps, every, Q, V, A, X, CF, CR, completed, status)
     message = _message(model, status, completed, dt, steps, batch, coords, A, p, CR)
     if message:
@@ -239,8 +246,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
                       constraint_violation=_violation(X, p.starts), forces=X[..., 2, :],
                       contact_count=count, contact_forces=forces,
                       contact_iterations=iterations, contact_residual=residual,
-                      scene=None if world is None else ContactScene(model, shapes, world,
-                                                                    contact))
+                      scene=None if world is None else ContactScene(
+                          model, shapes, world, contact, step_inertia))
 
 
 def _contact_settings(contact, world):
@@ -456,6 +463,19 @@ def _passive(model, coords: np.ndarray) -> int:
     coords[STIFFNESS] = model.stiffness
     coords[SPRING] = spring_deflection(model, np.zeros(model.nq)) * -1.0  # q_spring, by v
     return PASSIVE
+
+
+def _implicit(packed: np.ndarray, coords: np.ndarray, dt: float
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """The contact step's joint stiffnesses and dampers taken at the end of the step (K40):
+    the PD's and the springs' ``K = K_p + k`` and the PD's and the dampers' ``D = K_d + d``
+    act on ``v⁺`` and ``q ⊕ dt v⁺``, so the step solves with ``M + dt D + dt² K`` and the
+    torque shifted by ``-dt K v`` (``rollout.SHIFT``). The packed model with that armature,
+    and the diagonal added."""
+    stiff = coords[KP] + coords[STIFFNESS]
+    extra = dt * (coords[KD] + coords[DAMPING]) + dt * dt * stiff
+    coords[SHIFT] = dt * stiff
+    return with_armature(packed, extra), extra
 
 
 def _controller(model, controller, q0: np.ndarray, B: int, coords: np.ndarray):
