@@ -114,13 +114,33 @@ def gap_after(cand, i, V, n0, n1, n2, dt):
 
 
 @serial
-def mark_reach(cand, count, margin, V, n0, n1, n2, dt):
+def reach_bound(T, radius, V, dt):
+    """The farthest any point within ``radius`` of the origin of the pose ``T`` may travel in
+    a step of ``dt`` at the twists ``V`` (2, 6) (``gap_after``'s reach, bounded): ``|v_x| <=
+    |v_o| + |ω| radius`` for ``|x - o| <= radius``."""
+    o0, o1, o2 = T[0, 3], T[1, 3], T[2, 3]
+    reach = 0.0
+    for t in range(2):
+        w0, w1, w2 = V[t, 3], V[t, 4], V[t, 5]
+        u0, u1, u2 = V[t, 0] + w1 * o2 - w2 * o1, V[t, 1] + w2 * o0 - w0 * o2, \
+            V[t, 2] + w0 * o1 - w1 * o0
+        u = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
+        w = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
+        reach = max(reach, dt * (u + w * radius) * (1.0 + dt * w))
+    return reach
+
+
+@serial
+def mark_reach(cand, count, margin, V, n0, n1, n2, dt, bound):
     """Column ``OUT`` of the ``count`` candidates: 1 where the gap less the way the point may
-    travel in the step (``gap_after``) is below ``margin`` (K21a), else 0. Their number."""
+    travel in the step (``gap_after``) is below ``margin`` (K21a), else 0; ``bound`` bounds
+    that way for every candidate (``reach_bound``), so a candidate farther than ``margin +
+    bound`` is 0 without ``gap_after``. Their number."""
     k = 0
     for i in range(count):
-        cand[i, OUT] = 1.0 if gap_after(cand, i, V, n0, n1, n2, dt) < margin else 0.0
-        k += int(cand[i, OUT])
+        near = cand[i, 3] - bound < margin and gap_after(cand, i, V, n0, n1, n2, dt) < margin
+        cand[i, OUT] = 1.0 if near else 0.0
+        k += int(near)
     return k
 
 
@@ -199,29 +219,37 @@ def reduce_patch(cand, count, patch, n0, n1, n2, out):
 
 
 @serial
-def plane_contacts(kind, size, vertices, T, sb, Tb, margin, patch, cand, out, V, dt):
+def plane_contacts(kind, size, vertices, T, radius, sb, Tb, margin, patch, cand, out, V, dt):
     """The contacts of shape ``(kind, size, vertices)`` at pose ``T`` with the plane of
     size ``sb`` (``n``, ``δ`` in its frame) at pose ``Tb``: at most ``MAX_CONTACTS`` rows
     ``[x, y, z, d]`` in ``out`` (K21, K21a, K22), the plane's world normal pointing out of
-    it, for the shape moving with the twists ``V`` (2, 6) over ``dt``. ``cand`` has
+    it, for the shape moving with the twists ``V`` (2, 6) over ``dt``. ``radius`` bounds
+    the shape about its frame's origin (``pairs.bounding_radii``): a shape whose bounding
+    sphere stays ``margin`` above the plane however far its points may travel in the step
+    (``reach_bound``) has no candidate within reach (K21a) and none is formed. ``cand`` has
     ``CANDIDATE_COLUMNS``. Returns their number."""
     n0, n1, n2 = rotate(Tb, sb[0], sb[1], sb[2])
     delta = sb[3] + n0 * Tb[0, 3] + n1 * Tb[1, 3] + n2 * Tb[2, 3]
+    bound = reach_bound(T, radius, V, dt) if math.isfinite(radius) else math.inf
+    if math.isfinite(radius) and plane_distance(T[0, 3], T[1, 3], T[2, 3], n0, n1, n2,
+                                                 delta) - radius - bound >= margin:
+        return 0
     count = candidates(kind, size, vertices, T, n0, n1, n2, delta, cand)
-    if mark_reach(cand, count, margin, V, n0, n1, n2, dt) == 0:
+    if mark_reach(cand, count, margin, V, n0, n1, n2, dt, bound) == 0:
         return 0
     return reduce_patch(cand, count, patch, n0, n1, n2, out)
 
 
 @serial
-def shapes_on_plane(kinds, sizes, vertices, offsets, poses, active, sb, Tb, margin, patch,
-                    cand, out, counts, twists, dt):
+def shapes_on_plane(kinds, sizes, vertices, offsets, poses, radii, active, sb, Tb, margin,
+                    patch, cand, out, counts, twists, dt):
     """``plane_contacts`` of every shape ``k`` with ``active[k]`` against one plane, each
-    moving with its link's twists ``twists[k]`` (2, 6) over ``dt``, into ``out[k]``
-    (``MAX_CONTACTS`` rows each), their number into ``counts[k]``."""
+    moving with its link's twists ``twists[k]`` (2, 6) over ``dt``, its bounding radius
+    ``radii[k]``, into ``out[k]`` (``MAX_CONTACTS`` rows each), their number into
+    ``counts[k]``."""
     for k in range(kinds.shape[0]):
         counts[k] = 0
         if active[k]:
             counts[k] = plane_contacts(kinds[k], sizes[k], vertices[offsets[k]:offsets[k + 1]],
-                                       poses[k], sb, Tb, margin, patch, cand, out[k],
+                                       poses[k], radii[k], sb, Tb, margin, patch, cand, out[k],
                                        twists[k], dt)

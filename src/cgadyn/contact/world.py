@@ -160,6 +160,7 @@ def ground_contacts(model, collisions, q, world: World | None = None,
     ``ContactSettings.patch`` in the step)."""
     from .api import check_rigid
     from .model import _collisions, collision_poses
+    from .pairs import bounding_radii
 
     world = World() if world is None else world
     if not isinstance(world, World):
@@ -180,8 +181,9 @@ def ground_contacts(model, collisions, q, world: World | None = None,
             raise ValueError(f"{name} must be a finite number >= 0, got {x!r}")
     out = np.empty((K, C.MAX_CONTACTS, C.OUT))
     counts = np.zeros(K, dtype=np.int64)
-    C.shapes_on_plane(cm.kinds, cm.sizes, cm.vertices, cm.offsets, poses, active,
-                      world.plane.packed_size, np.eye(4), float(margin), float(patch),
+    C.shapes_on_plane(cm.kinds, cm.sizes, cm.vertices, cm.offsets, poses,
+                      bounding_radii(cm), active, world.plane.packed_size, np.eye(4),
+                      float(margin), float(patch),
                       np.empty((C.CANDIDATES, C.CANDIDATE_COLUMNS)), out, counts, twists,
                       float(dt))
     rows = [(k, j) for k in range(K) for j in range(int(counts[k]))]

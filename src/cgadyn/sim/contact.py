@@ -21,11 +21,12 @@ The world reaches compiled code as a named tuple (``WorldArrays``, ``world_array
 shapes' kinds, sizes, vertices and offsets, their placements on their links, their links,
 which touch the ground, the ground plane ``[n, δ]``, its frame, ``params`` (``PARAMS``, then
 the solver's ``ncp.SETTINGS``), the joint limits enforced (``contact.limits.joint_limits``;
-none where ``joint_limits`` is off) and the friction losses
-(``contact.limits.joint_frictions``; none where ``friction_loss`` is off), and the pairs of
-shapes that may touch, the shapes' bounding radii and friction coefficients
-(``sim.pairs.pair_world``; three None without free bodies and self-collision, which prunes
-the pairs' code, K37-K39).
+none where ``joint_limits`` is off), the friction losses
+(``contact.limits.joint_frictions``; none where ``friction_loss`` is off), the shapes'
+compliance (K41) and bounding radii (``contact.pairs.bounding_radii``: a shape out of reach
+of the ground forms no candidate, K21a; a pair out of reach is skipped, K39), and the pairs
+of shapes that may touch and the shapes' friction coefficients (``sim.pairs.pair_world``;
+two None without free bodies and self-collision, which prunes the pairs' code, K37-K39).
 """
 
 from __future__ import annotations
@@ -66,15 +67,16 @@ from .pairs import (
 
 WorldArrays = namedtuple("WorldArrays", (
     "kinds", "sizes", "vertices", "offsets", "placements", "links", "active", "ground",
-    "ground_pose", "frame", "params", "limits", "frictions", "compliance", "pairs", "radii",
+    "ground_pose", "frame", "params", "limits", "frictions", "compliance", "radii", "pairs",
     "shape_friction"))
 """The world as the loop reads it (``world_arrays``): the shapes' kinds, sizes, vertices
 and offsets, their placements on their links, their links, which touch the ground, the
 ground plane ``[n, δ]`` and its pose, the ground's frame ``(t₁, t₂, n)``, ``params``, the
-joint limits (``contact.limits.joint_limits``), the friction losses and each shape's normal
-stiffness and damping on the ground (``CollisionModel.compliance``, K41); then the pairs of
-shapes that may touch, the shapes' bounding radii and their friction (``sim.pairs.pair_world``:
-each None without free bodies or self-collision, which prunes the pairs' code)."""
+joint limits (``contact.limits.joint_limits``), the friction losses, each shape's normal
+stiffness and damping on the ground (``CollisionModel.compliance``, K41) and its bounding
+radius; then the pairs of shapes that may touch and the shapes' friction
+(``sim.pairs.pair_world``: each None without free bodies or self-collision, which prunes the
+pairs' code)."""
 
 ContactScratch = namedtuple("ContactScratch", (
     "world", "poses", "out", "counts", "cand", "big", "mu", "info", "settings", "prev",
@@ -109,6 +111,7 @@ def world_arrays(model, collisions, world, contact, joint_limits: bool = True,
     are the World's free bodies."""
     from ..contact.limits import joint_frictions
     from ..contact.limits import joint_limits as limits_of
+    from ..contact.pairs import bounding_radii
     from ..contact.solve import _settings
     from ..contact.step import ground_frame
     from ..contact.world import touches_ground
@@ -131,7 +134,7 @@ def world_arrays(model, collisions, world, contact, joint_limits: bool = True,
         np.ascontiguousarray(limits_of(model) if joint_limits
                              else np.zeros((0, LIMIT_COLUMNS))),
         joint_frictions(model) if friction_loss else np.zeros((0, 2)),
-        np.ascontiguousarray(cm.compliance, dtype=float),
+        np.ascontiguousarray(cm.compliance, dtype=float), bounding_radii(cm),
         *pair_world(model, cm, world, model.njoints if robot_joints is None
                     else robot_joints))
 
@@ -263,8 +266,9 @@ def contact_velocity(m, world, q, v, vn, dt, work):
                     acc += T[i, r] * placements[s, r, j]
                 poses[s, i, j] = acc
     _shape_twists(m, k_.Sw, links, v, vn, twists)
-    C.shapes_on_plane(kinds, sizes, vertices, offsets, poses, active, sb, Tb, params[MARGIN],
-                      params[PATCH], cand, out, counts, twists, dt)  # K21, K21a, K22
+    C.shapes_on_plane(kinds, sizes, vertices, offsets, poses, radii, active, sb, Tb,
+                      params[MARGIN], params[PATCH], cand, out, counts, twists,
+                      dt)  # K21, K21a, K22
     nc = 0
     for s in range(shapes):
         nc += int(counts[s])

@@ -2,14 +2,15 @@
 K37-K39): the additions ``sim.contact.contact_velocity`` calls for the contacts between
 shapes of different links, as ``contact.step.contact_step`` makes them from Python.
 
-The world tuple ends with three elements (``pair_world``): the candidate pairs (P, 2)
-(``contact.pairs.candidate_pairs``), the shapes' bounding radii (K,) (K39) and their
-friction coefficients (K,) (K38); three None for a rollout without free bodies and without
-self-collision: every function here then returns at its first line, and numba prunes the
-rest (nothing of it is compiled). (Three elements, not one tuple of three: the parallel
-loop passes the world's elements on as its own arguments, which may be arrays or None but
-not tuples.) Pair ``p``'s contacts take the slots
-``MAX_CONTACTS (shapes + p) ..`` after the shapes' own (K25's warm start, the forces kept).
+The world tuple ends with two elements (``pair_world``): the candidate pairs (P, 2)
+(``contact.pairs.candidate_pairs``) and the shapes' friction coefficients (K,) (K38); two
+None for a rollout without free bodies and without self-collision: every function here
+then returns at its first line, and numba prunes the rest (nothing of it is compiled). (Two
+elements, not one tuple of two: the parallel loop passes the world's elements on as its own
+arguments, which may be arrays or None but not tuples.) The shapes' bounding radii (K39)
+come before them, always there (the ground's detection uses them too, K21a). Pair ``p``'s
+contacts take the slots ``MAX_CONTACTS (shapes + p) ..`` after the shapes' own (K25's warm
+start, the forces kept).
 """
 
 from __future__ import annotations
@@ -26,16 +27,17 @@ __all__ = ["pair_world"]
 
 
 def pair_world(model, collisions, world, robot_joints: int) -> tuple:
-    """The world tuple's last three elements (the module's docstring) for a model whose
-    joints from ``robot_joints`` on are free bodies; three None where no pair of shapes may
-    touch and every shape takes the World's friction."""
-    from ..contact.pairs import bounding_radii, candidate_pairs
+    """The world tuple's last two elements, the pairs of shapes that may touch and each
+    shape's friction, for a model whose joints from ``robot_joints`` on are free bodies;
+    two None where no pair of shapes may touch and every shape takes the World's
+    friction."""
+    from ..contact.pairs import candidate_pairs
     from ..contact.world import shape_friction
 
     pairs = candidate_pairs(collisions, robot_joints, world.self_collision)
     if len(pairs) == 0 and all(c.friction is None for c in collisions):
-        return None, None, None
-    return pairs, bounding_radii(collisions), shape_friction(collisions, world)
+        return None, None
+    return pairs, shape_friction(collisions, world)
 
 
 @serial

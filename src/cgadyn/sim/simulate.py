@@ -184,8 +184,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
         model, shapes, world, contact, joint_limits is not False, friction_loss is not False,
         robot_joints)
     # the contact slots: each shape's, then each pair's (sim.pairs)
-    K = 0 if world is None else slots(len(shapes) + (0 if arrays[-3] is None
-                                                     else len(arrays[-3])))
+    K = 0 if world is None else slots(len(shapes) + (0 if arrays.pairs is None
+                                                     else len(arrays.pairs)))
     _fits(model, B, steps, rows, p.nr, K)
     q0 = np.array(np.broadcast_to(q0, (B, model.nq)), order="C")  # own copies, C order:
     v0 = np.array(np.broadcast_to(v0, (B, model.nv)), order="C")  # one compiled signature
