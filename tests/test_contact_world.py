@@ -4,12 +4,14 @@ face gives the corners of its patch, and a robot standing touches the ground by 
 
 import math
 import warnings
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 import cgadyn
 from cgadyn.contact import manifold as C
+from cgadyn.contact.pairs import bounding_radii
 from cgadyn.contact.world import World, ground_contacts
 
 SHAPES = [cgadyn.Sphere(0.1), cgadyn.Capsule(0.05, 0.3), cgadyn.Box([0.1, 0.2, 0.05]),
@@ -33,7 +35,8 @@ def _contacts(shape, T, world=None, margin=1.0):
     world = World() if world is None else world
     out = np.empty((C.MAX_CONTACTS, C.OUT))
     cand = np.empty((C.CANDIDATES, C.CANDIDATE_COLUMNS))
-    m = C.plane_contacts(shape.kind, shape.packed_size, shape.packed_vertices, T,
+    radius = bounding_radii([SimpleNamespace(shape=shape)])[0]
+    m = C.plane_contacts(shape.kind, shape.packed_size, shape.packed_vertices, T, radius,
                          world.plane.packed_size, np.eye(4), margin, 0.0, cand, out,
                          np.zeros((2, 6)), 0.0)
     return out[:m]

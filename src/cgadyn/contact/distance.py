@@ -434,6 +434,21 @@ def _outside(W, i, j, k, m):
 
 
 @serial
+def _flat(W):
+    """Whether the tetrahedron ``W[:4]`` is flat to rounding: its volume (times six) at most
+    1e-12 of its longest edge from ``W[0]`` cubed. Then no sign of a face tells on which
+    side the origin lies (a cylinder's rim gives GJK support points a few nanometres apart),
+    and the origin is taken as outside: the nearest of its faces is the answer."""
+    a0, a1, a2 = W[1, 0] - W[0, 0], W[1, 1] - W[0, 1], W[1, 2] - W[0, 2]
+    b0, b1, b2 = W[2, 0] - W[0, 0], W[2, 1] - W[0, 1], W[2, 2] - W[0, 2]
+    c0, c1, c2 = W[3, 0] - W[0, 0], W[3, 1] - W[0, 1], W[3, 2] - W[0, 2]
+    volume = a0 * (b1 * c2 - b2 * c1) + a1 * (b2 * c0 - b0 * c2) + a2 * (b0 * c1 - b1 * c0)
+    edge = math.sqrt(max(a0 * a0 + a1 * a1 + a2 * a2, b0 * b0 + b1 * b1 + b2 * b2,
+                         c0 * c0 + c1 * c1 + c2 * c2))
+    return abs(volume) <= 1e-12 * edge * edge * edge
+
+
+@serial
 def _set_weights(W, i, j, k, u, v, w):
     W[i, 9] = u
     W[j, 9] = v
@@ -460,7 +475,7 @@ def _closest(W, n):
         _set_weights(W, 0, 1, 2, u, v, w)
     else:
         best = math.inf
-        inside = True
+        inside = not _flat(W)
         faces = ((0, 1, 2, 3), (0, 2, 3, 1), (0, 3, 1, 2), (1, 3, 2, 0))
         for f in faces:  # the nearest of the four faces' nearest points: no sign decides
             i, j, k, m = f

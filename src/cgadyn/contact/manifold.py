@@ -42,11 +42,14 @@ def _candidate(cand, c, x0, x1, x2, n0, n1, n2, delta, r):
 
 
 @serial
-def candidates(kind, size, vertices, T, n0, n1, n2, delta, cand):
+def candidates(kind, size, vertices, T, n0, n1, n2, delta, cand, far):
     """The shape's candidate points against the plane ``π = n + δ e∞`` (K21): a sphere's
     lowest point; a capsule's two end spheres' lowest points; a box's eight corners; on
     each of a cylinder's two rims, the lowest point and the three a quarter-turn apart; a
-    convex mesh's vertices. Returns their number."""
+    convex mesh's vertices closer than ``far`` (``inf``: all), each vertex's distance taken
+    in the shape's frame against the plane moved there (``M̃ π M``: its normal turned back,
+    its offset less the shape's origin's distance), so that only those candidates are
+    moved into the world. Returns their number."""
     c = 0
     if kind == SPHERE or kind == CAPSULE:
         h = size[1] if kind == CAPSULE else 0.0
@@ -70,10 +73,15 @@ def candidates(kind, size, vertices, T, n0, n1, n2, delta, cand):
                     (-u0, -u1) if k == 2 else (u1, -u0)
                 x0, x1, x2 = to_world(T, size[0] * a0, size[0] * a1, z)
                 c = _candidate(cand, c, x0, x1, x2, n0, n1, n2, delta, 0.0)
-    elif kind == MESH:
+    elif kind == MESH:  # the plane moved into the shape's frame, then each vertex's K1
+        l0, l1, l2 = rotate_back(T, n0, n1, n2)
+        dl = delta - (n0 * T[0, 3] + n1 * T[1, 3] + n2 * T[2, 3])
         for i in range(min(vertices.shape[0], cand.shape[0])):
-            x0, x1, x2 = to_world(T, vertices[i, 0], vertices[i, 1], vertices[i, 2])
-            c = _candidate(cand, c, x0, x1, x2, n0, n1, n2, delta, 0.0)
+            d = plane_distance(vertices[i, 0], vertices[i, 1], vertices[i, 2], l0, l1, l2, dl)
+            if d < far:
+                x0, x1, x2 = to_world(T, vertices[i, 0], vertices[i, 1], vertices[i, 2])
+                cand[c, 0], cand[c, 1], cand[c, 2], cand[c, 3] = x0, x1, x2, d
+                c += 1
     return c
 
 
@@ -234,7 +242,7 @@ def plane_contacts(kind, size, vertices, T, radius, sb, Tb, margin, patch, cand,
     if math.isfinite(radius) and plane_distance(T[0, 3], T[1, 3], T[2, 3], n0, n1, n2,
                                                  delta) - radius - bound >= margin:
         return 0
-    count = candidates(kind, size, vertices, T, n0, n1, n2, delta, cand)
+    count = candidates(kind, size, vertices, T, n0, n1, n2, delta, cand, margin + bound)
     if mark_reach(cand, count, margin, V, n0, n1, n2, dt, bound) == 0:
         return 0
     return reduce_patch(cand, count, patch, n0, n1, n2, out)
