@@ -385,9 +385,11 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, se
     into ``X`` (B, rows, 3, nr), the contacts of each (``_keep_contacts``) into ``CF`` (B,
     rows, KEPT + 3 K), a failed contact step's report into ``CR`` (B, REPORT), and per rollout the
     steps ``completed`` and the ``status`` (0, or the fault that stopped it). The
-    acceleration at the last state takes the last open-loop torque. The outputs come in
-    filled with NaN; a rollout that stops writes the last state it reached into the row of
-    that state, or the next one (``stop_row``), and leaves NaN after it.
+    acceleration at the last state takes the last open-loop torque. Each rollout fills its
+    rows of the outputs with NaN first (``_unset``: they may come in unwritten, so that
+    their pages are first touched by the thread that writes them, in parallel); a rollout
+    that stops writes the last state it reached into the row of that state, or the next
+    one (``stop_row``), and leaves NaN after it.
     """
     m = unpack(packed)
     nr = _rows_of(cons)
@@ -429,6 +431,7 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
     Ab = _rows(A[b], rows, mb.nv)
     Xb = _rows(X[b], rows, 3 * nr)
     CFb = _rows(CF[b], rows, CF.shape[2])
+    _unset(Qb, Vb, Ab, Xb, CFb)  # this thread writes its rollouts' rows first (their pages)
     ub = _rows(u[0], held, mb.nv)  # shared by all rollouts, or
     if u.shape[0] > 1:
         ub = _rows(u[b], held, mb.nv)  # this rollout's own
@@ -474,6 +477,15 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
         _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
     completed[b] = done
     status[b] = s
+
+
+@serial
+def _unset(Qb, Vb, Ab, Xb, CFb):
+    """NaN into every row of one rollout's outputs: a row no step reaches stays NaN."""
+    for x in (Qb, Vb, Ab, Xb, CFb):
+        for r in range(x.shape[0]):
+            for c in range(x.shape[1]):
+                x[r, c] = np.nan
 
 
 @inline

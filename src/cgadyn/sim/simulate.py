@@ -206,13 +206,14 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
         flags |= IMPLICIT
 
     shape = (B, rows)
-    Q, V, A = (np.full(shape + (n,), np.nan) for n in (model.nq, model.nv, model.nv))
-    X = np.full(shape + (3, p.nr), np.nan)
+    # unwritten: each rollout fills its own rows with NaN in the compiled loop, in parallel
+    Q, V, A = (np.empty(shape + (n,)) for n in (model.nq, model.nv, model.nv))
+    X = np.empty(shape + (3, p.nr))
     completed = np.zeros(B, dtype=np.int64)
     status = np.zeros(B, dtype=np.int64)
     # without rows None: the loop compiled without the constraint core (rollout._dynamics)
     cons, solve = (np.array(p.array, dtype=float), settings) if p.nr else (None, None)
-    CF = np.full(shape + (KEPT + 3 * K if world is not None else 0,), np.nan)
+    CF = np.empty(shape + (KEPT + 3 * K if world is not None else 0,))
     CR = np.full((B, REPORT), np.nan)
     with PARALLEL_LOCK:
         rollouts(step_model, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, q_ref, v_ref,
