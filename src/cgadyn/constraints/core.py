@@ -69,9 +69,9 @@ WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py); n
     "T": (2, 4, 4),  # the two ends' matrices
     "tw": (6,),
     "x": (6, 6),  # small vectors of an end
+    "H": ("nv", "nv"),  # M, then its factors Lᵀ D L (before the rows': where nr may change)
     "J": ("nr", "nv"),
     "g": ("nr",),
-    "H": ("nv", "nv"),  # M, then its factors Lᵀ D L
     "MJt": ("nv", "nr"),  # M⁻¹ Jᵀ
     "C": ("nr", "nr"),  # the Cholesky factor
     "b": ("nr",),

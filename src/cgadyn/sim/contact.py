@@ -40,7 +40,8 @@ from .._jit import serial
 from ..algorithms import _workspace as ws
 from ..algorithms.crba import crba_core
 from ..algorithms.kinematics import link_motor
-from ..algorithms.ltdl import ltdl
+from ..algorithms.ltdl import ltdl, ltdl_solve
+from ..algorithms.rnea import rnea_core
 from ..algorithms.status import CONTACT_UNSOLVED, NONFINITE_RESULT, OK, SINGULAR, fault
 from ..constraints.core import _add_columns, _delassus, _world_columns
 from ..constraints.work.core import workspace as constraint_workspace
@@ -81,15 +82,15 @@ pairs' code)."""
 ContactScratch = namedtuple("ContactScratch", (
     "world", "poses", "out", "counts", "cand", "big", "mu", "info", "settings", "prev",
     "force", "had", "tmp8", "T", "count", "report", "cwork", "lrows", "bounds", "lprev",
-    "lhad", "twists", "pairs"))
+    "lhad", "twists", "bodies", "pairs"))
 """A rollout's contact scratch (``carve_scratch``) beside its ``WorldArrays`` (``world``):
 the shapes' poses, the contacts found (``out``, ``counts``), candidates, the problem's
 matrices (``big``), the cones' μ, the solver's info and settings, each slot's impulse of the
 previous step (``prev``, ``had``) and force of this one (``force``), the contacts' number
 and the report of the step (``count``, ``report``), the constraint workspace, the active
 limits' rows, the interval rows' bounds and previous impulses (``lprev``, ``lhad``), the
-shapes' link twists (K21a), the pairs' scratch (``sim.pairs.carve_pairs``; None without
-pairs)."""
+shapes' link twists (K21a) and the joints' (``bodies``), the pairs' scratch
+(``sim.pairs.carve_pairs``; None without pairs)."""
 
 MARGIN, STABILIZATION, FRICTION, WARM, FIRST, ACCEPT, PATCH = range(7)
 PARAMS = 7
@@ -156,7 +157,7 @@ def scratch_size(n, nq, nv, nl, shapes, limits, frictions):
             + m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6) + K + ncp.INFO
             + ncp.SETTINGS + 2 * K * 3 + K + 8 + 16 + 1 + REPORT
             + L * LIMIT_COLUMNS + 2 * (L + frictions) + 2 * (L + frictions)
-            + constraint_workspace_size(n, nq, nv, nl, m))
+            + constraint_workspace_size(n, nq, nv, nl, m) + n * 12)
 
 
 @serial
@@ -190,6 +191,7 @@ def carve_scratch(world, buf, n, nq, nv, nl):
     lprev, o = ws.carve(p, o, (L + F,))  # the limits' slots, then the friction rows'
     lhad, o = ws.carve(p, o, (L + F,))
     twists, o = ws.carve(p, o, (shapes, 2, 6))
+    bodies, o = ws.carve(p, o, (n, 2, 6))
     ps = carve_pairs(world.pairs, p, o)
     for k in range(K):
         had[k] = 0.0
@@ -201,27 +203,52 @@ def carve_scratch(world, buf, n, nq, nv, nl):
     count[0] = 0.0
     return ContactScratch(world, poses, out, counts, cand, big, mu, info, settings, prev,
                           force, had, tmp8, T, count, report, cwork, lrows, bounds, lprev,
-                          lhad, twists, ps)
+                          lhad, twists, bodies, ps)
 
 
 @serial
-def _shape_twists(m, Sw, links, v, vn, twists):
+def _shape_twists(m, Sw, links, v, vn, twists, bodies):
     """``twists[s]``: the world twists ``[v, ω]`` of shape ``s``'s link at the velocities
-    ``v`` and ``vn`` (``Σ S_k v_k`` over the joints from the root, C1's columns ``Sw``),
-    zeros for a shape that does not move (K21a)."""
-    for s in range(links.shape[0]):
+    ``v`` and ``vn``, zeros for a shape that does not move (K21a): ``bodies[j]``, each
+    joint's ``V_j = V_λ + Σ S_k v_k`` (C1's columns ``Sw``), once per joint down the tree."""
+    for j in range(m.n):
+        p = m.parents[j]
         for t in range(2):
             for i in range(6):
-                twists[s, t, i] = 0.0
-        if links[s] < 0:
-            continue
-        j = m.link_joint[links[s]]
-        while j >= 0:
-            for k in range(m.iv[j], m.iv[j + 1]):
-                for i in range(6):
-                    twists[s, 0, i] += Sw[k, i] * v[k]
-                    twists[s, 1, i] += Sw[k, i] * vn[k]
-            j = m.parents[j]
+                bodies[j, t, i] = bodies[p, t, i] if p >= 0 else 0.0
+        for k in range(m.iv[j], m.iv[j + 1]):
+            for i in range(6):
+                bodies[j, 0, i] += Sw[k, i] * v[k]
+                bodies[j, 1, i] += Sw[k, i] * vn[k]
+    for s in range(links.shape[0]):
+        j = m.link_joint[links[s]] if links[s] >= 0 else -1
+        for t in range(2):
+            for i in range(6):
+                twists[s, t, i] = bodies[j, t, i] if j >= 0 else 0.0
+
+
+@serial
+def factored_dynamics(m, world, q, v, tau, f, qdd, zero, work):
+    """``qdd = M⁻¹ (τ - h)``: ``h = RNEA(q, v, 0)`` with the wrenches ``f`` (Algorithm 2),
+    ``M`` by CRBA into the world's constraint workspace and factored there (``H = Lᵀ D L``,
+    L1-L2), where ``contact_velocity`` finds it for ``M⁻¹ Jᵀ`` at the same ``q``: one
+    factorisation of M serves the free velocity (K20) and the Delassus operator (K23), where
+    ABA and then CRBA computed the same inertias twice. ``zero`` (nv) holds zeros. A
+    status: ``SINGULAR`` at the joint of a pivot that is not positive."""
+    k_ = constraint_workspace(ws.data_pointer(world.cwork), m, 0)
+    status = rnea_core(m, q, v, zero, f, qdd, work)  # h, into qdd
+    if status != OK:
+        return status
+    status = crba_core(m, q, k_.H, work)
+    if status != OK:
+        return status
+    k = ltdl(m, k_.H)
+    if k >= 0:
+        return fault(SINGULAR, m.dof_joint[k])
+    for i in range(m.nv):
+        qdd[i] = tau[i] - qdd[i]
+    ltdl_solve(m, k_.H, qdd)  # L5, L6
+    return OK
 
 
 @serial
@@ -244,6 +271,7 @@ def contact_velocity(m, world, q, v, vn, dt, work):
         w_.tmp8, w_.T, w_.count
     report, cwork, lrows, bounds, lprev, lhad, twists = w_.report, w_.cwork, w_.lrows, \
         w_.bounds, w_.lprev, w_.lhad, w_.twists
+    bodies = w_.bodies
     pairs, radii, shape_mu, ps = w_.world.pairs, w_.world.radii, w_.world.shape_friction, \
         w_.pairs
     compliance = w_.world.compliance
@@ -265,7 +293,7 @@ def contact_velocity(m, world, q, v, vn, dt, work):
                 for r in range(4):
                     acc += T[i, r] * placements[s, r, j]
                 poses[s, i, j] = acc
-    _shape_twists(m, k_.Sw, links, v, vn, twists)
+    _shape_twists(m, k_.Sw, links, v, vn, twists, bodies)
     C.shapes_on_plane(kinds, sizes, vertices, offsets, poses, radii, active, sb, Tb,
                       params[MARGIN], params[PATCH], cand, out, counts, twists,
                       dt)  # K21, K21a, K22
@@ -337,13 +365,7 @@ def contact_velocity(m, world, q, v, vn, dt, work):
         if lhad[slot] != 0.0:
             warm = True
         bounds[nl + k, 0], bounds[nl + k, 1] = -dt * frictions[k, 1], dt * frictions[k, 1]
-    status = crba_core(m, q, k_.H, work)
-    if status != OK:
-        return status
-    k = ltdl(m, k_.H)
-    if k >= 0:
-        return fault(SINGULAR, m.dof_joint[k])
-    _delassus(m, J, k_, G)  # M⁻¹ Jᵀ in k_.MJt, G = J M⁻¹ Jᵀ
+    _delassus(m, J, k_, G)  # M⁻¹ Jᵀ in k_.MJt (M's factors: factored_dynamics), G = J M⁻¹ Jᵀ
     c = 0
     for r in range(mc):  # g = J v_free, and the gap's term on the normal rows (K23)
         acc = 0.0

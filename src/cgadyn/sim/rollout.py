@@ -78,7 +78,7 @@ from ..constraints.work.core import workspace as constraint_workspace
 from ..constraints.work.core import workspace_size as constraint_workspace_size
 from ..multibody.joints import joint_difference, joint_integrate
 from ..multibody.packed import unpack
-from .contact import KEPT, carve_scratch, contact_velocity, scratch_size
+from .contact import KEPT, carve_scratch, contact_velocity, factored_dynamics, scratch_size
 from .pairs import pair_count, pair_scratch_size
 from .work.rollout import workspace, workspace_size
 
@@ -123,12 +123,12 @@ implicit step shifts the torque (K40)."""
 
 
 @inline
-def closed_loop_acceleration(m, q, v, u, f, ctrl, con, qdd, sc, work):
+def closed_loop_acceleration(m, q, v, u, f, ctrl, con, world, qdd, sc, work):
     """``qdd = ABA(q, v, u + τ_ctrl(q, v))`` (the module's first equations), or the
     constrained dynamics of that torque; ``ctrl`` the controller ``(flags, coords (COORDS,
     nv), q_ref (nq), v_ref (nv))``, ``con`` the constraints ``(pack, settings, workspace)``
     (``_dynamics``). A status; ``qdd`` NaN where it fails."""
-    status = _closed_loop(m, q, v, u, f, ctrl, con, qdd, sc, work)
+    status = _closed_loop(m, q, v, u, f, ctrl, con, world, qdd, sc, work)
     if status != OK:
         for k in range(m.nv):
             qdd[k] = np.nan
@@ -136,11 +136,11 @@ def closed_loop_acceleration(m, q, v, u, f, ctrl, con, qdd, sc, work):
 
 
 @inline
-def _closed_loop(m, q, v, u, f, ctrl, con, qdd, sc, work):
+def _closed_loop(m, q, v, u, f, ctrl, con, world, qdd, sc, work):
     """``closed_loop_acceleration``, its ``qdd`` undefined where it fails."""
     flags, coords, q_ref, v_ref = ctrl
     if flags == 0:  # no feedback: τ = τ_ol
-        return _dynamics(m, q, v, u, f, con, qdd, sc, work)
+        return _dynamics(m, q, v, u, f, con, world, qdd, sc, work)
     tau, g, dq, zero, none, tmp = sc.tau, sc.g, sc.dq, sc.zero, sc.none, sc.tmp
     for k in range(m.nv):
         tau[k] = u[k]
@@ -164,17 +164,21 @@ def _closed_loop(m, q, v, u, f, ctrl, con, qdd, sc, work):
     if flags & IMPLICIT:  # the stiffnesses at q ⊕ dt v⁺, linearised (K40)
         for k in range(m.nv):
             tau[k] -= coords[SHIFT, k] * v[k]
-    return _dynamics(m, q, v, tau, f, con, qdd, sc, work)
+    return _dynamics(m, q, v, tau, f, con, world, qdd, sc, work)
 
 
 @serial
-def _dynamics(m, q, v, tau, f, con, qdd, sc, work):
+def _dynamics(m, q, v, tau, f, con, world, qdd, sc, work):
     """``qdd = ABA(q, v, τ)`` without constraints (``con`` None); with them (``con = (pack,
     settings, cwork)``: ``constraints.core``'s pack and settings, its workspace) the
     constrained dynamics ``M q̈ = τ - h + Jᵀ λ``, ``J q̈ = -γ`` (C6, C7), λ in ``sc.lam``. A
     status: ``CONSTRAINTS_CONFLICT`` at the worst row where the proximal solve ends with no
-    solution. Compiled apart from its callers, for ``con`` None or a tuple: numba removes
-    the branch of the other, so a rollout without constraints never compiles their core."""
+    solution. With a ``world`` (never with constraints), ``M⁻¹ (τ - h)`` from the factors
+    of M that its contact step then reuses (``sim.contact.factored_dynamics``). Compiled
+    apart from its callers, for ``con`` and ``world`` None or not: numba removes the branch
+    of the other, so a rollout without constraints never compiles their core."""
+    if world is not None:
+        return factored_dynamics(m, world, q, v, tau, f, qdd, sc.zero, work)
     if con is None:
         return aba_core(m, q, v, tau, f, qdd, work)
     cons, settings, cwork = con
@@ -312,8 +316,8 @@ def step(m, method, q, v, u, f, ctrl, con, world, dt, qn, vn, a, sc, work):
             _advance(m, q, K[i - 1], h, tmp, dq, qs)  # q ⊕ c_i h v_{i-1}
             for k in range(m.nv):
                 K[i, k] = v[k] + h * Ka[i - 1, k]  # v_i = v + c_i h q̈_{i-1}
-        status = closed_loop_acceleration(m, q if i == 0 else qs, K[i], u, f, ctrl, con, Ka[i],
-                                          sc, work)
+        status = closed_loop_acceleration(m, q if i == 0 else qs, K[i], u, f, ctrl, con, world,
+                                          Ka[i], sc, work)
         if i == 0:
             for k in range(m.nv):
                 a[k] = Ka[0, k]
@@ -464,8 +468,8 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
             v[k] = vn[k]
         done = i + 1
     if s == OK:
-        s = closed_loop_acceleration(mb, q, v, ub[hold * (steps - 1)], fb, ctrl, con, a, sc,
-                                     work)
+        s = closed_loop_acceleration(mb, q, v, ub[hold * (steps - 1)], fb, ctrl, con, wd, a,
+                                     sc, work)
         _record(mb, con, v, s, sc)
         r = kept_row(steps, steps, every)
         _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])

@@ -13,7 +13,7 @@ from ..._views import carve
 from ...kernels.lane_arrays import lane_array, lane_matrix, lane_tensor
 
 CoreWorkspace = namedtuple("CoreWorkspace", ("M", "Mw", "tmp8", "c", "s", "Sw", "Vb", "Ab", "E",
-                                             "T", "tw", "x", "J", "g", "H", "MJt", "C", "b", "y",
+                                             "T", "tw", "x", "H", "J", "g", "MJt", "C", "b", "y",
                                              "d", "af", "h", "cols", "e"))
 
 
@@ -32,9 +32,9 @@ def workspace_size(n, nq, nv, nl, nr):
         + 2 * 4 * 4
         + 6
         + 6 * 6
+        + nv * nv
         + nr * nv
         + nr
-        + nv * nv
         + nv * nr
         + nr * nr
         + nr
@@ -62,9 +62,9 @@ def workspace(buf, m, nr):
     _T, o = carve(buf, o, (2, 4, 4))
     _tw, o = carve(buf, o, (6,))
     _x, o = carve(buf, o, (6, 6))
+    _H, o = carve(buf, o, (m.nv, m.nv))
     _J, o = carve(buf, o, (nr, m.nv))
     _g, o = carve(buf, o, (nr,))
-    _H, o = carve(buf, o, (m.nv, m.nv))
     _MJt, o = carve(buf, o, (m.nv, nr))
     _C, o = carve(buf, o, (nr, nr))
     _b, o = carve(buf, o, (nr,))
@@ -74,7 +74,7 @@ def workspace(buf, m, nr):
     _h, o = carve(buf, o, (m.nv,))
     _cols, o = carve(buf, o, (m.nv,))
     _e, o = carve(buf, o, (nr,))
-    return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _J, _g, _H, _MJt,
+    return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _H, _J, _g, _MJt,
                          _C, _b, _y, _d, _af, _h, _cols, _e)
 
 
@@ -107,12 +107,12 @@ def lane_workspace(buf, m, nr):
     o += 6
     _x = lane_matrix(buf, o, 6)
     o += 6 * 6
+    _H = lane_matrix(buf, o, m.nv)
+    o += m.nv * m.nv
     _J = lane_matrix(buf, o, m.nv)
     o += nr * m.nv
     _g = lane_array(buf, o)
     o += nr
-    _H = lane_matrix(buf, o, m.nv)
-    o += m.nv * m.nv
     _MJt = lane_matrix(buf, o, nr)
     o += m.nv * nr
     _C = lane_matrix(buf, o, nr)
@@ -131,5 +131,5 @@ def lane_workspace(buf, m, nr):
     o += m.nv
     _e = lane_array(buf, o)
     o += nr
-    return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _J, _g, _H, _MJt,
+    return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _H, _J, _g, _MJt,
                          _C, _b, _y, _d, _af, _h, _cols, _e)
