@@ -38,6 +38,7 @@ import numpy as np
 
 from .._jit import serial
 from ..algorithms import _workspace as ws
+from ..algorithms.aba import aba_core
 from ..algorithms.crba import crba_core
 from ..algorithms.kinematics import link_motor
 from ..algorithms.ltdl import ltdl, ltdl_solve
@@ -82,14 +83,16 @@ pairs' code)."""
 ContactScratch = namedtuple("ContactScratch", (
     "world", "poses", "out", "counts", "cand", "big", "mu", "info", "settings", "prev",
     "force", "had", "tmp8", "T", "count", "report", "cwork", "lrows", "bounds", "lprev",
-    "lhad", "twists", "bodies", "pairs"))
+    "lhad", "twists", "bodies", "factored", "pairs"))
 """A rollout's contact scratch (``carve_scratch``) beside its ``WorldArrays`` (``world``):
 the shapes' poses, the contacts found (``out``, ``counts``), candidates, the problem's
 matrices (``big``), the cones' μ, the solver's info and settings, each slot's impulse of the
 previous step (``prev``, ``had``) and force of this one (``force``), the contacts' number
 and the report of the step (``count``, ``report``), the constraint workspace, the active
 limits' rows, the interval rows' bounds and previous impulses (``lprev``, ``lhad``), the
-shapes' link twists (K21a) and the joints' (``bodies``), the pairs' scratch
+shapes' link twists (K21a) and the joints' (``bodies``), ``factored`` (whether the
+workspace holds M's factors at this step's q; whether the last step had rows), the pairs'
+scratch
 (``sim.pairs.carve_pairs``; None without pairs)."""
 
 MARGIN, STABILIZATION, FRICTION, WARM, FIRST, ACCEPT, PATCH = range(7)
@@ -157,7 +160,7 @@ def scratch_size(n, nq, nv, nl, shapes, limits, frictions):
             + m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6) + K + ncp.INFO
             + ncp.SETTINGS + 2 * K * 3 + K + 8 + 16 + 1 + REPORT
             + L * LIMIT_COLUMNS + 2 * (L + frictions) + 2 * (L + frictions)
-            + constraint_workspace_size(n, nq, nv, nl, m) + n * 12)
+            + constraint_workspace_size(n, nq, nv, nl, m) + n * 12 + 2)
 
 
 @serial
@@ -192,6 +195,7 @@ def carve_scratch(world, buf, n, nq, nv, nl):
     lhad, o = ws.carve(p, o, (L + F,))
     twists, o = ws.carve(p, o, (shapes, 2, 6))
     bodies, o = ws.carve(p, o, (n, 2, 6))
+    factored, o = ws.carve(p, o, (2,))
     ps = carve_pairs(world.pairs, p, o)
     for k in range(K):
         had[k] = 0.0
@@ -201,9 +205,10 @@ def carve_scratch(world, buf, n, nq, nv, nl):
     for k in range(L + F):
         lhad[k], lprev[k] = 0.0, 0.0
     count[0] = 0.0
+    factored[0], factored[1] = 0.0, 1.0
     return ContactScratch(world, poses, out, counts, cand, big, mu, info, settings, prev,
                           force, had, tmp8, T, count, report, cwork, lrows, bounds, lprev,
-                          lhad, twists, bodies, ps)
+                          lhad, twists, bodies, factored, ps)
 
 
 @serial
@@ -233,8 +238,14 @@ def factored_dynamics(m, world, q, v, tau, f, qdd, zero, work):
     ``M`` by CRBA into the world's constraint workspace and factored there (``H = Lᵀ D L``,
     L1-L2), where ``contact_velocity`` finds it for ``M⁻¹ Jᵀ`` at the same ``q``: one
     factorisation of M serves the free velocity (K20) and the Delassus operator (K23), where
-    ABA and then CRBA computed the same inertias twice. ``zero`` (nv) holds zeros. A
-    status: ``SINGULAR`` at the joint of a pivot that is not positive."""
+    ABA and then CRBA computed the same inertias twice. Where the step before had no
+    contact, limit or friction row (a robot in the air), ABA alone, cheaper than RNEA, CRBA
+    and the factors, which the contact step then forms only if it needs them. ``zero``
+    (nv) holds zeros. A status: ``SINGULAR`` at the joint of a pivot that is not
+    positive."""
+    world.factored[0] = 0.0
+    if world.factored[1] == 0.0:
+        return aba_core(m, q, v, tau, f, qdd, work)
     k_ = constraint_workspace(ws.data_pointer(world.cwork), m, 0)
     status = rnea_core(m, q, v, zero, f, qdd, work)  # h, into qdd
     if status != OK:
@@ -248,6 +259,7 @@ def factored_dynamics(m, world, q, v, tau, f, qdd, zero, work):
     for i in range(m.nv):
         qdd[i] = tau[i] - qdd[i]
     ltdl_solve(m, k_.H, qdd)  # L5, L6
+    world.factored[0] = 1.0
     return OK
 
 
@@ -310,6 +322,7 @@ def contact_velocity(m, world, q, v, vn, dt, work):
     count[0] = nc
     for i in range(REPORT):
         report[i] = 0.0
+    w_.factored[1] = 1.0 if nc + nl + nf > 0 else 0.0
     if nc + nl + nf == 0:
         for k in range(K):
             had[k] = 0.0
@@ -365,7 +378,14 @@ def contact_velocity(m, world, q, v, vn, dt, work):
         if lhad[slot] != 0.0:
             warm = True
         bounds[nl + k, 0], bounds[nl + k, 1] = -dt * frictions[k, 1], dt * frictions[k, 1]
-    _delassus(m, J, k_, G)  # M⁻¹ Jᵀ in k_.MJt (M's factors: factored_dynamics), G = J M⁻¹ Jᵀ
+    if w_.factored[0] == 0.0:  # the free velocity came from ABA: M's factors here
+        status = crba_core(m, q, k_.H, work)
+        if status != OK:
+            return status
+        k = ltdl(m, k_.H)
+        if k >= 0:
+            return fault(SINGULAR, m.dof_joint[k])
+    _delassus(m, J, k_, G)  # M⁻¹ Jᵀ in k_.MJt, G = J M⁻¹ Jᵀ
     c = 0
     for r in range(mc):  # g = J v_free, and the gap's term on the normal rows (K23)
         acc = 0.0
