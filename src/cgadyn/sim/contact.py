@@ -233,20 +233,20 @@ def _shape_twists(m, Sw, links, v, vn, twists, bodies):
 
 
 @serial
-def factored_dynamics(m, world, q, v, tau, f, qdd, zero, work):
+def factored_dynamics(m, factored, cwork, q, v, tau, f, qdd, zero, work):
     """``qdd = M⁻¹ (τ - h)``: ``h = RNEA(q, v, 0)`` with the wrenches ``f`` (Algorithm 2),
-    ``M`` by CRBA into the world's constraint workspace and factored there (``H = Lᵀ D L``,
-    L1-L2), where ``contact_velocity`` finds it for ``M⁻¹ Jᵀ`` at the same ``q``: one
-    factorisation of M serves the free velocity (K20) and the Delassus operator (K23), where
-    ABA and then CRBA computed the same inertias twice. Where the step before had no
-    contact, limit or friction row (a robot in the air), ABA alone, cheaper than RNEA, CRBA
-    and the factors, which the contact step then forms only if it needs them. ``zero``
-    (nv) holds zeros. A status: ``SINGULAR`` at the joint of a pivot that is not
-    positive."""
-    world.factored[0] = 0.0
-    if world.factored[1] == 0.0:
+    ``M`` by CRBA into the world's constraint workspace and factored there (``H = Lᵀ D
+    L``, L1-L2; ``cwork``, flags in ``factored``), where ``contact_velocity`` finds it
+    for ``M⁻¹ Jᵀ`` at the same ``q``: one factorisation of M serves the free velocity
+    (K20) and the Delassus operator (K23), where ABA and then CRBA computed the same
+    inertias twice. Where the step before had no contact, limit or friction row (a robot
+    in the air), ABA alone, cheaper than RNEA, CRBA and the factors, which the contact
+    step then forms only if it needs them. ``zero`` (nv) holds zeros. A status:
+    ``SINGULAR`` at the joint of a pivot that is not positive."""
+    factored[0] = 0.0
+    if factored[1] == 0.0:
         return aba_core(m, q, v, tau, f, qdd, work)
-    k_ = constraint_workspace(ws.data_pointer(world.cwork), m, 0)
+    k_ = constraint_workspace(ws.data_pointer(cwork), m, 0)
     status = rnea_core(m, q, v, zero, f, qdd, work)  # h, into qdd
     if status != OK:
         return status
@@ -259,7 +259,7 @@ def factored_dynamics(m, world, q, v, tau, f, qdd, zero, work):
     for i in range(m.nv):
         qdd[i] = tau[i] - qdd[i]
     ltdl_solve(m, k_.H, qdd)  # L5, L6
-    world.factored[0] = 1.0
+    factored[0] = 1.0
     return OK
 
 

@@ -123,12 +123,12 @@ implicit step shifts the torque (K40)."""
 
 
 @inline
-def closed_loop_acceleration(m, q, v, u, f, ctrl, con, world, qdd, sc, work):
+def closed_loop_acceleration(m, q, v, u, f, ctrl, con, fac, qdd, sc, work):
     """``qdd = ABA(q, v, u + τ_ctrl(q, v))`` (the module's first equations), or the
     constrained dynamics of that torque; ``ctrl`` the controller ``(flags, coords (COORDS,
     nv), q_ref (nq), v_ref (nv))``, ``con`` the constraints ``(pack, settings, workspace)``
     (``_dynamics``). A status; ``qdd`` NaN where it fails."""
-    status = _closed_loop(m, q, v, u, f, ctrl, con, world, qdd, sc, work)
+    status = _closed_loop(m, q, v, u, f, ctrl, con, fac, qdd, sc, work)
     if status != OK:
         for k in range(m.nv):
             qdd[k] = np.nan
@@ -136,11 +136,11 @@ def closed_loop_acceleration(m, q, v, u, f, ctrl, con, world, qdd, sc, work):
 
 
 @inline
-def _closed_loop(m, q, v, u, f, ctrl, con, world, qdd, sc, work):
+def _closed_loop(m, q, v, u, f, ctrl, con, fac, qdd, sc, work):
     """``closed_loop_acceleration``, its ``qdd`` undefined where it fails."""
     flags, coords, q_ref, v_ref = ctrl
     if flags == 0:  # no feedback: τ = τ_ol
-        return _dynamics(m, q, v, u, f, con, world, qdd, sc, work)
+        return _dynamics(m, q, v, u, f, con, fac, qdd, sc, work)
     tau, g, dq, zero, none, tmp = sc.tau, sc.g, sc.dq, sc.zero, sc.none, sc.tmp
     for k in range(m.nv):
         tau[k] = u[k]
@@ -164,21 +164,23 @@ def _closed_loop(m, q, v, u, f, ctrl, con, world, qdd, sc, work):
     if flags & IMPLICIT:  # the stiffnesses at q ⊕ dt v⁺, linearised (K40)
         for k in range(m.nv):
             tau[k] -= coords[SHIFT, k] * v[k]
-    return _dynamics(m, q, v, tau, f, con, world, qdd, sc, work)
+    return _dynamics(m, q, v, tau, f, con, fac, qdd, sc, work)
 
 
 @serial
-def _dynamics(m, q, v, tau, f, con, world, qdd, sc, work):
+def _dynamics(m, q, v, tau, f, con, fac, qdd, sc, work):
     """``qdd = ABA(q, v, τ)`` without constraints (``con`` None); with them (``con = (pack,
     settings, cwork)``: ``constraints.core``'s pack and settings, its workspace) the
     constrained dynamics ``M q̈ = τ - h + Jᵀ λ``, ``J q̈ = -γ`` (C6, C7), λ in ``sc.lam``. A
     status: ``CONSTRAINTS_CONFLICT`` at the worst row where the proximal solve ends with no
-    solution. With a ``world`` (never with constraints), ``M⁻¹ (τ - h)`` from the factors
-    of M that its contact step then reuses (``sim.contact.factored_dynamics``). Compiled
-    apart from its callers, for ``con`` and ``world`` None or not: numba removes the branch
-    of the other, so a rollout without constraints never compiles their core."""
-    if world is not None:
-        return factored_dynamics(m, world, q, v, tau, f, qdd, sc.zero, work)
+    solution. With a world (never with constraints; ``fac`` its ``factored`` flags and
+    constraint workspace, ``_factors``), ``M⁻¹ (τ - h)`` from the factors of M that its
+    contact step then reuses (``sim.contact.factored_dynamics``). Compiled apart from its
+    callers, for ``con`` and ``fac`` None or not: numba removes the branch of the other, so
+    a rollout without constraints never compiles their core."""
+    if fac is not None:
+        factored, cwork = fac
+        return factored_dynamics(m, factored, cwork, q, v, tau, f, qdd, sc.zero, work)
     if con is None:
         return aba_core(m, q, v, tau, f, qdd, work)
     cons, settings, cwork = con
@@ -250,6 +252,16 @@ def _bind_world(world, buf, n, nq, nv, nl):
 
 
 @serial
+def _factors(world):
+    """None without a world, else its ``factored`` flags and constraint workspace: what
+    ``_dynamics`` needs of it (a small tuple, not the world's whole scratch, through the
+    calls of every step)."""
+    if world is None:
+        return None
+    return (world.factored, world.cwork)
+
+
+@serial
 def _world_size(world, n, nq, nv, nl):
     """Floats of a rollout's contact scratch; 0 without a world."""
     if world is None:
@@ -298,7 +310,7 @@ def _advance(m, q, v, h, tmp, dq, out):
 
 
 @inline
-def step(m, method, q, v, u, f, ctrl, con, world, dt, qn, vn, a, sc, work):
+def step(m, method, q, v, u, f, ctrl, con, world, fac, dt, qn, vn, a, sc, work):
     """One step of ``method`` from ``(q, v)`` to ``(qn, vn)``; ``a = q̈(q, v)`` (and ``sc.X``
     the constraints' record of ``(q, v)``, ``_record``). A status.
 
@@ -316,7 +328,7 @@ def step(m, method, q, v, u, f, ctrl, con, world, dt, qn, vn, a, sc, work):
             _advance(m, q, K[i - 1], h, tmp, dq, qs)  # q ⊕ c_i h v_{i-1}
             for k in range(m.nv):
                 K[i, k] = v[k] + h * Ka[i - 1, k]  # v_i = v + c_i h q̈_{i-1}
-        status = closed_loop_acceleration(m, q if i == 0 else qs, K[i], u, f, ctrl, con, world,
+        status = closed_loop_acceleration(m, q if i == 0 else qs, K[i], u, f, ctrl, con, fac,
                                           Ka[i], sc, work)
         if i == 0:
             for k in range(m.nv):
@@ -424,6 +436,7 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
     cwork = ws.carve(ws.data_pointer(heap), o, (heap.shape[0] - shared,))[0]
     con = _bind(cons, settings, cwork)
     wd = _bind_world(world, wbuf, mb.n, mb.nq, mb.nv, mb.nl)
+    fac = _factors(wd)
     sc = workspace(ws.data_pointer(buf), mb, nr)
     for k in range(mb.nv):
         sc.zero[k] = 0.0
@@ -454,7 +467,7 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
     s = OK
     done = 0
     for i in range(steps):
-        s = step(mb, method, q, v, ub[hold * i], fb, ctrl, con, wd, dt, qn, vn, a, sc, work)
+        s = step(mb, method, q, v, ub[hold * i], fb, ctrl, con, wd, fac, dt, qn, vn, a, sc, work)
         r = kept_row(i, steps, every)
         if r >= 0:
             _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
@@ -468,7 +481,7 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
             v[k] = vn[k]
         done = i + 1
     if s == OK:
-        s = closed_loop_acceleration(mb, q, v, ub[hold * (steps - 1)], fb, ctrl, con, wd, a,
+        s = closed_loop_acceleration(mb, q, v, ub[hold * (steps - 1)], fb, ctrl, con, fac, a,
                                      sc, work)
         _record(mb, con, v, s, sc)
         r = kept_row(steps, steps, every)
