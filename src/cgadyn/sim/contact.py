@@ -92,8 +92,7 @@ and the report of the step (``count``, ``report``), the constraint workspace, th
 limits' rows, the interval rows' bounds and previous impulses (``lprev``, ``lhad``), the
 shapes' link twists (K21a) and the joints' (``bodies``), ``factored`` (whether the
 workspace holds M's factors at this step's q; whether the last step had rows), the pairs'
-scratch
-(``sim.pairs.carve_pairs``; None without pairs)."""
+scratch (``sim.pairs.carve_pairs``; None without pairs)."""
 
 MARGIN, STABILIZATION, FRICTION, WARM, FIRST, ACCEPT, PATCH = range(7)
 PARAMS = 7
