@@ -101,41 +101,39 @@ def _write(out, m, cand, i):
 
 
 @serial
-def gap_after(cand, i, V, n0, n1, n2, dt):
-    """Candidate ``i``'s least gap at the end of a step of length ``dt`` (K21a): its
-    distance less the way it may travel in the step, ``dt |v_x| + dt² |ω| |v_x|`` with
-    ``v_x = v + ω × x`` (the second term for the turn of that velocity: a point of a body
-    turning at ``ω`` accelerates by ``ω × v_x``), at the larger of its link's two world
-    twists ``V[t] = [v, ω]`` (the velocity at the step's start and the free one; zeros: the
-    distance itself). In any direction, not only along the normal: the contact impulses of
-    the step turn the velocities (a joint limit's impulse swings a leg into the ground)."""
-    x0, x1, x2 = cand[i, 0], cand[i, 1], cand[i, 2]
-    reach = 0.0
+def reach(V, x0, x1, x2, radius, dt):
+    """The farthest a point within ``radius`` of ``x`` may travel in a step of length
+    ``dt`` (K21a): ``dt (|v_x| + |ω| radius)(1 + dt |ω|)`` with ``v_x = v + ω × x`` (the
+    second factor for the turn of that velocity: a point of a body turning at ``ω``
+    accelerates by ``ω × v_x``; ``|v_y| <= |v_x| + |ω| radius`` for ``|y - x| <=
+    radius``), at the larger of its link's two world twists ``V[t] = [v, ω]`` (the
+    velocity at the step's start and the free one). In any direction, not only along the
+    normal: the contact impulses of the step turn the velocities (a joint limit's impulse
+    swings a leg into the ground)."""
+    out = 0.0
     for t in range(2):
         w0, w1, w2 = V[t, 3], V[t, 4], V[t, 5]
         u0, u1, u2 = V[t, 0] + w1 * x2 - w2 * x1, V[t, 1] + w2 * x0 - w0 * x2, \
             V[t, 2] + w0 * x1 - w1 * x0
         u = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
         w = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
-        reach = max(reach, dt * u * (1.0 + dt * w))
-    return cand[i, 3] - reach
+        out = max(out, dt * (u + w * radius) * (1.0 + dt * w))
+    return out
+
+
+@serial
+def gap_after(cand, i, V, n0, n1, n2, dt):
+    """Candidate ``i``'s least gap at the end of a step of length ``dt`` (K21a): its
+    distance less the way it may travel (``reach`` of the point; zero twists: the distance
+    itself)."""
+    return cand[i, 3] - reach(V, cand[i, 0], cand[i, 1], cand[i, 2], 0.0, dt)
 
 
 @serial
 def reach_bound(T, radius, V, dt):
     """The farthest any point within ``radius`` of the origin of the pose ``T`` may travel in
-    a step of ``dt`` at the twists ``V`` (2, 6) (``gap_after``'s reach, bounded): ``|v_x| <=
-    |v_o| + |ω| radius`` for ``|x - o| <= radius``."""
-    o0, o1, o2 = T[0, 3], T[1, 3], T[2, 3]
-    reach = 0.0
-    for t in range(2):
-        w0, w1, w2 = V[t, 3], V[t, 4], V[t, 5]
-        u0, u1, u2 = V[t, 0] + w1 * o2 - w2 * o1, V[t, 1] + w2 * o0 - w0 * o2, \
-            V[t, 2] + w0 * o1 - w1 * o0
-        u = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
-        w = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
-        reach = max(reach, dt * (u + w * radius) * (1.0 + dt * w))
-    return reach
+    a step of ``dt`` at the twists ``V`` (2, 6): ``reach`` of that ball."""
+    return reach(V, T[0, 3], T[1, 3], T[2, 3], radius, dt)
 
 
 @serial

@@ -36,7 +36,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from .._jit import serial
+from .._jit import inline, serial
 from ..algorithms import _workspace as ws
 from ..algorithms.aba import aba_core
 from ..algorithms.crba import crba_core
@@ -231,6 +231,17 @@ def _shape_twists(m, Sw, links, v, vn, twists, bodies):
                 twists[s, t, i] = bodies[j, t, i] if j >= 0 else 0.0
 
 
+@inline
+def _factor(m, q, H, work):
+    """``H = M(q)`` by CRBA, then its factors ``Lᵀ D L`` in place (L1-L2). A status:
+    ``SINGULAR`` at the joint of a pivot that is not positive."""
+    status = crba_core(m, q, H, work)
+    if status != OK:
+        return status
+    k = ltdl(m, H)
+    return fault(SINGULAR, m.dof_joint[k]) if k >= 0 else OK
+
+
 @serial
 def factored_dynamics(m, factored, cwork, q, v, tau, f, qdd, zero, work):
     """``qdd = M⁻¹ (τ - h)``: ``h = RNEA(q, v, 0)`` with the wrenches ``f`` (Algorithm 2),
@@ -249,12 +260,9 @@ def factored_dynamics(m, factored, cwork, q, v, tau, f, qdd, zero, work):
     status = rnea_core(m, q, v, zero, f, qdd, work)  # h, into qdd
     if status != OK:
         return status
-    status = crba_core(m, q, k_.H, work)
+    status = _factor(m, q, k_.H, work)
     if status != OK:
         return status
-    k = ltdl(m, k_.H)
-    if k >= 0:
-        return fault(SINGULAR, m.dof_joint[k])
     for i in range(m.nv):
         qdd[i] = tau[i] - qdd[i]
     ltdl_solve(m, k_.H, qdd)  # L5, L6
@@ -378,12 +386,9 @@ def contact_velocity(m, world, q, v, vn, dt, work):
             warm = True
         bounds[nl + k, 0], bounds[nl + k, 1] = -dt * frictions[k, 1], dt * frictions[k, 1]
     if w_.factored[0] == 0.0:  # the free velocity came from ABA: M's factors here
-        status = crba_core(m, q, k_.H, work)
+        status = _factor(m, q, k_.H, work)
         if status != OK:
             return status
-        k = ltdl(m, k_.H)
-        if k >= 0:
-            return fault(SINGULAR, m.dof_joint[k])
     _delassus(m, J, k_, G)  # M⁻¹ Jᵀ in k_.MJt, G = J M⁻¹ Jᵀ
     c = 0
     for r in range(mc):  # g = J v_free, and the gap's term on the normal rows (K23)
