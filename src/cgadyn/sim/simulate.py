@@ -109,7 +109,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     proximal iterations, the least-norm forces of a redundant set). ``world``: None, or a
     ``cgadyn.World`` whose ground the shapes of ``collisions`` (``cgadyn.collision_model``)
     touch: every step is then ``cgadyn.contact_step``'s (semi-implicit Euler with contact
-    impulses; docs/contact.md, "Rollouts with contact"), with the margin, stabilization,
+    impulses; docs/contact.md, "Rollouts with contact"; a PD's gains and the joints'
+    dampers and springs taken at the end of the step, K40), with the margin, stabilization,
     solvers, tolerance, warm start and ``accept`` of ``contact`` (a
     ``cgadyn.ContactSettings``, default ``ContactSettings()``); a step whose solvers end
     with a residual above ``accept`` stops the rollout, naming the residuals.
