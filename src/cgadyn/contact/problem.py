@@ -62,6 +62,13 @@ def normal_row(d, k, c, beta, dt):
     return k * d / (dt * k + c), r
 
 
+def contact_compliance(collisions, contacts) -> np.ndarray:
+    """(nc, 2) each contact's stiffness and damping (K41): its shape's
+    (``CollisionModel.compliance``) for a contact with the ground, zeros for a pair's."""
+    return np.where((contacts.other < 0)[:, None], collisions.compliance[contacts.collision],
+                    0.0)
+
+
 def gap_velocity(distance, stabilization: float, dt: float, compliance=None
                  ) -> tuple[np.ndarray, np.ndarray]:
     """``normal_row`` of each contact at ``distance`` (nc,) with ``compliance`` (nc, 2)

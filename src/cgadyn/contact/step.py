@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .pairs import candidate_pairs, contact_frame
-from .problem import gap_velocity
+from .problem import contact_compliance, gap_velocity
 from .settings import ContactSettings, other_solver, residual
 from .world import Contacts, World, world_contacts
 
@@ -193,8 +193,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     G = J @ np.linalg.solve(crba(model, q), J.T)  # G = J M⁻¹ Jᵀ (C7) over every row
     G = 0.5 * (G + G.T)
     g = J @ v_free
-    soft = np.where((contacts.other < 0)[:, None], cm.compliance[contacts.collision], 0.0)
-    term, compliance = gap_velocity(contacts.distance, stabilization, step, soft)  # K41
+    term, compliance = gap_velocity(contacts.distance, stabilization, step,
+                                    contact_compliance(cm, contacts))  # K41
     g[3 * np.arange(nc) + 2] += term  # K23, K41
     g[3 * nc + np.arange(nl)] += gap_velocity(rows[:nl, ROW_GAP], stabilization, step)[0]
     soft_rows = np.zeros(len(g))  # R: the compliance of each row (K41)

@@ -239,7 +239,7 @@ def trajectory_criteria(traj, rollout: int | None = None, slip: float = SLIP
     criteria need the velocity after it, the next state's), recomputed in Python from the
     kept states and contact forces; ``rollout``: one rollout of a batch (None: all of
     them, (B, steps) arrays); ``slip``: as in ``step_criteria``."""
-    from ..contact.problem import contact_jacobian, gap_velocity
+    from ..contact.problem import contact_compliance, contact_jacobian, gap_velocity
 
     scene = _scene(traj)
     dt = float(traj.dt)
@@ -274,8 +274,7 @@ def trajectory_criteria(traj, rollout: int | None = None, slip: float = SLIP
                               forces[k], J)
         reordered += int(moved)
         sigma = (J @ v[k + 1]).reshape(nc, 3)  # σ = J v⁺ (K20, K24)
-        soft = np.where((contacts.other < 0)[:, None],
-                        scene.collisions.compliance[contacts.collision], 0.0)
+        soft = contact_compliance(scene.collisions, contacts)
         sigma[:, 2] += gap_velocity(contacts.distance, beta, dt, soft)[0]  # K23, K41
         crit = step_criteria(contact_frame_forces(forces[k, slots], frames), sigma,
                              contacts.distance, contacts.friction, slip)
