@@ -14,7 +14,6 @@ from cgadyn import oracle
 from cgadyn.algorithms._stream import STREAM_FLOATS
 from cgadyn.algorithms.aba_derivatives import solve_by_factors
 from cgadyn.algorithms.ltdl import supports
-from cgadyn.algorithms.minverse_lanes import in_lanes
 from cgadyn.multibody.packed import unpack
 from cgadyn.multibody.registry import robot_path
 
@@ -139,7 +138,6 @@ def test_minverse_batches_in_groups_of_samples(robot):
     thread's chunk one at a time: every sample equals its single call, and a fault inside
     a group is reported at its own sample, as a single call reports it."""
     model, _, _ = robot
-    assert _in_lanes_of(model.packed)  # every joint one coordinate, or a free root
     s = oracle.sample(model, 37, 5)  # two chunks of 19 and 18: groups of 8 and tails
     batch = cgadyn.minverse(model, s.q)
     for b in range(37):
@@ -205,11 +203,6 @@ def test_large_batches_stream_their_results():
     q[batch - 13, 3:7] = 0.0
     with pytest.raises(ValueError, match=rf"q\[{batch - 13}, 3:7\].*norm 0"):
         cgadyn.minverse(model, q)
-
-
-@njit
-def _in_lanes_of(packed):
-    return in_lanes(unpack(packed))
 
 
 @njit

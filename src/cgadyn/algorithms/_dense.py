@@ -6,6 +6,7 @@ held in vector registers."""
 from __future__ import annotations
 
 from .._jit import inline
+from ..kernels.lane_arrays import positive
 from ..kernels.lanes import W, fnma, load, splat, store
 
 
@@ -14,13 +15,15 @@ def spd_inverse(a, k, out):
     """``out[:k, :k] = a[:k, :k]⁻¹`` for a symmetric positive definite ``a`` (k <= 6), by
     Gauss-Jordan elimination without pivoting, which is stable for such matrices; ``a`` is
     overwritten. Returns False when a pivot is not positive (``a`` is not positive
-    definite), leaving ``out`` meaningless. The pivots are those of ``a = L D Lᵀ``."""
+    definite) or its inverse not finite, leaving ``out`` meaningless. The pivots are those
+    of ``a = L D Lᵀ``. Only arithmetic and ``positive``: it runs on numbers, or on ``W``
+    samples at once (``kernels.lane_arrays``)."""
     for i in range(k):
         for j in range(k):
             out[i, j] = 1.0 if i == j else 0.0
     for p in range(k):
         pivot = a[p, p]
-        if not pivot > 0.0:
+        if not positive(pivot):
             return False
         r = 1.0 / pivot
         for j in range(k):

@@ -23,14 +23,18 @@ M⁻¹ does not change when the whole tree moves rigidly, so a tree whose root i
 is computed in the root body's own frame (M5): there the root's six S_k are the unit twists,
 each one coefficient, and its pairings ⟨S_j, F_j[c]⟩ and its accelerations S_j M⁻¹[j, c]
 read and write single coefficients instead of taking six-term dot products.
+
+The recursion (``minverse_recursion``) is only arithmetic on arrays and the pivots' test
+(``positive``), so that it runs on one sample's numbers or, through
+``kernels.lane_arrays``, on ``W`` samples at once (``minverse_lanes``): the same operations
+in the same order, the same numbers.
 """
 
 from __future__ import annotations
 
-import math
-
 from .._jit import core, inline
 from ..kernels import dot, inertia_apply
+from ..kernels.lane_arrays import positive
 from ..kernels.layout import coefficients
 from ..kernels.rigid import rigid_frame, rigid_matrix, rigid_move_inertia, rigid_move_twist
 from . import _workspace as ws
@@ -57,7 +61,7 @@ WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py)
     "tmp8": (8,),
     "c": ("nq",),  # the joint motors' scalars (eq. 6)
     "s": ("nq",),
-    "pk": (2, 6),  # a free root's unit coefficients
+    "units": (2, "nv"),  # a free root's S_k = units[1, k] e_{units[0, k]} (M5), numbers
     "e": (6,),
 }
 
@@ -84,14 +88,31 @@ def move_axes_inertias(m, Mw, par, Sw, Ih):
 
 @inline
 def minverse_pass(m, q, Minv, k_):
-    """``Minv`` (nv, nv) into its upper triangle; a status. ``k_`` the workspace arrays."""
-    Mw, M, Ih, par, F, Sw, U, G = k_.Mw, k_.M, k_.Ih, k_.par, k_.F, k_.Sw, k_.U, k_.G
-    D, Dinv, It, t1, tmp8, c, s, pk, e = (k_.D, k_.Dinv, k_.It, k_.t1, k_.tmp8, k_.c, k_.s,
-                                          k_.pk, k_.e)
+    """``Minv`` (nv, nv), full and symmetric; a status. ``k_`` the workspace arrays."""
+    world_axes_inertias(m, q, k_.c, k_.s, k_.tmp8, k_.M, k_.Mw, k_.par, k_.Sw, k_.Ih)
+    j = minverse_recursion(m, k_, k_.units, Minv)
+    if j >= 0:
+        return fault(SINGULAR, j)
+    mirror_upper(Minv)
+    return OK
+
+
+@inline
+def minverse_recursion(m, k_, units, Minv):
+    """M1-M3 from ``k_.Sw`` and ``k_.Ih`` (the S_k and I_j in the world, a free root's
+    tree in its own frame, M5): the upper triangle of ``Minv``; -1, or the first joint whose
+    D_j is not positive definite. ``k_`` the workspace (``WORKSPACE``), of numbers or its
+    lane twin; ``units`` (2, nv) numbers, for a free root's unit twists."""
+    Ih, F, Sw, U, G = k_.Ih, k_.F, k_.Sw, k_.U, k_.G
+    D, Dinv, It, t1, e = k_.D, k_.Dinv, k_.It, k_.t1, k_.e
     nv = m.nv
-    world_axes_inertias(m, q, c, s, tmp8, M, Mw, par, Sw, Ih)
+    for j in range(m.n):  # S_k = s e_i of a free root (M5): i and s, numbers in any case
+        if free_root(m.parents[j], m.types[j]):
+            for k in range(m.iv[j], m.iv[j + 1]):
+                i, x = unit_coefficient(m.S[k])
+                units[0, k], units[1, k] = i, x
     for i in range(nv):
-        for k in range(nv):
+        for k in range(i, nv):
             Minv[i, k] = 0.0
     for j in range(m.n):  # the bias columns each joint's children add into
         for col in range(m.iv[j], m.subtree_end[j]):
@@ -100,18 +121,18 @@ def minverse_pass(m, q, Minv, k_):
     for j in range(m.n - 1, -1, -1):
         k0, k1, end = m.iv[j], m.iv[j + 1], m.subtree_end[j]
         if free_root(m.parents[j], m.types[j]):
-            if not _free_root_backward(Ih[j], Sw, U, D, Dinv, F[j], Minv, k0, end, pk, e,
+            if not _free_root_backward(Ih[j], Sw, U, D, Dinv, F[j], Minv, k0, end, units, e,
                                        m.armature):
-                return fault(SINGULAR, j)
+                return j
             continue
         for k in range(k0, k1):
             inertia_apply(Ih[j], Sw[k], U[k])  # U_j = Î_j[S_j] (M1)
         omega = 0.0
         if k1 - k0 == 1:
             d = -dot(Sw[k0], U[k0]) + m.armature[k0]  # D_j = ⟨S_j, U_j⟩ + rotor inertia
+            if not positive(d):
+                return j
             omega = 1.0 / d
-            if not (d > 0.0 and math.isfinite(omega)):
-                return fault(SINGULAR, j)
             Dinv[0, 0] = omega
         else:
             for a in range(k0, k1):
@@ -119,13 +140,13 @@ def minverse_pass(m, q, Minv, k_):
                     D[a - k0, b - k0] = -dot(Sw[a], U[b])
                 D[a - k0, a - k0] += m.armature[a]  # + the rotors' inertia
             if not spd_inverse(D, k1 - k0, Dinv):
-                return fault(SINGULAR, j)
+                return j
         for a in range(k0, k1):
             for i in range(6):
                 G[a, i] = 0.0
             for b in range(k0, k1):
                 w = Dinv[a - k0, b - k0]
-                Minv[a, b] = w  # M⁻¹[j, j] = D_j⁻¹ (M2)
+                Minv[a, b] = w  # M⁻¹[j, j] = D_j⁻¹ (M2), the whole block (M3 reads it)
                 for i in range(6):
                     G[a, i] += w * U[b, i]  # D_j⁻¹ U_j
         parent = m.parents[j]
@@ -172,8 +193,7 @@ def minverse_pass(m, q, Minv, k_):
                 for i in range(6):
                     F[j, col, i] = 0.0
                 for a in range(k0, k1):
-                    i, sign = unit_coefficient(Sw[a])
-                    F[j, col, i] = sign * Minv[a, col]
+                    F[j, col, int(units[0, a])] = units[1, a] * Minv[a, col]
             continue
         if parent >= 0 and k1 - k0 == 1:  # one coordinate, below another joint
             g_j, s_j = coefficients(G[k0]), coefficients(Sw[k0])  # in registers
@@ -192,15 +212,15 @@ def minverse_pass(m, q, Minv, k_):
                 for a in range(k0, k1):
                     x += Sw[a, i] * Minv[a, col]
                 F[j, col, i] = x  # A_j[c] = A_λ[c] + S_j M⁻¹[j, c]
-    return OK
+    return -1
 
 
 @inline
-def _free_root_backward(Ih, Sw, U, D, Dinv, F, Minv, k0, end, pk, e, armature):
+def _free_root_backward(Ih, Sw, U, D, Dinv, F, Minv, k0, end, units, e, armature):
     """(M1, M2) for a free-flyer root in its own frame (M5): its coordinates ``k0 .. k0 + 6``
-    have the unit twists S_k, so ``⟨S_a, F[c]⟩`` is one coefficient of F[c] times the
-    pairing of S_a with that blade (``pk`` (2, 6) holds both, ``e`` (6) is scratch); there
-    is no parent to pass anything to. False if D is not positive definite."""
+    have the unit twists S_k = s e_i, so ``⟨S_a, F[c]⟩ = s F[c][i]`` (``units`` holds i
+    and s, ``e`` (6) is scratch); there is no parent to pass anything to. False if D is
+    not positive definite."""
     for k in range(k0, k0 + 6):
         inertia_apply(Ih, Sw[k], U[k])  # U_j = Î_j[S_j] (M1)
     for a in range(6):
@@ -211,15 +231,10 @@ def _free_root_backward(Ih, Sw, U, D, Dinv, F, Minv, k0, end, pk, e, armature):
         return False
     for a in range(6):
         for b in range(6):
-            Minv[k0 + a, k0 + b] = Dinv[a, b]  # M⁻¹[j, j] = D_j⁻¹ (M2)
-    for b in range(6):  # S_b's one coefficient i and the pairing of S_b with blade i
-        i, _ = unit_coefficient(Sw[k0 + b])
-        for k in range(6):
-            e[k] = 1.0 if k == i else 0.0
-        pk[0, b], pk[1, b] = dot(Sw[k0 + b], e), i  # -⟨S_b, F⟩ = pk[0, b] F[i]
+            Minv[k0 + a, k0 + b] = Dinv[a, b]  # M⁻¹[j, j] = D_j⁻¹ (M2), the whole block
     for col in range(k0 + 6, end):  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
         for b in range(6):
-            e[b] = pk[0, b] * F[col, int(pk[1, b])]
+            e[b] = -units[1, k0 + b] * F[col, int(units[0, k0 + b])]  # -⟨S_b, F_j[c]⟩
         for a in range(6):
             x = 0.0
             for b in range(6):
@@ -245,6 +260,5 @@ def minverse_core(m, q, Minv, work):
     status = minverse_pass(m, q, Minv, workspace(ws.data_pointer(work), m))
     if status != OK:
         return status
-    mirror_upper(Minv)
     return check_result(Minv)
 

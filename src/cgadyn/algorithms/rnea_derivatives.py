@@ -30,7 +30,7 @@ the root's six S_k are unit twists, so that their pairings read one coefficient.
 from __future__ import annotations
 
 from .._jit import core, inline
-from ..kernels import twist_cross, twist_cross_wrench, twist_sandwich_rev, wrench_sandwich
+from ..kernels import dot, twist_cross, twist_cross_wrench, twist_sandwich_rev, wrench_sandwich
 from ..kernels.layout import coefficients
 from ..kernels.rigid import (
     rigid_apply,
@@ -82,14 +82,6 @@ def _set(t, out):
 def _set_column(t, X, k):
     """Write a 6-tuple into column k of ``X`` (6, nv)."""
     X[0, k], X[1, k], X[2, k], X[3, k], X[4, k], X[5, k] = t[0], t[1], t[2], t[3], t[4], t[5]
-
-
-@inline
-def _pair(x, W, k):
-    """The power pairing ``⟨x, W_k⟩ = -x · W_k`` (eq. 9) of a twist (a 6-tuple) with
-    column k of ``W`` (6, nv): the twist and wrench coefficients pair one to one."""
-    return (x[0] * W[0, k] + x[1] * W[1, k] + x[2] * W[2, k] + x[3] * W[3, k]
-            + x[4] * W[4, k] + x[5] * W[5, k])
 
 
 @core
@@ -227,8 +219,8 @@ def entries(m, k_, dq, dv, da):
             if free:  # ⟨S_l, W⟩ = S_l[i] W[i]
                 i, x = unit_coefficient(Sw[l])
                 for k in range(k0, end):  # k at or below l (D8, D9)
-                    dq[k, l] = _pair(psi, P, k)
-                    dv[k, l] = _pair(w, P, k) + x * Q[i, k]
+                    dq[k, l] = -dot(psi, P[:, k])
+                    dv[k, l] = -dot(w, P[:, k]) + x * Q[i, k]
                 for k in range(k1, end):  # l above k
                     dq[l, k] = x * G[i, k]
                     dv[l, k] = x * H[i, k]
@@ -239,19 +231,19 @@ def entries(m, k_, dq, dv, da):
             S = coefficients(Sw[l])
             if root:
                 for k in range(k0, end):  # k at or below l (D8, D9)
-                    dq[k, l] = _pair(psi, P, k)
-                    dv[k, l] = _pair(w, P, k) + _pair(S, Q, k)
+                    dq[k, l] = -dot(psi, P[:, k])
+                    dv[k, l] = -dot(w, P[:, k]) - dot(S, Q[:, k])
             else:
                 u = coefficients(U[l])
                 for k in range(k0, end):  # k at or below l (D8, D9)
-                    dq[k, l] = _pair(psi, P, k) + _pair(u, Q, k)
-                    dv[k, l] = _pair(w, P, k) + _pair(S, Q, k)
+                    dq[k, l] = -dot(psi, P[:, k]) - dot(u, Q[:, k])
+                    dv[k, l] = -dot(w, P[:, k]) - dot(S, Q[:, k])
             for k in range(k1, end):  # l above k (D8, D9)
-                dq[l, k] = _pair(S, G, k)
-                dv[l, k] = _pair(S, H, k)
+                dq[l, k] = -dot(S, G[:, k])
+                dv[l, k] = -dot(S, H[:, k])
             if mass:
                 for k in range(k0, end):
-                    da[l, k] = da[k, l] = _pair(S, P, k)  # (D10)
+                    da[l, k] = da[k, l] = -dot(S, P[:, k])  # (D10)
     if mass:
         for k in range(nv):
             da[k, k] += m.armature[k]  # the rotors' inertia on M's diagonal

@@ -16,7 +16,8 @@ numbers agree with it to rounding.
 
 A group in which a sample fails a check (a quaternion, a result that is not finite) is
 computed again one sample at a time by ``rnea_derivatives_core``, which reports the first
-fault exactly as a single call does; so are the samples after the last whole group.
+fault exactly as a single call does; so are the samples after the last whole group
+(``_groups.in_groups``).
 Results larger than ``_stream.STREAM_FLOATS`` are written past the caches (``_stream``).
 """
 
@@ -26,10 +27,11 @@ import numpy as np
 
 from .._jit import core, inline
 from ..kernels.lane_arrays import lane_array, lane_matrix, offset_in
-from ..kernels.lanes import W, fence, gather, load, store, store_transposed
+from ..kernels.lanes import W, gather, load, store, store_transposed
 from ..multibody.joints import joint_scalars
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
+from ._groups import in_groups
 from ._stream import STREAM_FLOATS, stream_copy
 from .rnea_derivatives import (
     composites,
@@ -37,7 +39,7 @@ from .rnea_derivatives import (
     forward_from_scalars,
     rnea_derivatives_core,
 )
-from .status import OK, at_sample
+from .status import OK
 from .work.rnea_derivatives import lane_workspace
 from .work.rnea_derivatives import workspace as scalar_workspace
 from .work.rnea_derivatives_lanes import workspace
@@ -59,39 +61,30 @@ WORKSPACE = {  # a group's arrays, in order (tools/generate_workspaces.py)
 def rnea_derivatives_group(m, q, v, a, f, o0, o1, o2, start, stop, work):
     """``rnea_derivatives`` of the samples ``start .. stop`` of a batch, ``W`` at a time; a
     status (at the sample of the first fault)."""
-    k_ = workspace(ws.data_pointer(work), m)
-    samples, lanes, Ql, Vl, Al, Fl = k_.samples, k_.lanes, k_.Ql, k_.Vl, k_.Al, k_.Fl
-    r0, r1, r2 = k_.r0, k_.r1, k_.r2
     streamed = o0.size + o1.size + o2.size > STREAM_FLOATS
-    none = np.empty((0, 6))
-    b = start
-    while b + W <= stop:
-        if not _group(m, q, v, a, f, o0, o1, o2, b, streamed, samples, lanes, Ql, Vl, Al, Fl,
-                      r0, r1, r2):
-            for l in range(W):  # again one at a time, for the exact fault
-                fb = f[b + l] if f.shape[0] > 0 else none
-                s = rnea_derivatives_core(m, q[b + l], v[b + l], a[b + l], fb, o0[b + l],
-                                          o1[b + l], o2[b + l], samples[0])
-                if s != OK:
-                    return at_sample(s, b + l)
-        b += W
-    for i in range(b, stop):
-        fb = f[i] if f.shape[0] > 0 else none
-        t0, t1, t2 = (r0, r1, r2) if streamed else (o0[i], o1[i], o2[i])
-        s = rnea_derivatives_core(m, q[i], v[i], a[i], fb, t0, t1, t2, samples[0])
-        if s != OK:
-            return at_sample(s, i)
-        if streamed:
-            _stream_out(r0, r1, r2, o0[i], o1[i], o2[i])
-    fence()
-    return OK
+    return in_groups(_group, _single, start, stop,
+                     (m, q, v, a, f, o0, o1, o2, streamed, workspace(ws.data_pointer(work), m)))
 
 
 @inline
-def _group(m, q, v, a, f, o0, o1, o2, b, streamed, samples, lanes, Ql, Vl, Al, Fl, r0, r1,
-           r2):
+def _single(i, args):
+    """Sample ``i`` alone (``rnea_derivatives_core``); a status."""
+    m, q, v, a, f, o0, o1, o2, streamed, k_ = args
+    fi = f[i] if f.shape[0] > 0 else np.empty((0, 6))
+    t0, t1, t2 = (k_.r0, k_.r1, k_.r2) if streamed else (o0[i], o1[i], o2[i])
+    s = rnea_derivatives_core(m, q[i], v[i], a[i], fi, t0, t1, t2, k_.samples[0])
+    if s == OK and streamed:
+        _stream_out(k_.r0, k_.r1, k_.r2, o0[i], o1[i], o2[i])
+    return s
+
+
+@inline
+def _group(b, args):
     """Samples ``b .. b + W``; False if one of them needs the one-at-a-time path."""
-    if not forward_in_lanes(m, q, v, a, f, b, True, samples, 0, lanes, Ql, Vl, Al, Fl):
+    m, q, v, a, f, o0, o1, o2, streamed, k_ = args
+    samples, r0, r1, r2 = k_.samples, k_.r0, k_.r1, k_.r2
+    if not forward_in_lanes(m, q, v, a, f, b, True, samples, 0, k_.lanes, k_.Ql, k_.Vl, k_.Al,
+                            k_.Fl):
         return False
     for l in range(W):
         t0, t1, t2 = (r0, r1, r2) if streamed else (o0[b + l], o1[b + l], o2[b + l])

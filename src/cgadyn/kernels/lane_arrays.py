@@ -7,7 +7,7 @@ and write numbers into arrays. Here Python's arithmetic operators are defined on
 flat array in the lanes layout (element ``x`` of sample ``l`` at ``x * W + l``) as an array
 of ``Lanes`` that a kernel indexes as it indexes an array of numbers: ``a[i]`` (one index)
 or ``a[i, k]`` (a matrix; ``a[i]`` is then its row i; ``lane_tensor``'s ``a[j]`` a
-matrix). So the same
+matrix, ``a[j, i]`` its row i, ``a[j, i, k]`` a number). So the same
 kernel, unchanged, computes one sample on numbers or ``W`` samples on vectors, with the same
 operations in the same order.
 
@@ -123,6 +123,10 @@ def _getitem(a, i):
         return lambda a, i: _matrix(a.array, a.offset + i * a.s0, a.s1, 0)
     if isinstance(i, types.BaseTuple) and len(i) == 2 and a.ndim == 2:
         return lambda a, i: load(a.array, (a.offset + i[0] * a.s0 + i[1]) * W)
+    if isinstance(i, types.BaseTuple) and len(i) == 2 and a.ndim == 3:
+        return lambda a, i: _vector(a.array, a.offset + i[0] * a.s0 + i[1] * a.s1, 0, 0)
+    if isinstance(i, types.BaseTuple) and len(i) == 3 and a.ndim == 3:
+        return lambda a, i: load(a.array, (a.offset + i[0] * a.s0 + i[1] * a.s1 + i[2]) * W)
     return None
 
 
@@ -138,6 +142,9 @@ def _setitem(a, i, x):
         return lambda a, i, x: store(a.array, (a.offset + i) * W, x)
     if isinstance(i, types.BaseTuple) and len(i) == 2 and a.ndim == 2:
         return lambda a, i, x: store(a.array, (a.offset + i[0] * a.s0 + i[1]) * W, x)
+    if isinstance(i, types.BaseTuple) and len(i) == 3 and a.ndim == 3:
+        return lambda a, i, x: store(a.array, (a.offset + i[0] * a.s0 + i[1] * a.s1 + i[2]) * W,
+                                     x)
     return None
 
 
@@ -236,6 +243,37 @@ def _select(x, a, b):
     return None
 
 
+@intrinsic
+def _all_positive(typingctx, x):
+    def codegen(context, builder, signature, args):
+        t = args[0].type
+        one = ir.Constant(t, [ir.Constant(ir.DoubleType(), 1.0)] * W)
+        inf = ir.Constant(t, [ir.Constant(ir.DoubleType(), math.inf)] * W)
+        ok = builder.and_(builder.fcmp_ordered(">", args[0], ir.Constant(t, None)),
+                          builder.fcmp_ordered("<", builder.fdiv(one, args[0]), inf))
+        every = ir.Constant(ir.IntType(W), (1 << W) - 1)
+        return builder.icmp_unsigned("==", builder.bitcast(ok, ir.IntType(W)), every)
+
+    return types.boolean(x), codegen
+
+
+def positive(x):
+    """True where a pivot ``x`` is positive and its inverse finite: of a number, or of
+    every lane of ``Lanes`` (a pivot of a recursion that runs on both, ``minverse``)."""
+    x = np.asarray(x)
+    with np.errstate(divide="ignore"):
+        return bool(np.all(x > 0.0) and np.all(np.isfinite(1.0 / x)))
+
+
+@overload(positive)
+def _positive(x):
+    if isinstance(x, Lanes):
+        return lambda x: _all_positive(x)
+    if isinstance(x, types.Float):
+        return lambda x: x > 0.0 and math.isfinite(1.0 / x)
+    return None
+
+
 if numba.config.DISABLE_JIT:  # pure Python: numpy does the arithmetic of W numbers
 
     class _PyLaneArray:
@@ -243,9 +281,16 @@ if numba.config.DISABLE_JIT:  # pure Python: numpy does the arithmetic of W numb
             self.flat, self.offset, self.s0, self.s1, self.ndim = (array.reshape(-1), offset,
                                                                    s0, s1, ndim)
 
+        def _at(self, i):
+            if len(i) == 3:
+                return self.offset + i[0] * self.s0 + i[1] * self.s1 + i[2]
+            return self.offset + i[0] * self.s0 + i[1]
+
         def __getitem__(self, i):
+            if isinstance(i, tuple) and len(i) == 2 and self.ndim == 3:
+                return _PyLaneArray(self.flat, self.offset + i[0] * self.s0 + i[1] * self.s1)
             if isinstance(i, tuple):
-                o = (self.offset + i[0] * self.s0 + i[1]) * W
+                o = self._at(i) * W
                 return np.array(self.flat[o:o + W])
             if self.ndim == 1:
                 o = (self.offset + i) * W
@@ -253,7 +298,7 @@ if numba.config.DISABLE_JIT:  # pure Python: numpy does the arithmetic of W numb
             return _PyLaneArray(self.flat, self.offset + i * self.s0, self.s1, 0, self.ndim - 1)
 
         def __setitem__(self, i, x):
-            o = self.offset + (i[0] * self.s0 + i[1] if isinstance(i, tuple) else i)
+            o = self._at(i) if isinstance(i, tuple) else self.offset + i
             self.flat[o * W:o * W + W] = x
 
     def sqrt(x):  # noqa: F811

@@ -14,7 +14,7 @@ from ...kernels.lane_arrays import lane_array, lane_matrix, lane_tensor
 
 MinverseWorkspace = namedtuple("MinverseWorkspace", ("Mw", "M", "Ih", "par", "F", "Sw", "U", "G",
                                                      "D", "Dinv", "It", "t1", "tmp8", "c", "s",
-                                                     "pk", "e"))
+                                                     "units", "e"))
 
 
 @inline
@@ -35,7 +35,7 @@ def workspace_size(n, nq, nv, nl):
         + 8
         + nq
         + nq
-        + 2 * 6
+        + 2 * nv
         + 6)
 
 
@@ -58,10 +58,10 @@ def workspace(buf, m):
     _tmp8, o = carve(buf, o, (8,))
     _c, o = carve(buf, o, (m.nq,))
     _s, o = carve(buf, o, (m.nq,))
-    _pk, o = carve(buf, o, (2, 6))
+    _units, o = carve(buf, o, (2, m.nv))
     _e, o = carve(buf, o, (6,))
     return MinverseWorkspace(_Mw, _M, _Ih, _par, _F, _Sw, _U, _G, _D, _Dinv, _It, _t1, _tmp8, _c,
-                             _s, _pk, _e)
+                             _s, _units, _e)
 
 
 @inline
@@ -99,9 +99,9 @@ def lane_workspace(buf, m):
     o += m.nq
     _s = lane_array(buf, o)
     o += m.nq
-    _pk = lane_matrix(buf, o, 6)
-    o += 2 * 6
+    _units = lane_matrix(buf, o, m.nv)
+    o += 2 * m.nv
     _e = lane_array(buf, o)
     o += 6
     return MinverseWorkspace(_Mw, _M, _Ih, _par, _F, _Sw, _U, _G, _D, _Dinv, _It, _t1, _tmp8, _c,
-                             _s, _pk, _e)
+                             _s, _units, _e)

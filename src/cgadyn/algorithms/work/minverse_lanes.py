@@ -14,36 +14,22 @@ from ...kernels.lane_arrays import lane_array, lane_matrix, lane_tensor
 from ...kernels.lanes import W
 from .minverse import workspace_size as _minverse_size
 
-MinverseLanesWorkspace = namedtuple("MinverseLanesWorkspace", ("scalar", "Sw", "c", "s", "Ql",
-                                                               "Cl", "Snl", "T8l", "Mjl", "Mwl",
-                                                               "Rl", "Sl", "Il", "Ul", "Gl", "Al",
-                                                               "Ml", "Dl", "Pl", "Tl", "pk", "Ol"))
+MinverseLanesWorkspace = namedtuple("MinverseLanesWorkspace", ("scalar", "lanes", "c", "s", "Ql",
+                                                               "Cl", "Snl", "units", "Xl", "Ol"))
 
 
 @inline
 def workspace_size(n, nq, nv, nl):
     """The floats the workspace takes, for a model of these sizes."""
     return ((_minverse_size(n, nq, nv, nl))
-        + nv * 6
+        + (W * _minverse_size(n, nq, nv, nl))
         + nq
         + nq
         + (nq * W)
         + (nq * W)
         + (nq * W)
-        + (8 * W)
-        + (n * 8 * W)
-        + (n * 8 * W)
-        + (10 * W)
-        + (nv * 6 * W)
-        + (n * 36 * W)
-        + (nv * 6 * W)
-        + (nv * 6 * W)
-        + (n * 6 * W)
+        + 2 * nv
         + (nv * nv * W)
-        + (36 * W)
-        + (36 * W)
-        + (12 * W)
-        + 12
         + W * nv * nv)
 
 
@@ -52,29 +38,16 @@ def workspace(buf, m):
     """The workspace's arrays carved from the pointer ``buf``."""
     o = 0
     _scalar, o = carve(buf, o, (_minverse_size(m.n, m.nq, m.nv, m.nl),))
-    _Sw, o = carve(buf, o, (m.nv, 6))
+    _lanes, o = carve(buf, o, (W * _minverse_size(m.n, m.nq, m.nv, m.nl),))
     _c, o = carve(buf, o, (m.nq,))
     _s, o = carve(buf, o, (m.nq,))
     _Ql, o = carve(buf, o, (m.nq * W,))
     _Cl, o = carve(buf, o, (m.nq * W,))
     _Snl, o = carve(buf, o, (m.nq * W,))
-    _T8l, o = carve(buf, o, (8 * W,))
-    _Mjl, o = carve(buf, o, (m.n * 8 * W,))
-    _Mwl, o = carve(buf, o, (m.n * 8 * W,))
-    _Rl, o = carve(buf, o, (10 * W,))
-    _Sl, o = carve(buf, o, (m.nv * 6 * W,))
-    _Il, o = carve(buf, o, (m.n * 36 * W,))
-    _Ul, o = carve(buf, o, (m.nv * 6 * W,))
-    _Gl, o = carve(buf, o, (m.nv * 6 * W,))
-    _Al, o = carve(buf, o, (m.n * 6 * W,))
-    _Ml, o = carve(buf, o, (m.nv * m.nv * W,))
-    _Dl, o = carve(buf, o, (36 * W,))
-    _Pl, o = carve(buf, o, (36 * W,))
-    _Tl, o = carve(buf, o, (12 * W,))
-    _pk, o = carve(buf, o, (12,))
+    _units, o = carve(buf, o, (2, m.nv))
+    _Xl, o = carve(buf, o, (m.nv * m.nv * W,))
     _Ol, o = carve(buf, o, (W, m.nv, m.nv))
-    return MinverseLanesWorkspace(_scalar, _Sw, _c, _s, _Ql, _Cl, _Snl, _T8l, _Mjl, _Mwl, _Rl, _Sl,
-                                  _Il, _Ul, _Gl, _Al, _Ml, _Dl, _Pl, _Tl, _pk, _Ol)
+    return MinverseLanesWorkspace(_scalar, _lanes, _c, _s, _Ql, _Cl, _Snl, _units, _Xl, _Ol)
 
 
 @inline
@@ -84,8 +57,8 @@ def lane_workspace(buf, m):
     o = 0
     _scalar = lane_array(buf, o)
     o += (_minverse_size(m.n, m.nq, m.nv, m.nl))
-    _Sw = lane_matrix(buf, o, 6)
-    o += m.nv * 6
+    _lanes = lane_array(buf, o)
+    o += (W * _minverse_size(m.n, m.nq, m.nv, m.nl))
     _c = lane_array(buf, o)
     o += m.nq
     _s = lane_array(buf, o)
@@ -96,35 +69,10 @@ def lane_workspace(buf, m):
     o += (m.nq * W)
     _Snl = lane_array(buf, o)
     o += (m.nq * W)
-    _T8l = lane_array(buf, o)
-    o += (8 * W)
-    _Mjl = lane_array(buf, o)
-    o += (m.n * 8 * W)
-    _Mwl = lane_array(buf, o)
-    o += (m.n * 8 * W)
-    _Rl = lane_array(buf, o)
-    o += (10 * W)
-    _Sl = lane_array(buf, o)
-    o += (m.nv * 6 * W)
-    _Il = lane_array(buf, o)
-    o += (m.n * 36 * W)
-    _Ul = lane_array(buf, o)
-    o += (m.nv * 6 * W)
-    _Gl = lane_array(buf, o)
-    o += (m.nv * 6 * W)
-    _Al = lane_array(buf, o)
-    o += (m.n * 6 * W)
-    _Ml = lane_array(buf, o)
+    _units = lane_matrix(buf, o, m.nv)
+    o += 2 * m.nv
+    _Xl = lane_array(buf, o)
     o += (m.nv * m.nv * W)
-    _Dl = lane_array(buf, o)
-    o += (36 * W)
-    _Pl = lane_array(buf, o)
-    o += (36 * W)
-    _Tl = lane_array(buf, o)
-    o += (12 * W)
-    _pk = lane_array(buf, o)
-    o += 12
     _Ol = lane_tensor(buf, o, m.nv, m.nv)
     o += W * m.nv * m.nv
-    return MinverseLanesWorkspace(_scalar, _Sw, _c, _s, _Ql, _Cl, _Snl, _T8l, _Mjl, _Mwl, _Rl, _Sl,
-                                  _Il, _Ul, _Gl, _Al, _Ml, _Dl, _Pl, _Tl, _pk, _Ol)
+    return MinverseLanesWorkspace(_scalar, _lanes, _c, _s, _Ql, _Cl, _Snl, _units, _Xl, _Ol)
