@@ -205,5 +205,5 @@ def test_bad_input_is_named(solo):
         ground_contacts(model, cm, np.zeros(3))
     with pytest.raises(ValueError, match="margin"):
         ground_contacts(model, cm, cgadyn.neutral(model), margin=-1.0)
-    with pytest.raises(TypeError, match="World"):
+    with pytest.raises(ValueError, match="ground_contacts: world must be a cgadyn.World"):
         ground_contacts(model, cm, cgadyn.neutral(model), world="floor")

@@ -114,16 +114,14 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     from ..algorithms.passive import passive_torques
     from ..constraints.model import Constraint
     from ..constraints.operators import constraint_jacobian
+    from .inputs import checked_collisions, checked_settings, checked_world
     from .limits import LIMIT_COLUMNS, ROW_GAP, ROW_SIGN, ROW_V, active_limits, joint_frictions
     from .limits import joint_limits as joint_limits_of
     from .model import CollisionModel, _collisions
     from .solve import solve_contacts
 
-    world = World() if world is None else world
-    contact = ContactSettings() if contact is None else contact
-    if not isinstance(contact, ContactSettings):
-        raise TypeError(f"contact must be a cgadyn.ContactSettings, got "
-                        f"{type(contact).__name__}")
+    world = checked_world(world, "contact_step")
+    contact = checked_settings(contact, "contact_step")
     margin, stabilization = contact.margin, contact.stabilization
     try:
         step = float(dt)
@@ -131,13 +129,13 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         step = float("nan")
     if not np.isfinite(step) or step <= 0.0:
         raise ValueError(f"dt must be a finite number > 0, got {dt!r}")
-    if not isinstance(world, World):
-        raise TypeError(f"world must be a cgadyn.World, got {type(world).__name__}")
+    cm = checked_collisions(model, collisions, world, "contact_step")
     robot_joints, robot_nv = model.njoints, model.nv
     if world.bodies:  # the bodies are links of the model (K36)
         from .bodies import world_model
 
-        model, collisions = world_model(model, collisions, world)[:2]
+        model, extended = world_model(model, None if collisions is None else cm, world)[:2]
+        cm = CollisionModel([], model) if extended is None else _collisions(extended, model)
     q = np.asarray(q, dtype=float)
     v, tau = np.asarray(v, dtype=float), np.asarray(tau, dtype=float)
     if tau.shape == (robot_nv,) and robot_nv != model.nv:  # the bodies are not actuated
@@ -146,14 +144,9 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         if x.shape != (size,):
             raise ValueError(f"{name}: expected shape ({size},) for {model.name!r}, got "
                              f"{x.shape}")
-    if collisions is None and world.ground:
-        raise ValueError("contact_step: collisions is None but the world has a ground; pass "
-                         "collisions=cgadyn.collision_model(model, ...), or "
-                         "World(ground=False) for joint limits alone")
     for name, flag in (("joint_limits", joint_limits), ("friction_loss", friction_loss)):
         if not isinstance(flag, bool):
             raise ValueError(f"{name} must be True or False, got {flag!r}")
-    cm = CollisionModel([], model) if collisions is None else _collisions(collisions, model)
     torque = tau + passive_torques(model, q, v) if passive else tau
     v_free = v + step * aba(model, q, v, torque)  # K20
     # a gap that the step may close is a contact (K21a)

@@ -147,6 +147,16 @@ def shape_twists(model, collisions, q, v=None, v_free=None) -> np.ndarray:
     return twists
 
 
+def checked_world(world, caller: str) -> World:
+    """``world`` (None: ``World()``, a ground and no bodies), checked (``contact.inputs``:
+    the checks of every entry that takes a world)."""
+    if world is None:
+        return World()
+    if not isinstance(world, World):
+        raise ValueError(f"{caller}: world must be a cgadyn.World, got {world!r}")
+    return world
+
+
 def ground_contacts(model, collisions, q, world: World | None = None,
                     margin: float = 0.0, v=None, v_free=None, dt: float = 0.0,
                     patch: float = 0.0) -> Contacts:
@@ -162,9 +172,7 @@ def ground_contacts(model, collisions, q, world: World | None = None,
     from .model import _collisions, collision_poses
     from .pairs import bounding_radii
 
-    world = World() if world is None else world
-    if not isinstance(world, World):
-        raise TypeError(f"world must be a cgadyn.World, got {type(world).__name__}")
+    world = checked_world(world, "ground_contacts")
     if not (isinstance(margin, (int, float)) and np.isfinite(margin) and margin >= 0):
         raise ValueError(f"margin must be a finite number >= 0, got {margin!r}")
     cm = _collisions(collisions, model)

@@ -254,37 +254,26 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
 
 def _contact_settings(contact, world):
     """``contact`` checked: a ``ContactSettings`` (None: the defaults), only with a world."""
-    from ..contact.settings import ContactSettings
+    from ..contact.inputs import checked_settings
 
-    if contact is None:
-        return ContactSettings()
-    if not isinstance(contact, ContactSettings):
-        raise ValueError(f"simulate: contact must be a cgadyn.ContactSettings, got "
-                         f"{contact!r}")
-    if world is None:
+    if contact is not None and world is None:
         raise ValueError("simulate: contact settings given without a world; pass "
                          "world=cgadyn.World() for the ground they touch")
-    return contact
+    return checked_settings(contact, "simulate")
 
 
 def _contact_world(model, world, collisions, integrator: str, constraints):
     """The collision model of a rollout with ``world`` (None without), checked: a world
-    needs semi-implicit Euler, ``collisions`` unless it has no ground (then None: no
-    shapes), and takes no ``constraints`` yet."""
-    from ..contact.model import CollisionModel, _collisions
-    from ..contact.world import World
+    needs semi-implicit Euler, ``collisions`` unless it has no ground, and takes no
+    ``constraints`` yet."""
+    from ..contact.inputs import checked_collisions, checked_world
 
     if world is None:
         if collisions is not None:
             raise ValueError("simulate: collisions given without a world; pass "
                              "world=cgadyn.World() for the ground they touch")
         return None
-    if not isinstance(world, World):
-        raise ValueError(f"simulate: world must be a cgadyn.World, got {world!r}")
-    if collisions is None and world.ground:
-        raise ValueError("simulate: a world needs the robot's collision shapes; pass "
-                         "collisions=cgadyn.collision_model(model, ...), or "
-                         "World(ground=False) for joint limits alone")
+    world = checked_world(world, "simulate")
     if integrator != "semi_implicit_euler":
         raise ValueError(f"simulate: contact with a world steps with "
                          f"integrator='semi_implicit_euler' (the contact step, K24), got "
@@ -292,16 +281,7 @@ def _contact_world(model, world, collisions, integrator: str, constraints):
     if constraints:
         raise ValueError("simulate: a world with constraints is not supported yet; pass "
                          "one or the other")
-    if collisions is None:
-        return CollisionModel([], model)
-    cm = _collisions(collisions, model)
-    if not isinstance(cm, CollisionModel) or len(cm) == 0:
-        raise ValueError("simulate: collisions hold no shape; expected "
-                         "cgadyn.collision_model(model, ...) with at least one")
-    if np.any(cm.links >= model.nlinks):
-        raise ValueError("simulate: collisions refer to links the model does not have; read "
-                         "them with collision_model(model, ...)")
-    return cm
+    return checked_collisions(model, collisions, world, "simulate")
 
 
 def _violation(X: np.ndarray, starts: np.ndarray) -> np.ndarray:
