@@ -53,14 +53,14 @@ def aba_derivatives_group(m, q, v, tau, f, o0, o1, o2, start, stop, work):
                   samples[0]) - o  # the group's joint scalars c, s in ``lanes``
     Cl, Snl = lanes[c * W:(c + m.nq) * W], lanes[(c + m.nq) * W:(c + 2 * m.nq) * W]
     return in_groups(_group, _single, start, stop,
-                     (m, q, v, tau, f, o0, o1, o2, o, Cl, Snl, k_))
+                     (m, q, v, tau, f, o0, o1, o2, o, Cl, Snl, k_, np.empty((0, 6))))
 
 
 @inline
 def _single(i, args):
     """Sample ``i`` alone (``aba_derivatives_core``); a status."""
-    m, q, v, tau, f, o0, o1, o2, _, _, _, k_ = args
-    fi = f[i] if f.shape[0] > 0 else np.empty((0, 6))
+    m, q, v, tau, f, o0, o1, o2, _, _, _, k_, none = args
+    fi = f[i] if f.shape[0] > 0 else none  # no external wrenches
     return aba_derivatives_core(m, q[i], v[i], tau[i], fi, o0[i], o1[i], o2[i],
                                 k_.samples[0])
 
@@ -69,7 +69,7 @@ def _single(i, args):
 def _group(b, args):
     """Samples ``b .. b + W``: the forward pass and M⁻¹ at once, then each sample on its
     own; False if one of them needs the one-at-a-time path."""
-    m, q, v, tau, f, o0, o1, o2, o, Cl, Snl, k_ = args
+    m, q, v, tau, f, o0, o1, o2, o, Cl, Snl, k_, _ = args
     samples = k_.samples
     if not forward_in_lanes(m, q, v, tau, f, b, False, samples, o, k_.lanes, k_.Ql, k_.Vl,
                             k_.Al, k_.Fl):

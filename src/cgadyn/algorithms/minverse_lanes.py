@@ -31,6 +31,7 @@ from .kinematics import chain_motors
 from .minverse import minverse_core, minverse_recursion, mirror_upper, move_axes_inertias
 from .status import OK
 from .work.minverse import lane_workspace
+from .work.minverse import workspace as scalar_workspace
 from .work.minverse_lanes import workspace
 
 WORKSPACE = {  # a group's arrays, in order (tools/generate_workspaces.py)
@@ -41,7 +42,6 @@ WORKSPACE = {  # a group's arrays, in order (tools/generate_workspaces.py)
     "Ql": ("nq * W",),  # the group's q and joint scalars c, s
     "Cl": ("nq * W",),
     "Snl": ("nq * W",),
-    "units": (2, "nv"),  # a free root's unit twists (M5), numbers
     "Xl": ("nv * nv * W",),  # M⁻¹, its entry [r, c] at (r nv + c) W
     "Ol": ("W", "nv", "nv"),  # the group's results before they are streamed
 }
@@ -96,7 +96,8 @@ def _from_scalars(m, Ql, Cl, Snl, Minv, b, streamed, k_):
     chain_motors(m, lane_array(Ql, 0), lane_array(Cl, 0), lane_array(Snl, 0), kl.tmp8, kl.M,
                  kl.Mw, True)
     move_axes_inertias(m, kl.Mw, kl.par, kl.Sw, kl.Ih)
-    if minverse_recursion(m, kl, k_.units, lane_matrix(Xl, 0, nv)) >= 0:
+    units = scalar_workspace(ws.data_pointer(k_.scalar), m).units  # numbers (M5)
+    if minverse_recursion(m, kl, units, lane_matrix(Xl, 0, nv)) >= 0:
         return False
     zero = splat(0.0)
     bad = zero

@@ -63,14 +63,15 @@ def rnea_derivatives_group(m, q, v, a, f, o0, o1, o2, start, stop, work):
     status (at the sample of the first fault)."""
     streamed = o0.size + o1.size + o2.size > STREAM_FLOATS
     return in_groups(_group, _single, start, stop,
-                     (m, q, v, a, f, o0, o1, o2, streamed, workspace(ws.data_pointer(work), m)))
+                     (m, q, v, a, f, o0, o1, o2, streamed, workspace(ws.data_pointer(work), m),
+                      np.empty((0, 6))))
 
 
 @inline
 def _single(i, args):
     """Sample ``i`` alone (``rnea_derivatives_core``); a status."""
-    m, q, v, a, f, o0, o1, o2, streamed, k_ = args
-    fi = f[i] if f.shape[0] > 0 else np.empty((0, 6))
+    m, q, v, a, f, o0, o1, o2, streamed, k_, none = args
+    fi = f[i] if f.shape[0] > 0 else none  # no external wrenches
     t0, t1, t2 = (k_.r0, k_.r1, k_.r2) if streamed else (o0[i], o1[i], o2[i])
     s = rnea_derivatives_core(m, q[i], v[i], a[i], fi, t0, t1, t2, k_.samples[0])
     if s == OK and streamed:
@@ -81,7 +82,7 @@ def _single(i, args):
 @inline
 def _group(b, args):
     """Samples ``b .. b + W``; False if one of them needs the one-at-a-time path."""
-    m, q, v, a, f, o0, o1, o2, streamed, k_ = args
+    m, q, v, a, f, o0, o1, o2, streamed, k_, _ = args
     samples, r0, r1, r2 = k_.samples, k_.r0, k_.r1, k_.r2
     if not forward_in_lanes(m, q, v, a, f, b, True, samples, 0, k_.lanes, k_.Ql, k_.Vl, k_.Al,
                             k_.Fl):

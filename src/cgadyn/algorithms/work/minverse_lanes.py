@@ -10,12 +10,12 @@ from collections import namedtuple
 
 from ..._jit import inline
 from ..._views import carve
-from ...kernels.lane_arrays import lane_array, lane_matrix, lane_tensor
+from ...kernels.lane_arrays import lane_array, lane_tensor
 from ...kernels.lanes import W
 from .minverse import workspace_size as _minverse_size
 
 MinverseLanesWorkspace = namedtuple("MinverseLanesWorkspace", ("scalar", "lanes", "c", "s", "Ql",
-                                                               "Cl", "Snl", "units", "Xl", "Ol"))
+                                                               "Cl", "Snl", "Xl", "Ol"))
 
 
 @inline
@@ -28,7 +28,6 @@ def workspace_size(n, nq, nv, nl):
         + (nq * W)
         + (nq * W)
         + (nq * W)
-        + 2 * nv
         + (nv * nv * W)
         + W * nv * nv)
 
@@ -44,10 +43,9 @@ def workspace(buf, m):
     _Ql, o = carve(buf, o, (m.nq * W,))
     _Cl, o = carve(buf, o, (m.nq * W,))
     _Snl, o = carve(buf, o, (m.nq * W,))
-    _units, o = carve(buf, o, (2, m.nv))
     _Xl, o = carve(buf, o, (m.nv * m.nv * W,))
     _Ol, o = carve(buf, o, (W, m.nv, m.nv))
-    return MinverseLanesWorkspace(_scalar, _lanes, _c, _s, _Ql, _Cl, _Snl, _units, _Xl, _Ol)
+    return MinverseLanesWorkspace(_scalar, _lanes, _c, _s, _Ql, _Cl, _Snl, _Xl, _Ol)
 
 
 @inline
@@ -69,10 +67,8 @@ def lane_workspace(buf, m):
     o += (m.nq * W)
     _Snl = lane_array(buf, o)
     o += (m.nq * W)
-    _units = lane_matrix(buf, o, m.nv)
-    o += 2 * m.nv
     _Xl = lane_array(buf, o)
     o += (m.nv * m.nv * W)
     _Ol = lane_tensor(buf, o, m.nv, m.nv)
     o += W * m.nv * m.nv
-    return MinverseLanesWorkspace(_scalar, _lanes, _c, _s, _Ql, _Cl, _Snl, _units, _Xl, _Ol)
+    return MinverseLanesWorkspace(_scalar, _lanes, _c, _s, _Ql, _Cl, _Snl, _Xl, _Ol)
