@@ -7,11 +7,15 @@ are named."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
+import pinocchio as pin
 import pytest
-from constraint_cases import FEET, four_bar, loop_error, random_case
+from constraint_cases import FEET, four_bar, loop_error, random_case, random_constraints
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from joint_cases import random_model
 
 import cgadyn
 from cgadyn.algebra.multivector import Multivector
@@ -42,6 +46,49 @@ def test_constrained_dynamics_identities(seed, floating):
     M, h = cgadyn.crba(model, q), cgadyn.nonlinear_effects(model, q, v)
     lhs, rhs = M @ qdd + h, tau + J.T @ lam
     assert np.abs(lhs - rhs).max() <= 1e-9 * max(1.0, np.abs(rhs).max())
+
+
+def _recursion_case(name: str, rng):
+    """Models on which C12 takes each of its paths: a free root with rotor inertia (its six
+    S_k, not C12'), a fixed base, joints of several coordinates, solo12 (C12')."""
+    if name == "spherical":
+        return cgadyn.from_pinocchio(random_model("tree", [
+            (0, pin.JointModelSpherical()), (1, pin.JointModelSpherical()),
+            (2, pin.JointModelRY()), (1, pin.JointModelPZ()), (4, pin.JointModelSpherical()),
+            (5, pin.JointModelRUBZ())], 2))
+    if name == "solo12":
+        return cgadyn.load("solo12")
+    model = random_case(int(rng.integers(2**31)), name != "fixed")[0]
+    if name == "floating, armature":
+        model = dataclasses.replace(model, armature=rng.uniform(0.05, 1.0, model.nv))
+    return model
+
+
+@pytest.mark.parametrize("name", ["floating, armature", "fixed", "spherical", "solo12"])
+def test_delassus_recursion_is_j_minv_jt(name):
+    """C12 (C12' at a free root without rotor inertia) equals J M⁻¹ Jᵀ formed from
+    cgadyn's own J and M⁻¹, loops between links included; constrained dynamics through
+    C13 satisfies M q̈ + h = τ + Jᵀ λ on the same models."""
+    rng = np.random.default_rng(7)
+    model = _recursion_case(name, rng)
+    solved = 0
+    for _ in range(6):
+        q = cgadyn.random_configuration(model, rng)
+        cs = random_constraints(model, rng, model.nv - 1)
+        J = cgadyn.constraint_jacobian(model, q, cs)
+        expected = J @ cgadyn.minverse(model, q) @ J.T
+        G = cgadyn.delassus(model, q, cs)
+        assert np.abs(G - expected).max() <= 1e-10 * max(1.0, np.abs(expected).max())
+        assert np.array_equal(G, G.T)
+        if np.linalg.cond(G) > 1e6:  # a redundant draw: G is checked, the dynamics not
+            continue
+        v, tau = rng.normal(size=model.nv), rng.normal(size=model.nv)
+        qdd, lam = cgadyn.constrained_dynamics(model, q, v, tau, cs)
+        lhs = cgadyn.crba(model, q) @ qdd + cgadyn.nonlinear_effects(model, q, v)
+        rhs = tau + J.T @ lam
+        assert np.abs(lhs - rhs).max() <= 1e-8 * max(1.0, np.abs(rhs).max())
+        solved += 1
+    assert solved > 0
 
 
 @pytest.mark.parametrize("seed, floating", CASES)

@@ -25,20 +25,21 @@ from numba import carray, prange
 
 from .._jit import core, inline, native, parallel, serial
 from .._views import data_pointer
+from ..algorithms._checks import check_configuration
 from ..algorithms._pointers import SIGNATURE, packed_array
 from ..algorithms._workspace import STACK_FLOATS, chunks, stack_buffer
-from ..algorithms.crba import crba_core
 from ..algorithms.kinematics import link_motor, world_motors
-from ..algorithms.ltdl import ltdl, ltdl_solve, ltdl_solve_rows
+from ..algorithms.ltdl import ltdl_solve_rows
+from ..algorithms.minverse import move_axes_inertias
 from ..algorithms.rnea import rnea_core
 from ..algorithms.status import DELASSUS_SINGULAR, NONFINITE_RESULT, OK, SINGULAR, at_sample, fault
-from ..algorithms.work.crba import workspace_size as crba_size
 from ..algorithms.work.rnea import workspace_size as rnea_size
 from ..kernels import motor_mul, motor_reverse, twist_sandwich
 from ..kernels.layout import physical
 from ..kernels.motors import motor_log, motor_normalize
 from ..kernels.rigid import motor_matrix
 from ..multibody.packed import unpack
+from .articulated import articulated_inertias, delassus_rows, minverse_apply, row_wrench
 from .work.core import workspace, workspace_size
 
 HEAD, ROW = 2, 22
@@ -69,6 +70,19 @@ WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py); n
     "T": (2, 4, 4),  # the two ends' matrices
     "tw": (6,),
     "x": (6, 6),  # small vectors of an end
+    "Sa": ("nv", 6),  # S_k in the world, as coefficients (C12)
+    "Ih": ("n", 6, 6),  # the articulated inertias Î_j in the world
+    "par": (10,),  # ten parameters of an inertia
+    "U": ("nv", 6),  # U_j = Î_j[S_j]
+    "Gd": ("nv", 6),  # D_j⁻¹ U_j
+    "Dinv": ("nv", 6),  # D_j⁻¹, a row per coordinate
+    "Dm": (6, 6),  # D_j
+    "Dj": (6, 6),  # D_j⁻¹ of a joint of several coordinates
+    "It": (6, 6),  # Ĩ_j
+    "fr": ("n",),  # 1 for a free root whose Î_j holds its Cholesky factor (C12')
+    "Es": ("n", 6),  # one column's wrenches, then accelerations (C13)
+    "ys": ("nv",),
+    "dq": ("nv",),  # M⁻¹ Jᵀ λ
     "H": ("nv", "nv"),  # M, then its factors Lᵀ D L (before the rows': where nr may change)
     "J": ("nr", "nv"),
     "g": ("nr",),
@@ -81,6 +95,15 @@ WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py); n
     "h": ("nv",),  # the bias forces h = C(q, v) v + g(q)
     "cols": ("nv",),  # the coordinates that move a constraint
     "e": ("nr",),  # the position error of each row (C5): p₁ - p₂, or -log(~M₁ M₂)
+    "W": (2, "nr", 6),  # each row's wrench on the body of each end (C12)
+    "rb": (2, "nr"),  # those bodies, -1 the world
+    "blocks": (2, "nr"),  # constraint c's rows: blocks[0, c] .. blocks[1, c]
+    "act": ("n", "nr"),  # act[j, c]: 1 where constraint c's wrenches pass joint j
+    "Ec": ("n", "nr", 6),  # the wrench of row r at joint j
+    "Z": ("nv", "nr"),  # Z_j[r] = ⟨S_j, E_j[r]⟩
+    "Y": (6, "nr"),  # D_j⁻¹ Z_j
+    "Yt": ("nr", 6),  # L⁻¹ E_j at a free root (C12')
+    "live": ("nr",),  # the constraints that pass a joint
 }
 
 
@@ -265,8 +288,45 @@ def _drift(m, cons, o, b1, b2, r0, g, k_):
 
 
 @inline
-def constraint_system(m, cons, q, v, drift, J, g, k_):
-    """J (nr, nv) (C1, C2) and, with ``drift``, γ (nr) (C3-C5)."""
+def _row_wrenches(cons, o, b1, b2, r0, size, k_):
+    """Rows ``r0 .. r0 + size`` of the constraint at ``o`` as wrenches on the bodies of its
+    ends (C12): a force along each row's direction (frame 1's axes in ``"local"``, the
+    world's otherwise) at each end's point (both at frame 1's origin for a frame), then a
+    torque for a frame's last three. The ends' matrices are in ``k_.T``."""
+    R, local = k_.T[0], cons[o + FRAME] == 0.0
+    for i in range(size):
+        a = i % 3
+        e1 = R[0, a] if local else (1.0 if a == 0 else 0.0)
+        e2 = R[1, a] if local else (1.0 if a == 1 else 0.0)
+        e3 = R[2, a] if local else (1.0 if a == 2 else 0.0)
+        for end in range(2):
+            p = k_.T[end if size == 3 else 0, :3, 3]
+            row_wrench(p, e1, e2, e3, i < 3, k_.W[end, r0 + i])
+        k_.rb[0, r0 + i] = b1
+        k_.rb[1, r0 + i] = b2
+    k_.blocks[0, (o - HEAD) // ROW] = r0
+    k_.blocks[1, (o - HEAD) // ROW] = r0 + size
+
+
+@inline
+def constraint_wrenches(m, cons, q, k_):
+    """The rows' wrenches and bodies (``_row_wrenches``) of every constraint, and the world
+    motors, without J: what G needs (C12)."""
+    world_motors(m, q, k_.c, k_.s, k_.tmp8, k_.M, k_.Mw)
+    r0 = 0
+    for c in range(int(cons[0])):
+        o = HEAD + ROW * c
+        size = 3 if cons[o + KIND] == 0.0 else 6
+        b1 = _end(m, cons, o, 0, k_)
+        b2 = _end(m, cons, o, 1, k_)
+        _row_wrenches(cons, o, b1, b2, r0, size, k_)
+        r0 += size
+
+
+@inline
+def constraint_system(m, cons, q, v, drift, J, g, k_, wrenches):
+    """J (nr, nv) (C1, C2) and, with ``drift``, γ (nr) (C3-C5); with ``wrenches`` the
+    rows' wrenches too (C12)."""
     nc = int(cons[0])
     _world_columns(m, q, v, drift, k_)
     for r in range(J.shape[0]):
@@ -284,6 +344,8 @@ def constraint_system(m, cons, q, v, drift, J, g, k_):
         _add_columns(k_.Sw, m.parents, m.iv, b1, 1.0, p1, size, r0, J)
         _add_columns(k_.Sw, m.parents, m.iv, b2, -1.0, p2, size, r0, J)
         _rotate_rows(k_.T[0], J, r0, size, cons[o + FRAME] == 0.0)
+        if wrenches:
+            _row_wrenches(cons, o, b1, b2, r0, size, k_)
         if drift:
             _drift(m, cons, o, b1, b2, r0, g, k_)
         r0 += size
@@ -439,13 +501,14 @@ def solve_forces(G, b, settings, lam, info, k_):
 
 
 @core
-def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, work, mwork,
-                    awork, f0):
-    """One sample of ``mode`` (the module's docstring); a status."""
+def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, work, awork,
+                    f0):
+    """One sample of ``mode`` (the module's docstring); a status. ``awork`` is ``rnea``'s
+    workspace, ``f0`` an empty (0, 6) wrench array."""
     nr = int(cons[1])
     k_ = workspace(data_pointer(work), m, nr)
-    constraint_system(m, cons, q, v, mode == DRIFT or mode == FORWARD, J, g, k_)
     if mode == SYSTEM or mode == DRIFT:
+        constraint_system(m, cons, q, v, mode == DRIFT, J, g, k_, False)
         for r in range(nr):
             if not math.isfinite(g[r]):
                 return fault(NONFINITE_RESULT, -1)
@@ -453,13 +516,18 @@ def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, w
                 if not math.isfinite(J[r, k]):
                     return fault(NONFINITE_RESULT, -1)
         return OK
-    status = crba_core(m, q, k_.H, mwork)
+    status = check_configuration(m, q)
     if status != OK:
         return status
-    k = ltdl(m, k_.H)  # M = Lᵀ D L (L1, L2)
-    if k >= 0:
-        return fault(SINGULAR, m.dof_joint[k])
-    _delassus(m, J, k_, G)
+    if mode == DELASSUS:
+        constraint_wrenches(m, cons, q, k_)
+    else:
+        constraint_system(m, cons, q, v, mode == FORWARD, J, g, k_, True)
+    move_axes_inertias(m, k_.Mw, k_.par, k_.Sa, k_.Ih)  # S_k, I_j in the world (eqs. 4, 16)
+    j = articulated_inertias(m, k_, mode != DELASSUS)  # M1, M2
+    if j >= 0:
+        return fault(SINGULAR, j)
+    delassus_rows(m, int(cons[0]), nr, k_, G)  # C12
     if mode == DELASSUS:
         for r in range(nr):
             G[r, r] += settings[MU]
@@ -476,8 +544,8 @@ def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, w
         if status != OK:
             return status
         for k in range(m.nv):
-            k_.af[k] = tau[k] - k_.h[k]
-        ltdl_solve(m, k_.H, k_.af)  # q̈_f = M⁻¹ (τ - h) (C7; L5, L6)
+            k_.h[k] = tau[k] - k_.h[k]
+        minverse_apply(m, k_.h, k_, k_.af)  # q̈_f = M⁻¹ (τ - h) (C7, C13)
         for r in range(nr):  # b = -γ - J q̈_f (C7)
             acc = -g[r]
             for k in range(m.nv):
@@ -495,11 +563,14 @@ def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, w
     status = solve_forces(G, b, settings, lam, info, k_)
     if status != OK:
         return status
-    for i in range(m.nv):  # q̈ = q̈_f + M⁻¹ Jᵀ λ (C7), v⁺ = v⁻ + M⁻¹ Jᵀ Λ (C9)
-        acc = k_.af[i]
+    for k in range(m.nv):  # Jᵀ λ
+        acc = 0.0
         for r in range(nr):
-            acc += k_.MJt[i, r] * lam[r]
-        a[i] = acc
+            acc += J[r, k] * lam[r]
+        k_.h[k] = acc
+    minverse_apply(m, k_.h, k_, k_.dq)  # M⁻¹ Jᵀ λ (C13)
+    for i in range(m.nv):  # q̈ = q̈_f + M⁻¹ Jᵀ λ (C7), v⁺ = v⁻ + M⁻¹ Jᵀ Λ (C9)
+        a[i] = k_.af[i] + k_.dq[i]
     for i in range(m.nv):
         if not math.isfinite(a[i]):
             return fault(NONFINITE_RESULT, -1)
@@ -513,11 +584,10 @@ def constraint_single(packed, cons, q, v, tau, settings, mode, J, g, G, a, lam, 
     m = unpack(packed)
     nr = int(cons[1])
     size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
-    msize = crba_size(m.n, m.nq, m.nv, m.nl)
-    total = size + msize + rnea_size(m.n, m.nq, m.nv, m.nl)
+    total = size + rnea_size(m.n, m.nq, m.nv, m.nl)
     buf = stack_buffer(total) if total <= STACK_FLOATS else np.empty(total)
     return constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info,
-                           buf[:size], buf[size:size + msize], buf[size + msize:],
+                           buf[:size], buf[size:],
                            buf[:0].reshape((0, 6)))
 
 
@@ -560,19 +630,17 @@ def constraint_batch(packed, cons, q, v, tau, settings, mode, J, g, G, a, lam, i
     batch = q.shape[0]
     nr = int(cons[1])
     size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
-    msize = crba_size(m.n, m.nq, m.nv, m.nl)
     asize = rnea_size(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):
         mc = unpack(packed)
         work = np.empty(size)
-        mwork = np.empty(msize)
         awork = np.empty(asize)
         f0 = np.empty((0, 6))
         for b in range(starts[c], stops[c]):
             s = constraint_core(mc, cons, q[b], v[b], tau[b], settings, mode, J[b], g[b],
-                                G[b], a[b], lam[b], info[b], work, mwork, awork, f0)
+                                G[b], a[b], lam[b], info[b], work, awork, f0)
             if s != OK:
                 status[c] = at_sample(s, b)
                 break

@@ -185,7 +185,7 @@ def _dynamics(m, q, v, tau, f, con, fac, qdd, sc, work):
         return aba_core(m, q, v, tau, f, qdd, work)
     cons, settings, cwork = con
     status = constraint_core(m, cons, q, v, tau, settings, FORWARD, sc.J, sc.gam, sc.G, qdd,
-                             sc.lam, sc.info, cwork, work, work, f)  # CRBA, then RNEA: shared
+                             sc.lam, sc.info, cwork, work, f)  # RNEA in the shared workspace
     if status == OK and sc.info[INFO - 1] >= 0.0:
         return fault(CONSTRAINTS_CONFLICT, int(sc.info[INFO - 1]))
     return status

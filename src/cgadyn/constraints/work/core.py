@@ -13,8 +13,11 @@ from ..._views import carve
 from ...kernels.lane_arrays import lane_array, lane_matrix, lane_tensor
 
 CoreWorkspace = namedtuple("CoreWorkspace", ("M", "Mw", "tmp8", "c", "s", "Sw", "Vb", "Ab", "E",
-                                             "T", "tw", "x", "H", "J", "g", "MJt", "C", "b", "y",
-                                             "d", "af", "h", "cols", "e"))
+                                             "T", "tw", "x", "Sa", "Ih", "par", "U", "Gd", "Dinv",
+                                             "Dm", "Dj", "It", "fr", "Es", "ys", "dq", "H", "J",
+                                             "g", "MJt", "C", "b", "y", "d", "af", "h", "cols",
+                                             "e", "W", "rb", "blocks", "act", "Ec", "Z", "Y",
+                                             "Yt", "live"))
 
 
 @inline
@@ -32,6 +35,19 @@ def workspace_size(n, nq, nv, nl, nr):
         + 2 * 4 * 4
         + 6
         + 6 * 6
+        + nv * 6
+        + n * 6 * 6
+        + 10
+        + nv * 6
+        + nv * 6
+        + nv * 6
+        + 6 * 6
+        + 6 * 6
+        + 6 * 6
+        + n
+        + n * 6
+        + nv
+        + nv
         + nv * nv
         + nr * nv
         + nr
@@ -43,6 +59,15 @@ def workspace_size(n, nq, nv, nl, nr):
         + nv
         + nv
         + nv
+        + nr
+        + 2 * nr * 6
+        + 2 * nr
+        + 2 * nr
+        + n * nr
+        + n * nr * 6
+        + nv * nr
+        + 6 * nr
+        + nr * 6
         + nr)
 
 
@@ -62,6 +87,19 @@ def workspace(buf, m, nr):
     _T, o = carve(buf, o, (2, 4, 4))
     _tw, o = carve(buf, o, (6,))
     _x, o = carve(buf, o, (6, 6))
+    _Sa, o = carve(buf, o, (m.nv, 6))
+    _Ih, o = carve(buf, o, (m.n, 6, 6))
+    _par, o = carve(buf, o, (10,))
+    _U, o = carve(buf, o, (m.nv, 6))
+    _Gd, o = carve(buf, o, (m.nv, 6))
+    _Dinv, o = carve(buf, o, (m.nv, 6))
+    _Dm, o = carve(buf, o, (6, 6))
+    _Dj, o = carve(buf, o, (6, 6))
+    _It, o = carve(buf, o, (6, 6))
+    _fr, o = carve(buf, o, (m.n,))
+    _Es, o = carve(buf, o, (m.n, 6))
+    _ys, o = carve(buf, o, (m.nv,))
+    _dq, o = carve(buf, o, (m.nv,))
     _H, o = carve(buf, o, (m.nv, m.nv))
     _J, o = carve(buf, o, (nr, m.nv))
     _g, o = carve(buf, o, (nr,))
@@ -74,8 +112,19 @@ def workspace(buf, m, nr):
     _h, o = carve(buf, o, (m.nv,))
     _cols, o = carve(buf, o, (m.nv,))
     _e, o = carve(buf, o, (nr,))
-    return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _H, _J, _g, _MJt,
-                         _C, _b, _y, _d, _af, _h, _cols, _e)
+    _W, o = carve(buf, o, (2, nr, 6))
+    _rb, o = carve(buf, o, (2, nr))
+    _blocks, o = carve(buf, o, (2, nr))
+    _act, o = carve(buf, o, (m.n, nr))
+    _Ec, o = carve(buf, o, (m.n, nr, 6))
+    _Z, o = carve(buf, o, (m.nv, nr))
+    _Y, o = carve(buf, o, (6, nr))
+    _Yt, o = carve(buf, o, (nr, 6))
+    _live, o = carve(buf, o, (nr,))
+    return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _Sa, _Ih, _par,
+                         _U, _Gd, _Dinv, _Dm, _Dj, _It, _fr, _Es, _ys, _dq, _H, _J, _g, _MJt, _C,
+                         _b, _y, _d, _af, _h, _cols, _e, _W, _rb, _blocks, _act, _Ec, _Z, _Y, _Yt,
+                         _live)
 
 
 @inline
@@ -107,6 +156,32 @@ def lane_workspace(buf, m, nr):
     o += 6
     _x = lane_matrix(buf, o, 6)
     o += 6 * 6
+    _Sa = lane_matrix(buf, o, 6)
+    o += m.nv * 6
+    _Ih = lane_tensor(buf, o, 6, 6)
+    o += m.n * 6 * 6
+    _par = lane_array(buf, o)
+    o += 10
+    _U = lane_matrix(buf, o, 6)
+    o += m.nv * 6
+    _Gd = lane_matrix(buf, o, 6)
+    o += m.nv * 6
+    _Dinv = lane_matrix(buf, o, 6)
+    o += m.nv * 6
+    _Dm = lane_matrix(buf, o, 6)
+    o += 6 * 6
+    _Dj = lane_matrix(buf, o, 6)
+    o += 6 * 6
+    _It = lane_matrix(buf, o, 6)
+    o += 6 * 6
+    _fr = lane_array(buf, o)
+    o += m.n
+    _Es = lane_matrix(buf, o, 6)
+    o += m.n * 6
+    _ys = lane_array(buf, o)
+    o += m.nv
+    _dq = lane_array(buf, o)
+    o += m.nv
     _H = lane_matrix(buf, o, m.nv)
     o += m.nv * m.nv
     _J = lane_matrix(buf, o, m.nv)
@@ -131,5 +206,25 @@ def lane_workspace(buf, m, nr):
     o += m.nv
     _e = lane_array(buf, o)
     o += nr
-    return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _H, _J, _g, _MJt,
-                         _C, _b, _y, _d, _af, _h, _cols, _e)
+    _W = lane_tensor(buf, o, nr, 6)
+    o += 2 * nr * 6
+    _rb = lane_matrix(buf, o, nr)
+    o += 2 * nr
+    _blocks = lane_matrix(buf, o, nr)
+    o += 2 * nr
+    _act = lane_matrix(buf, o, nr)
+    o += m.n * nr
+    _Ec = lane_tensor(buf, o, nr, 6)
+    o += m.n * nr * 6
+    _Z = lane_matrix(buf, o, nr)
+    o += m.nv * nr
+    _Y = lane_matrix(buf, o, nr)
+    o += 6 * nr
+    _Yt = lane_matrix(buf, o, 6)
+    o += nr * 6
+    _live = lane_array(buf, o)
+    o += nr
+    return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _Sa, _Ih, _par,
+                         _U, _Gd, _Dinv, _Dm, _Dj, _It, _fr, _Es, _ys, _dq, _H, _J, _g, _MJt, _C,
+                         _b, _y, _d, _af, _h, _cols, _e, _W, _rb, _blocks, _act, _Ec, _Z, _Y, _Yt,
+                         _live)

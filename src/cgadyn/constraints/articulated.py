@@ -1,0 +1,307 @@
+"""The Delassus matrix ``G = J M⁻¹ Jᵀ`` by the articulated-body recursion (C12), and ``M⁻¹ x``
+by its two sweeps (C13), without forming or factoring M (``docs/constraints.md``).
+
+In world coordinates (``algorithms.minverse.move_axes_inertias``: every S_k and I_j moved by
+the world motors, eqs. 4, 16) the articulated inertias add without moving (M1, M2):
+
+    U_j = Î_j[S_j],   D_j = ⟨S_j, U_j⟩ + armature,   Î_λ += Î_j - U_j D_j⁻¹ U_jᵀ
+
+A constraint row r is a wrench ``W_r`` on the body that carries its end 1 (and ``-W_r`` on
+end 2's): the force direction e at the point p, ``W = (p × e, e)`` (n, f), or the torque
+direction e, ``W = (e, 0)``, so that ``⟨V, W_r⟩`` is the row's value of the body's twist V.
+``G[r, s]`` is the acceleration of row r per unit force on row s. Applied as an external
+wrench, row s's force passes up the tree through each joint's projection
+``E_λ += E_j - U_j D_j⁻¹ ⟨S_j, E_j⟩`` (ABA's bias wrench with no velocity and no gravity),
+and every joint it crosses adds ``S_j D_j⁻¹ ⟨S_j, E_j⟩`` to the accelerations of its
+subtree; the same projections carry that acceleration down to row r's body. Hence
+
+    Z_j[r] = ⟨S_j, E_j[r]⟩,   E_λ[r] += E_j[r] - U_j D_j⁻¹ Z_j[r],
+    G = Σ_j Z_jᵀ D_j⁻¹ Z_j                                                      (C12)
+
+with ``E_j[r]`` the wrench of row r at joint j, nonzero only on the path from row r's
+bodies to the root, so that joint j pairs only the rows of constraints below it: O(n) for
+the articulated inertias, O(depth) per row for the wrenches and one block of G per joint per
+pair of rows below it (Featherstone's and Carpentier's O(n + m²) Delassus; a leg's joint
+adds to its foot's block only). ``M⁻¹ x`` (C13) is the same recursion on one column: the
+backward sweep ``u_j = x_j + ⟨S_j, E_j⟩``, ``y_j = D_j⁻¹ u_j``, ``E_λ += E_j - U_j y_j``,
+then the forward sweep ``q̈_j = y_j - ⟨A_λ, D_j⁻¹ U_j⟩``, ``A_j = A_λ + S_j q̈_j``.
+
+The arrays are the constraint core's workspace (``core.WORKSPACE``): ``Sa`` the S_k,
+``Ih`` the Î_j, ``U``, ``Gd`` (D_j⁻¹ U_j) and ``Dinv`` (row k holds D_j⁻¹'s row for
+coordinate k) per coordinate.
+"""
+
+from __future__ import annotations
+
+from .._jit import inline
+from ..algorithms._dense import spd_inverse
+from ..algorithms.aba import _articulated
+from ..kernels import dot, inertia_apply
+from ..kernels.layout import coefficients, store_bivector
+from ..multibody.joints import free_root
+
+
+@inline
+def articulated_inertias(m, k_, sweeps):
+    """M1 and Î_λ's update (M2) for every joint, leaves first: ``U``, ``Gd``, ``Dinv`` per
+    coordinate; -1, or the first joint whose D_j is not positive definite. A free-flyer
+    root without rotor inertia also gets the Cholesky factor of its Î_j, in place
+    (``k_.fr[j]`` 1; C12'), and its U, Gd, Dinv only with ``sweeps`` (for C13)."""
+    Ih, Sa, U, Gd, Dinv, D, Dj, It = k_.Ih, k_.Sa, k_.U, k_.Gd, k_.Dinv, k_.Dm, k_.Dj, k_.It
+    for j in range(m.n - 1, -1, -1):
+        k0, k1 = m.iv[j], m.iv[j + 1]
+        k_.fr[j] = 0.0
+        if free_root(m.parents[j], m.types[j]):
+            rotors = 0.0
+            for k in range(k0, k1):
+                rotors += abs(m.armature[k])
+            if rotors == 0.0:
+                k_.fr[j] = 1.0
+                if not sweeps:
+                    if not _cholesky6(Ih[j]):
+                        return j
+                    continue
+        for k in range(k0, k1):
+            inertia_apply(Ih[j], Sa[k], U[k])  # U_j = Î_j[S_j] (M1)
+        if k1 - k0 == 1:
+            d = -dot(Sa[k0], U[k0]) + m.armature[k0]  # D_j = ⟨S_j, U_j⟩ + rotor inertia
+            if not (d > 0.0 and 1.0 / d < 1e300):
+                return j
+            Dinv[k0, 0] = 1.0 / d
+            for i in range(6):
+                Gd[k0, i] = U[k0, i] / d
+        else:
+            for a in range(k0, k1):
+                for b in range(k0, k1):
+                    D[a - k0, b - k0] = -dot(Sa[a], U[b])
+                D[a - k0, a - k0] += m.armature[a]
+            if not spd_inverse(D, k1 - k0, Dj):
+                return j
+            for a in range(k0, k1):
+                for i in range(6):
+                    Gd[a, i] = 0.0
+                for b in range(k0, k1):
+                    w = Dj[a - k0, b - k0]
+                    Dinv[a, b - k0] = w
+                    for i in range(6):
+                        Gd[a, i] += w * U[b, i]  # D_j⁻¹ U_j
+        p = m.parents[j]
+        if p < 0:
+            if k_.fr[j] != 0.0 and not _cholesky6(Ih[j]):
+                return j
+            continue
+        if k1 - k0 == 1:  # Î_λ += Î_j - U_j D_j⁻¹ U_jᵀ (M2)
+            for i in range(6):
+                w = U[k0, i]
+                for k in range(6):
+                    Ih[p, i, k] += Ih[j, i, k] - w * Gd[k0, k]
+        else:
+            _articulated(Ih[j], U, Gd, k0, k1, It)
+            for i in range(6):
+                for k in range(6):
+                    Ih[p, i, k] += It[i, k]
+    return -1
+
+
+@inline
+def delassus_rows(m, nc, nr, k_, G):
+    """``G`` (nr, nr) of C12 from the rows' wrenches ``k_.W[e, r]`` on the bodies
+    ``k_.rb[e, r]`` (end e; -1 the world; end 2's wrench counts negative), after
+    ``articulated_inertias``. Constraint c holds rows ``k_.blocks[0, c] ..
+    k_.blocks[1, c]``; its rows pass the same joints, so paths are walked per constraint,
+    and each joint takes all the rows that pass it at once (independent sums, which the
+    processor overlaps)."""
+    Sa, Gd, Dinv, W, rb, act, Ec, Z, Y, live, blocks = (
+        k_.Sa, k_.Gd, k_.Dinv, k_.W, k_.rb, k_.act, k_.Ec, k_.Z, k_.Y, k_.live, k_.blocks)
+    for j in range(m.n):
+        for c in range(nc):
+            act[j, c] = 0.0
+    for r in range(nr):
+        for s in range(nr):
+            G[r, s] = 0.0
+    for c in range(nc):
+        r0, r1 = int(blocks[0, c]), int(blocks[1, c])
+        for e in range(2):  # the constraint's path: its rows' wrenches from its bodies up
+            j = int(rb[e, r0])
+            while j >= 0 and act[j, c] == 0.0:
+                act[j, c] = 1.0
+                for r in range(r0, r1):
+                    for i in range(6):
+                        Ec[j, r, i] = 0.0
+                j = m.parents[j]
+        for e in range(2):
+            b = int(rb[e, r0])
+            if b >= 0:
+                sign = 1.0 if e == 0 else -1.0
+                for r in range(r0, r1):
+                    for i in range(6):
+                        Ec[b, r, i] += sign * W[e, r, i]
+    for j in range(m.n - 1, -1, -1):
+        k0, k1 = m.iv[j], m.iv[j + 1]
+        na = 0
+        for c in range(nc):
+            if act[j, c] != 0.0:
+                live[na] = c
+                na += 1
+        if na == 0:
+            continue
+        p = m.parents[j]
+        if k_.fr[j] != 0.0:  # a free root: G += E_jᵀ Î_j⁻¹ E_j (C12')
+            _free_root_rows(Ec[j], k_.Ih[j], k_.Yt, live, na, blocks, G)
+            continue
+        if k1 - k0 == 1:  # one coordinate: S_j, D_j⁻¹ U_j in registers, D_j⁻¹ a number
+            s0, s1, s2, s3, s4, s5 = coefficients(Sa[k0])
+            g0, g1, g2, g3, g4, g5 = coefficients(Gd[k0])
+            w = Dinv[k0, 0]
+            for t in range(na):
+                c = int(live[t])
+                for r in range(int(blocks[0, c]), int(blocks[1, c])):
+                    e0, e1, e2, e3, e4, e5 = coefficients(Ec[j, r])
+                    z = s0 * e0 + s1 * e1 + s2 * e2 + s3 * e3 + s4 * e4 + s5 * e5
+                    Z[k0, r] = z  # Z_j[r] = ⟨S_j, E_j[r]⟩ (C12)
+                    Y[0, r] = w * z
+                    if p >= 0:  # E_λ[r] += E_j[r] - U_j D_j⁻¹ Z_j[r] (C12)
+                        Ec[p, r, 0] += e0 - g0 * z
+                        Ec[p, r, 1] += e1 - g1 * z
+                        Ec[p, r, 2] += e2 - g2 * z
+                        Ec[p, r, 3] += e3 - g3 * z
+                        Ec[p, r, 4] += e4 - g4 * z
+                        Ec[p, r, 5] += e5 - g5 * z
+        else:
+            for t in range(na):
+                c = int(live[t])
+                for r in range(int(blocks[0, c]), int(blocks[1, c])):
+                    for k in range(k0, k1):
+                        Z[k, r] = -dot(Sa[k], Ec[j, r])  # Z_j[r] = ⟨S_j, E_j[r]⟩ (C12)
+                    for a in range(k0, k1):  # Y_j = D_j⁻¹ Z_j
+                        x = 0.0
+                        for b in range(k0, k1):
+                            x += Dinv[a, b - k0] * Z[b, r]
+                        Y[a - k0, r] = x
+                    if p >= 0:
+                        for i in range(6):
+                            x = Ec[j, r, i]
+                            for k in range(k0, k1):
+                                x -= Gd[k, i] * Z[k, r]
+                            Ec[p, r, i] += x  # E_λ[r] += E_j[r] - U_j D_j⁻¹ Z_j[r] (C12)
+        for t in range(na):  # G += Y_jᵀ Z_j on the rows below j, the lower half (C12)
+            c = int(live[t])
+            for t2 in range(t + 1):
+                c2 = int(live[t2])
+                s0 = int(blocks[0, c2])
+                for r in range(int(blocks[0, c]), int(blocks[1, c])):
+                    s1 = r + 1 if c2 == c else int(blocks[1, c2])
+                    if k1 - k0 == 1:
+                        y = Y[0, r]
+                        for s in range(s0, s1):
+                            G[r, s] += y * Z[k0, s]
+                        continue
+                    for s in range(s0, s1):
+                        x = G[r, s]
+                        for a in range(k1 - k0):
+                            x += Y[a, r] * Z[k0 + a, s]
+                        G[r, s] = x
+    for r in range(nr):  # ``live`` is in increasing order: the sums fill the lower half
+        for s in range(r):
+            G[s, r] = G[r, s]
+
+
+@inline
+def _cholesky6(A):
+    """``A = L Lᵀ`` in place (L in the lower triangle) for a 6x6 symmetric ``A``; False
+    where it is not positive definite."""
+    for a in range(6):
+        for c in range(a + 1):
+            acc = A[a, c]
+            for k in range(c):
+                acc -= A[a, k] * A[c, k]
+            if a == c:
+                if not (acc > 0.0 and 1.0 / acc < 1e300):
+                    return False
+                A[a, a] = acc ** 0.5
+            else:
+                A[a, c] = acc / A[c, c]
+    return True
+
+
+@inline
+def _free_root_rows(E, L, Yt, live, na, blocks, G):
+    """``G += Eᵀ Î⁻¹ E`` on the rows that reach a free-flyer root, ``L`` the Cholesky factor
+    of its articulated inertia Î (``articulated_inertias``). Its six S_k span every twist,
+    so ``Z_jᵀ D_j⁻¹ Z_j = Eᵀ S (Sᵀ Î S)⁻¹ Sᵀ E = Eᵀ Î⁻¹ E`` (C12'): with ``Y = L⁻¹ E``,
+    ``G += Yᵀ Y``; no S_k, U_j or D_j. ``Yt`` holds Y's columns as rows."""
+    d0, d1, d2 = 1.0 / L[0, 0], 1.0 / L[1, 1], 1.0 / L[2, 2]
+    d3, d4, d5 = 1.0 / L[3, 3], 1.0 / L[4, 4], 1.0 / L[5, 5]
+    for t in range(na):
+        c = int(live[t])
+        for r in range(int(blocks[0, c]), int(blocks[1, c])):
+            e0, e1, e2, e3, e4, e5 = coefficients(E[r])  # Y = L⁻¹ E, forward substitution
+            y0 = e0 * d0
+            y1 = (e1 - L[1, 0] * y0) * d1
+            y2 = (e2 - L[2, 0] * y0 - L[2, 1] * y1) * d2
+            y3 = (e3 - L[3, 0] * y0 - L[3, 1] * y1 - L[3, 2] * y2) * d3
+            y4 = (e4 - L[4, 0] * y0 - L[4, 1] * y1 - L[4, 2] * y2 - L[4, 3] * y3) * d4
+            y5 = (e5 - L[5, 0] * y0 - L[5, 1] * y1 - L[5, 2] * y2 - L[5, 3] * y3
+                  - L[5, 4] * y4) * d5
+            Yt[r, 0], Yt[r, 1], Yt[r, 2], Yt[r, 3], Yt[r, 4], Yt[r, 5] = y0, y1, y2, y3, y4, y5
+    for t in range(na):
+        c = int(live[t])
+        for r in range(int(blocks[0, c]), int(blocks[1, c])):
+            y0, y1, y2, y3, y4, y5 = coefficients(Yt[r])
+            for t2 in range(t + 1):
+                c2 = int(live[t2])
+                s1 = r + 1 if c2 == c else int(blocks[1, c2])
+                for s in range(int(blocks[0, c2]), s1):
+                    G[r, s] += (y0 * Yt[s, 0] + y1 * Yt[s, 1] + y2 * Yt[s, 2]
+                                + y3 * Yt[s, 3] + y4 * Yt[s, 4] + y5 * Yt[s, 5])
+
+
+@inline
+def minverse_apply(m, x, k_, out):
+    """``out = M⁻¹ x`` (C13) for a generalised force x (nv), after ``articulated_inertias``:
+    the backward sweep of the bias wrenches, then the forward sweep of the accelerations."""
+    Sa, U, Gd, Dinv, E, y = k_.Sa, k_.U, k_.Gd, k_.Dinv, k_.Es, k_.ys
+    for j in range(m.n):
+        for i in range(6):
+            E[j, i] = 0.0
+    for j in range(m.n - 1, -1, -1):
+        k0, k1 = m.iv[j], m.iv[j + 1]
+        for k in range(k0, k1):
+            y[k] = x[k] - dot(Sa[k], E[j])  # u_j = x_j + ⟨S_j, E_j⟩
+        if k1 - k0 == 1:
+            out[k0] = Dinv[k0, 0] * y[k0]  # y_j = D_j⁻¹ u_j
+        else:
+            for a in range(k0, k1):
+                acc = 0.0
+                for b in range(k0, k1):
+                    acc += Dinv[a, b - k0] * y[b]
+                out[a] = acc
+        p = m.parents[j]
+        if p >= 0:
+            for i in range(6):
+                acc = E[j, i]
+                for k in range(k0, k1):
+                    acc -= U[k, i] * out[k]
+                E[p, i] += acc  # E_λ += E_j - U_j y_j
+    for j in range(m.n):  # E now holds the accelerations A_j
+        k0, k1 = m.iv[j], m.iv[j + 1]
+        p = m.parents[j]
+        for k in range(k0, k1):
+            if p >= 0:
+                out[k] += dot(Gd[k], E[p])  # q̈_j = y_j - ⟨A_λ, D_j⁻¹ U_j⟩
+        for i in range(6):
+            acc = E[p, i] if p >= 0 else 0.0
+            for k in range(k0, k1):
+                acc += Sa[k, i] * out[k]
+            E[j, i] = acc  # A_j = A_λ + S_j q̈_j
+
+
+@inline
+def row_wrench(p, e1, e2, e3, linear, out):
+    """``out`` the wrench of a row (C12): the force direction e at the point p,
+    ``(p × e, e)`` (``linear``), or the torque direction e, ``(e, 0)``; as coefficients."""
+    if linear:
+        store_bivector(p[1] * e3 - p[2] * e2, p[2] * e1 - p[0] * e3, p[0] * e2 - p[1] * e1,
+                       e1, e2, e3, out)
+    else:
+        store_bivector(e1, e2, e3, 0.0, 0.0, 0.0, out)
