@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..algorithms import _inputs
-from .calls import DELASSUS_GROUP, fast, run
+from .calls import DELASSUS_GROUP, SYSTEM_GROUP, fast, run
 from .core import DELASSUS, DRIFT, SYSTEM
 from .model import pack
 
@@ -77,6 +77,11 @@ def constraint_jacobian(model, q, constraints) -> np.ndarray:
     """The constraint Jacobian ``J`` (m, nv), or (B, m, nv): C1 rows for a point, C2 for a
     frame, in constraint order; Pinocchio's ``getConstraintsJacobian``."""
     p = pack(model, constraints)
+    if SYSTEM_GROUP in p.slots:  # the fast path: the C entry takes one canonical sample
+        r = fast(p.slots[SYSTEM_GROUP], model.packed, p.array, q, p.zero, p.zero,
+                 checked_settings(0.0), SYSTEM)
+        if type(r) is tuple:
+            return r[0]
     (q,) = states(model, (q,), ("q",))
     z = zeros_like_v(model, q)
     return run(model, p, SYSTEM, q, z, z, checked_settings(0.0))[0]
@@ -87,6 +92,11 @@ def constraint_drift(model, q, v, constraints) -> np.ndarray:
     with the Baumgarte terms of each constraint's corrector (C5), so that the constrained
     motion has ``J q̈ + γ = 0`` (C6), Pinocchio's convention."""
     p = pack(model, constraints)
+    if SYSTEM_GROUP in p.slots:  # the fast path, as constraint_jacobian's
+        r = fast(p.slots[SYSTEM_GROUP], model.packed, p.array, q, v, v, checked_settings(0.0),
+                 DRIFT)
+        if type(r) is tuple:
+            return r[1]
     q, v = states(model, (q, v), ("q", "v"))
     return run(model, p, DRIFT, q, v, v, checked_settings(0.0))[1]
 
