@@ -164,19 +164,6 @@ def _end(m, cons, o, which, k_):
 
 
 @inline
-def _rotate_rows(R, X, r0, size, local):
-    """Rows ``r0 .. r0 + size`` of X (each column a 3- or 6-vector in the world's axes) into
-    frame 1's axes (``Rᵀ`` on each block of three) where ``local``."""
-    if not local:
-        return
-    for k in range(X.shape[1]):
-        for h in range(r0, r0 + size, 3):
-            x0, x1, x2 = X[h, k], X[h + 1, k], X[h + 2, k]
-            for i in range(3):
-                X[h + i, k] = R[0, i] * x0 + R[1, i] * x1 + R[2, i] * x2
-
-
-@inline
 def _rotate(R, x, h, local):
     """``x[h:h+3] = Rᵀ x[h:h+3]`` where ``local``."""
     if local:
@@ -186,17 +173,30 @@ def _rotate(R, x, h, local):
 
 
 @inline
-def _add_columns(Sw, parents, iv, body, sign, p, size, r0, J):
+def _add_columns(Sw, parents, iv, body, sign, p, size, r0, J, R, local):
     """Add ``sign`` times the columns of the body's world Jacobian seen at the point p
     (``shift(S, p) = [v - p × ω, ω]``, whose first three rows are the velocity of p) to
-    rows ``r0 ..`` of J: the first three (C1), or all six (C2)."""
+    rows ``r0 ..`` of J: the first three (C1), or all six (C2); each block of three in
+    frame 1's axes (``Rᵀ``) where ``local``. Only the columns of the body's path are
+    touched."""
     j = body
     while j >= 0:
         for k in range(iv[j], iv[j + 1]):
             v1, v2, v3, w1, w2, w3 = Sw[k, 0], Sw[k, 1], Sw[k, 2], Sw[k, 3], Sw[k, 4], Sw[k, 5]
-            J[r0, k] += sign * (v1 - (p[1] * w3 - p[2] * w2))  # v - p × ω (C1)
-            J[r0 + 1, k] += sign * (v2 - (p[2] * w1 - p[0] * w3))
-            J[r0 + 2, k] += sign * (v3 - (p[0] * w2 - p[1] * w1))
+            x1 = v1 - (p[1] * w3 - p[2] * w2)  # v - p × ω (C1)
+            x2 = v2 - (p[2] * w1 - p[0] * w3)
+            x3 = v3 - (p[0] * w2 - p[1] * w1)
+            if local:
+                x1, x2, x3 = (R[0, 0] * x1 + R[1, 0] * x2 + R[2, 0] * x3,
+                              R[0, 1] * x1 + R[1, 1] * x2 + R[2, 1] * x3,
+                              R[0, 2] * x1 + R[1, 2] * x2 + R[2, 2] * x3)
+                if size == 6:
+                    w1, w2, w3 = (R[0, 0] * w1 + R[1, 0] * w2 + R[2, 0] * w3,
+                                  R[0, 1] * w1 + R[1, 1] * w2 + R[2, 1] * w3,
+                                  R[0, 2] * w1 + R[1, 2] * w2 + R[2, 2] * w3)
+            J[r0, k] += sign * x1
+            J[r0 + 1, k] += sign * x2
+            J[r0 + 2, k] += sign * x3
             if size == 6:  # C2
                 J[r0 + 3, k] += sign * w1
                 J[r0 + 4, k] += sign * w2
@@ -341,9 +341,9 @@ def constraint_system(m, cons, q, v, drift, J, g, k_, wrenches):
         b2 = _end(m, cons, o, 1, k_)
         p1 = k_.T[0, :3, 3]
         p2 = k_.T[1, :3, 3] if size == 3 else p1
-        _add_columns(k_.Sw, m.parents, m.iv, b1, 1.0, p1, size, r0, J)
-        _add_columns(k_.Sw, m.parents, m.iv, b2, -1.0, p2, size, r0, J)
-        _rotate_rows(k_.T[0], J, r0, size, cons[o + FRAME] == 0.0)
+        local = cons[o + FRAME] == 0.0
+        _add_columns(k_.Sw, m.parents, m.iv, b1, 1.0, p1, size, r0, J, k_.T[0], local)
+        _add_columns(k_.Sw, m.parents, m.iv, b2, -1.0, p2, size, r0, J, k_.T[0], local)
         if wrenches:
             _row_wrenches(cons, o, b1, b2, r0, size, k_)
         if drift:
@@ -457,17 +457,19 @@ def solve_forces(G, b, settings, lam, info, k_):
             if d[r] <= 1e-12 * scale:
                 return fault(DELASSUS_SINGULAR, r)
         for r in range(n):
-            for s in range(n):
-                C[r, s] = G[r, s] / (d[r] * d[s])
+            d[r] = 1.0 / d[r]  # the scaling's reciprocals
+        for r in range(n):
+            for s in range(r + 1):
+                C[r, s] = G[r, s] * (d[r] * d[s])  # the lower half: what _factor reads
         row = _factor(C, n, SINGULAR_PIVOT)
         if row >= 0:
             return fault(DELASSUS_SINGULAR, row)
         for r in range(n):
-            lam[r] = b[r] / d[r]
+            lam[r] = b[r] * d[r]
         _substitute(C, n, lam)
         change = 0.0
         for r in range(n):
-            lam[r] /= d[r]
+            lam[r] *= d[r]
             change = max(change, abs(lam[r]))
         res, _ = _residual(G, lam, b, n)
         info[0], info[1], info[2], info[3] = 1.0, res, change, 1.0

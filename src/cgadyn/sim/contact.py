@@ -356,7 +356,7 @@ def contact_velocity(m, world, q, v, vn, dt, work):
         for j in range(int(counts[s])):
             r0 = 3 * c
             _add_columns(k_.Sw, m.parents, m.iv, m.link_joint[links[s]], 1.0, out[s, j], 3,
-                         r0, J)
+                         r0, J, k_.T[0], False)
             for k in range(m.nv):
                 x, y, z = J[r0, k], J[r0 + 1, k], J[r0 + 2, k]
                 for i in range(3):
