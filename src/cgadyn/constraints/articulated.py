@@ -22,9 +22,10 @@ with ``E_j[r]`` the wrench of row r at joint j, nonzero only on the path from ro
 bodies to the root, so that joint j pairs only the rows of constraints below it: O(n) for
 the articulated inertias, O(depth) per row for the wrenches and one block of G per joint per
 pair of rows below it (Featherstone's and Carpentier's O(n + m²) Delassus; a leg's joint
-adds to its foot's block only). ``M⁻¹ x`` (C13) is the same recursion on one column: the
-backward sweep ``u_j = x_j + ⟨S_j, E_j⟩``, ``y_j = D_j⁻¹ u_j``, ``E_λ += E_j - U_j y_j``,
-then the forward sweep ``q̈_j = y_j - ⟨A_λ, D_j⁻¹ U_j⟩``, ``A_j = A_λ + S_j q̈_j``.
+adds to its foot's block only). The same recursion on one column with the velocity
+terms is ABA in the world (C13, ``articulated_sweeps``): the free acceleration
+``M⁻¹ (τ - h)`` and ``M⁻¹ Jᵀ λ`` from the forces as wrenches on the rows' bodies, J never
+formed (``row_values`` reads ``J x`` from the bodies' twists).
 
 The arrays are the constraint core's workspace (``core.WORKSPACE``): ``Sa`` the S_k,
 ``Ih`` the Î_j, ``U``, ``Gd`` (D_j⁻¹ U_j) and ``Dinv`` (row k holds D_j⁻¹'s row for
@@ -36,7 +37,14 @@ from __future__ import annotations
 from .._jit import inline
 from ..algorithms._dense import spd_inverse
 from ..algorithms.aba import _articulated
-from ..kernels import dot, inertia_apply
+from ..kernels import (
+    adjoint_apply,
+    dot,
+    inertia_apply,
+    twist_cross,
+    twist_cross_wrench,
+    wrench_adjoint,
+)
 from ..kernels.layout import coefficients, store_bivector
 from ..multibody.joints import free_root
 
@@ -257,43 +265,126 @@ def _free_root_rows(E, L, Yt, live, na, blocks, G):
 
 
 @inline
-def minverse_apply(m, x, k_, out):
-    """``out = M⁻¹ x`` (C13) for a generalised force x (nv), after ``articulated_inertias``:
-    the backward sweep of the bias wrenches, then the forward sweep of the accelerations."""
-    Sa, U, Gd, Dinv, E, y = k_.Sa, k_.U, k_.Gd, k_.Dinv, k_.Es, k_.ys
+def body_motion(m, v, f, k_, bias):
+    """From the world S_k (``k_.Sa``) and the velocity v: every body's world twist
+    ``V_j = V_λ + S_j v_j`` (``k_.Vw``), the velocity-product acceleration
+    ``c_j = V_j × S_j v_j`` (``k_.Cw``; in the world ``Ṡ_j = V_j × S_j``) and the bodies'
+    accelerations at q̈ = 0 without gravity ``A_j = A_λ + c_j`` (``k_.Aw``); with ``bias``
+    also the bias wrench of ABA in the external sign, ``E_j = f_j - V_j × I_j[V_j]``
+    (``k_.Eb``; Algorithm 3's Ŵ_j negated, I_j from ``k_.Ih`` before the articulated pass,
+    ``f`` the external wrenches in the bodies' frames, or (0, 6) for none)."""
+    Sa, Vw, Cw, Aw, Eb, t = k_.Sa, k_.Vw, k_.Cw, k_.Aw, k_.Eb, k_.tw
     for j in range(m.n):
+        p = m.parents[j]
         for i in range(6):
-            E[j, i] = 0.0
+            t[i] = 0.0
+        for k in range(m.iv[j], m.iv[j + 1]):
+            x = v[k]
+            for i in range(6):
+                t[i] += Sa[k, i] * x  # S_j v_j
+        for i in range(6):
+            Vw[j, i] = (Vw[p, i] if p >= 0 else 0.0) + t[i]
+        twist_cross(Vw[j], t, Cw[j])  # c_j = V_j × S_j v_j
+        for i in range(6):
+            Aw[j, i] = (Aw[p, i] if p >= 0 else 0.0) + Cw[j, i]
+        if bias:
+            inertia_apply(k_.Ih[j], Vw[j], t)  # I_j[V_j]
+            twist_cross_wrench(Vw[j], t, Eb[j])  # V_j × I_j[V_j]
+            for i in range(6):
+                Eb[j, i] = -Eb[j, i]
+            if f.shape[0] > 0:  # + M^w_j f_j ~M^w_j, the external wrench in the world
+                wrench_adjoint(k_.Mw[j], k_.Dm)
+                adjoint_apply(k_.Dm, f[j], t)
+                for i in range(6):
+                    Eb[j, i] += t[i]
+
+
+@inline
+def articulated_sweeps(m, x, E, bias, gravity, k_, out):
+    """``out = M⁻¹ (x + Σ_j J_jᵀ E_j)`` for generalised forces x (nv) and wrenches E (n, 6,
+    consumed) on the bodies (C13), after ``articulated_inertias``; with ``bias`` ABA
+    itself (Algorithm 3 in the world): the velocity products c_j (``k_.Cw``) and the base
+    acceleration ``gravity`` (``-g``) enter, so that with E the bias wrenches
+    (``body_motion``) and x = τ, out is the free acceleration ``M⁻¹ (τ - h)``.
+
+        backward:  u_j = x_j + ⟨S_j, E_j⟩,   y_j = D_j⁻¹ u_j,
+                   E_λ += E_j - Ĩ_j[c_j] - U_j y_j,   Ĩ_j[c] = Î_j[c] - U_j ⟨c, D_j⁻¹ U_j⟩
+        forward:   q̈_j = y_j - ⟨A_λ + c_j, D_j⁻¹ U_j⟩,   A_j = A_λ + c_j + S_j q̈_j
+
+    Without ``bias`` c_j and the base acceleration are zero. ``E`` ends as the bodies'
+    accelerations."""
+    Sa, U, Gd, Dinv, Cw, y, t = k_.Sa, k_.U, k_.Gd, k_.Dinv, k_.Cw, k_.ys, k_.tw
     for j in range(m.n - 1, -1, -1):
         k0, k1 = m.iv[j], m.iv[j + 1]
         for k in range(k0, k1):
             y[k] = x[k] - dot(Sa[k], E[j])  # u_j = x_j + ⟨S_j, E_j⟩
-        if k1 - k0 == 1:
-            out[k0] = Dinv[k0, 0] * y[k0]  # y_j = D_j⁻¹ u_j
-        else:
-            for a in range(k0, k1):
-                acc = 0.0
-                for b in range(k0, k1):
-                    acc += Dinv[a, b - k0] * y[b]
-                out[a] = acc
+        for a in range(k0, k1):
+            acc = 0.0
+            for b in range(k0, k1):
+                acc += Dinv[a, b - k0] * y[b]
+            out[a] = acc  # y_j = D_j⁻¹ u_j
         p = m.parents[j]
-        if p >= 0:
+        if p < 0:
+            continue
+        if bias:
+            inertia_apply(k_.Ih[j], Cw[j], t)  # Î_j[c_j]
+            for i in range(6):
+                E[p, i] += E[j, i] - t[i]
+            for a in range(k0, k1):
+                w = -dot(Cw[j], Gd[a]) - out[a]  # ⟨c_j, D_j⁻¹ U_j⟩ - y_j
+                for i in range(6):
+                    E[p, i] += U[a, i] * w
+        else:
             for i in range(6):
                 acc = E[j, i]
-                for k in range(k0, k1):
-                    acc -= U[k, i] * out[k]
+                for a in range(k0, k1):
+                    acc -= U[a, i] * out[a]
                 E[p, i] += acc  # E_λ += E_j - U_j y_j
     for j in range(m.n):  # E now holds the accelerations A_j
         k0, k1 = m.iv[j], m.iv[j + 1]
         p = m.parents[j]
-        for k in range(k0, k1):
-            if p >= 0:
-                out[k] += dot(Gd[k], E[p])  # q̈_j = y_j - ⟨A_λ, D_j⁻¹ U_j⟩
         for i in range(6):
-            acc = E[p, i] if p >= 0 else 0.0
-            for k in range(k0, k1):
-                acc += Sa[k, i] * out[k]
-            E[j, i] = acc  # A_j = A_λ + S_j q̈_j
+            t[i] = E[p, i] if p >= 0 else (gravity[i] if bias else 0.0)
+            if bias:
+                t[i] += Cw[j, i]  # A_λ + c_j
+        for a in range(k0, k1):
+            out[a] += dot(t, Gd[a])  # q̈_j = y_j - ⟨A_λ + c_j, D_j⁻¹ U_j⟩
+        for i in range(6):
+            acc = t[i]
+            for a in range(k0, k1):
+                acc += Sa[a, i] * out[a]
+            E[j, i] = acc  # A_j = A_λ + c_j + S_j q̈_j
+
+
+@inline
+def row_values(m, nr, X, k_, out):
+    """``out[r] = ⟨X_{b₁}, W₁_r⟩ - ⟨X_{b₂}, W₂_r⟩``: row r's value of the bodies' twists X
+    (n, 6; the world's is zero), which is ``(J x)_r`` for the twists ``X_j = Σ S_k x_k``
+    along each body's path (C12's rows as wrenches)."""
+    for r in range(nr):
+        acc = 0.0
+        for e in range(2):
+            b = int(k_.rb[e, r])
+            if b >= 0:
+                value = -dot(X[b], k_.W[e, r])
+                acc += value if e == 0 else -value
+        out[r] = acc
+
+
+@inline
+def row_forces(m, nr, lam, k_, E):
+    """``E`` (n, 6) the wrenches of the forces λ on the bodies: ``λ_r W₁_r`` on end 1's,
+    ``-λ_r W₂_r`` on end 2's, so that ``Σ_j J_jᵀ E_j = Jᵀ λ``."""
+    for j in range(m.n):
+        for i in range(6):
+            E[j, i] = 0.0
+    for r in range(nr):
+        for e in range(2):
+            b = int(k_.rb[e, r])
+            if b >= 0:
+                x = lam[r] if e == 0 else -lam[r]
+                for i in range(6):
+                    E[b, i] += x * k_.W[e, r, i]
 
 
 @inline

@@ -31,15 +31,21 @@ from ..algorithms._workspace import STACK_FLOATS, chunks, stack_buffer
 from ..algorithms.kinematics import link_motor, world_motors
 from ..algorithms.ltdl import ltdl_solve_rows
 from ..algorithms.minverse import move_axes_inertias
-from ..algorithms.rnea import rnea_core
 from ..algorithms.status import DELASSUS_SINGULAR, NONFINITE_RESULT, OK, SINGULAR, at_sample, fault
-from ..algorithms.work.rnea import workspace_size as rnea_size
 from ..kernels import motor_mul, motor_reverse, twist_sandwich
 from ..kernels.layout import physical
 from ..kernels.motors import motor_log, motor_normalize
 from ..kernels.rigid import motor_matrix
 from ..multibody.packed import unpack
-from .articulated import articulated_inertias, delassus_rows, minverse_apply, row_wrench
+from .articulated import (
+    articulated_inertias,
+    articulated_sweeps,
+    body_motion,
+    delassus_rows,
+    row_forces,
+    row_values,
+    row_wrench,
+)
 from .work.core import workspace, workspace_size
 
 HEAD, ROW = 2, 22
@@ -83,6 +89,10 @@ WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py); n
     "Es": ("n", 6),  # one column's wrenches, then accelerations (C13)
     "ys": ("nv",),
     "dq": ("nv",),  # M⁻¹ Jᵀ λ
+    "Vw": ("n", 6),  # the bodies' world twists, as coefficients (C13)
+    "Cw": ("n", 6),  # their velocity-product accelerations c_j
+    "Aw": ("n", 6),  # their accelerations at q̈ = 0 without gravity
+    "Eb": ("n", 6),  # ABA's bias wrenches, in the external sign
     "H": ("nv", "nv"),  # M, then its factors Lᵀ D L (before the rows': where nr may change)
     "J": ("nr", "nv"),
     "g": ("nr",),
@@ -309,10 +319,10 @@ def _row_wrenches(cons, o, b1, b2, r0, size, k_):
 
 
 @inline
-def constraint_wrenches(m, cons, q, k_):
-    """The rows' wrenches and bodies (``_row_wrenches``) of every constraint, and the world
-    motors, without J: what G needs (C12)."""
-    world_motors(m, q, k_.c, k_.s, k_.tmp8, k_.M, k_.Mw)
+def constraint_wrenches(m, cons, drift, g, k_):
+    """The rows' wrenches and bodies (``_row_wrenches``) of every constraint, without J:
+    what C12 and C13 need; with ``drift`` also γ (C3-C5) from the bodies' twists and
+    accelerations in ``k_.Vb``, ``k_.Ab``. The world motors are in ``k_.Mw``."""
     r0 = 0
     for c in range(int(cons[0])):
         o = HEAD + ROW * c
@@ -320,7 +330,24 @@ def constraint_wrenches(m, cons, q, k_):
         b1 = _end(m, cons, o, 0, k_)
         b2 = _end(m, cons, o, 1, k_)
         _row_wrenches(cons, o, b1, b2, r0, size, k_)
+        if drift:
+            for i in range(size):
+                g[r0 + i] = 0.0
+            _drift(m, cons, o, b1, b2, r0, g, k_)
         r0 += size
+
+
+@inline
+def _physical_motion(m, k_):
+    """``k_.Vb``, ``k_.Ab``: the bodies' world twists and accelerations at q̈ = 0 of
+    ``body_motion`` as Pinocchio's arrays ``[v, ω]``, which C3-C5 read."""
+    for j in range(m.n):
+        w1, w2, w3, v1, v2, v3 = physical(k_.Vw[j])
+        k_.Vb[j, 0], k_.Vb[j, 1], k_.Vb[j, 2] = v1, v2, v3
+        k_.Vb[j, 3], k_.Vb[j, 4], k_.Vb[j, 5] = w1, w2, w3
+        w1, w2, w3, v1, v2, v3 = physical(k_.Aw[j])
+        k_.Ab[j, 0], k_.Ab[j, 1], k_.Ab[j, 2] = v1, v2, v3
+        k_.Ab[j, 3], k_.Ab[j, 4], k_.Ab[j, 5] = w1, w2, w3
 
 
 @inline
@@ -503,10 +530,9 @@ def solve_forces(G, b, settings, lam, info, k_):
 
 
 @core
-def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, work, awork,
-                    f0):
-    """One sample of ``mode`` (the module's docstring); a status. ``awork`` is ``rnea``'s
-    workspace, ``f0`` an empty (0, 6) wrench array."""
+def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, work, f):
+    """One sample of ``mode`` (the module's docstring); a status. ``f`` the external
+    wrenches on the bodies (n, 6) in their frames, as ``aba``'s, or (0, 6) for none."""
     nr = int(cons[1])
     k_ = workspace(data_pointer(work), m, nr)
     if mode == SYSTEM or mode == DRIFT:
@@ -521,11 +547,12 @@ def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, w
     status = check_configuration(m, q)
     if status != OK:
         return status
-    if mode == DELASSUS:
-        constraint_wrenches(m, cons, q, k_)
-    else:
-        constraint_system(m, cons, q, v, mode == FORWARD, J, g, k_, True)
+    world_motors(m, q, k_.c, k_.s, k_.tmp8, k_.M, k_.Mw)
     move_axes_inertias(m, k_.Mw, k_.par, k_.Sa, k_.Ih)  # S_k, I_j in the world (eqs. 4, 16)
+    if mode != DELASSUS:
+        body_motion(m, v, f, k_, mode == FORWARD)  # V_j, c_j, A_j at q̈ = 0; ABA's bias
+        _physical_motion(m, k_)
+    constraint_wrenches(m, cons, mode == FORWARD, g, k_)
     j = articulated_inertias(m, k_, mode != DELASSUS)  # M1, M2
     if j >= 0:
         return fault(SINGULAR, j)
@@ -538,39 +565,32 @@ def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, w
                 if not math.isfinite(G[r, s]):
                     return fault(NONFINITE_RESULT, -1)
         return OK
-    b = k_.b
+    b, E = k_.b, k_.Es
     if mode == FORWARD:
-        for k in range(m.nv):
-            k_.af[k] = 0.0
-        status = rnea_core(m, q, v, k_.af, f0, k_.h, awork)  # h = rnea(q, v, 0)
-        if status != OK:
-            return status
-        for k in range(m.nv):
-            k_.h[k] = tau[k] - k_.h[k]
-        minverse_apply(m, k_.h, k_, k_.af)  # q̈_f = M⁻¹ (τ - h) (C7, C13)
-        for r in range(nr):  # b = -γ - J q̈_f (C7)
-            acc = -g[r]
-            for k in range(m.nv):
-                acc -= J[r, k] * k_.af[k]
-            b[r] = acc
+        for j in range(m.n):
+            for i in range(6):
+                E[j, i] = k_.Eb[j, i]
+        articulated_sweeps(m, tau, E, True, m.gravity, k_, k_.af)  # q̈_f, ABA (C13)
+        for j in range(m.n):  # the bodies' twists of q̈_f alone: A_j - g - Σ c (C13)
+            for i in range(6):
+                E[j, i] -= m.gravity[i] + k_.Aw[j, i]
+        row_values(m, nr, E, k_, b)  # J q̈_f
+        for r in range(nr):
+            b[r] = -g[r] - b[r]  # b = -γ - J q̈_f (C7)
     else:
         e = settings[RESTITUTION]
         for k in range(m.nv):
             k_.af[k] = v[k]
-        for r in range(nr):  # b = -(1 + e) J v⁻ (C9)
-            acc = 0.0
-            for k in range(m.nv):
-                acc += J[r, k] * v[k]
-            b[r] = -(1.0 + e) * acc
+        row_values(m, nr, k_.Vw, k_, b)  # J v⁻
+        for r in range(nr):
+            b[r] = -(1.0 + e) * b[r]  # b = -(1 + e) J v⁻ (C9)
     status = solve_forces(G, b, settings, lam, info, k_)
     if status != OK:
         return status
-    for k in range(m.nv):  # Jᵀ λ
-        acc = 0.0
-        for r in range(nr):
-            acc += J[r, k] * lam[r]
-        k_.h[k] = acc
-    minverse_apply(m, k_.h, k_, k_.dq)  # M⁻¹ Jᵀ λ (C13)
+    row_forces(m, nr, lam, k_, E)  # Jᵀ λ as wrenches on the bodies
+    for k in range(m.nv):
+        k_.h[k] = 0.0
+    articulated_sweeps(m, k_.h, E, False, m.gravity, k_, k_.dq)  # M⁻¹ Jᵀ λ (C13)
     for i in range(m.nv):  # q̈ = q̈_f + M⁻¹ Jᵀ λ (C7), v⁺ = v⁻ + M⁻¹ Jᵀ Λ (C9)
         a[i] = k_.af[i] + k_.dq[i]
     for i in range(m.nv):
@@ -581,15 +601,12 @@ def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, w
 
 @serial
 def constraint_single(packed, cons, q, v, tau, settings, mode, J, g, G, a, lam, info):
-    """One sample of ``constraint_core``, its workspaces on this call's stack (on the heap
+    """One sample of ``constraint_core``, its workspace on this call's stack (on the heap
     above ``STACK_FLOATS``)."""
     m = unpack(packed)
-    nr = int(cons[1])
-    size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
-    total = size + rnea_size(m.n, m.nq, m.nv, m.nl)
-    buf = stack_buffer(total) if total <= STACK_FLOATS else np.empty(total)
-    return constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info,
-                           buf[:size], buf[size:],
+    size = workspace_size(m.n, m.nq, m.nv, m.nl, int(cons[1]))
+    buf = stack_buffer(size) if size <= STACK_FLOATS else np.empty(size)
+    return constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, buf,
                            buf[:0].reshape((0, 6)))
 
 
@@ -608,18 +625,25 @@ def constraint_native(pk, x, f, nf, o, options):
     tau = carray(x[3], (m.nv,))
     settings = carray(x[4], (4,))
     mode = options[0]
+    # the outputs a mode does not return, as scratch on this call's stack (no allocation)
+    k = nr * m.nv + nr + nr * nr + m.nv + nr + INFO
+    spare = stack_buffer(k) if k <= STACK_FLOATS else np.empty(k)
+    J = spare[:nr * m.nv].reshape((nr, m.nv))  # views that keep a heap ``spare`` alive
+    o1 = nr * m.nv
+    g = spare[o1:o1 + nr]
+    G = spare[o1 + nr:o1 + nr + nr * nr].reshape((nr, nr))
+    o1 += nr + nr * nr
+    a = spare[o1:o1 + m.nv]
+    lam = spare[o1 + m.nv:o1 + m.nv + nr]
+    info = spare[o1 + m.nv + nr:o1 + m.nv + nr + INFO]
     if mode == SYSTEM or mode == DRIFT:
         return constraint_single(packed, cons, q, v, tau, settings, mode,
-                                 carray(o[0], (nr, m.nv)), carray(o[1], (nr,)),
-                                 np.empty((nr, nr)), np.empty(m.nv), np.empty(nr),
-                                 np.empty(INFO))
+                                 carray(o[0], (nr, m.nv)), carray(o[1], (nr,)), G, a, lam,
+                                 info)
     if mode == DELASSUS:
-        return constraint_single(packed, cons, q, v, tau, settings, mode,
-                                 np.empty((nr, m.nv)), np.empty(nr),
-                                 carray(o[0], (nr, nr)), np.empty(m.nv), np.empty(nr),
-                                 np.empty(INFO))
-    return constraint_single(packed, cons, q, v, tau, settings, mode,
-                             np.empty((nr, m.nv)), np.empty(nr), np.empty((nr, nr)),
+        return constraint_single(packed, cons, q, v, tau, settings, mode, J, g,
+                                 carray(o[0], (nr, nr)), a, lam, info)
+    return constraint_single(packed, cons, q, v, tau, settings, mode, J, g, G,
                              carray(o[0], (m.nv,)), carray(o[1], (nr,)),
                              carray(o[2], (INFO,)))
 
@@ -632,17 +656,15 @@ def constraint_batch(packed, cons, q, v, tau, settings, mode, J, g, G, a, lam, i
     batch = q.shape[0]
     nr = int(cons[1])
     size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
-    asize = rnea_size(m.n, m.nq, m.nv, m.nl)
     starts, stops = chunks(batch, threads)
     status = np.zeros(starts.shape[0], dtype=np.int64)
     for c in prange(starts.shape[0]):
         mc = unpack(packed)
         work = np.empty(size)
-        awork = np.empty(asize)
         f0 = np.empty((0, 6))
         for b in range(starts[c], stops[c]):
             s = constraint_core(mc, cons, q[b], v[b], tau[b], settings, mode, J[b], g[b],
-                                G[b], a[b], lam[b], info[b], work, awork, f0)
+                                G[b], a[b], lam[b], info[b], work, f0)
             if s != OK:
                 status[c] = at_sample(s, b)
                 break

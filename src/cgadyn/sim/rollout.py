@@ -73,6 +73,7 @@ from ..algorithms.work.aba import workspace_size as aba_workspace
 from ..algorithms.work.crba import workspace_size as crba_workspace
 from ..algorithms.work.energy import workspace_size as energy_workspace
 from ..algorithms.work.rnea import workspace_size as rnea_workspace
+from ..constraints.articulated import row_values
 from ..constraints.core import FORWARD, INFO, constraint_core
 from ..constraints.work.core import workspace as constraint_workspace
 from ..constraints.work.core import workspace_size as constraint_workspace_size
@@ -97,7 +98,7 @@ WORKSPACE = {  # one rollout's scratch, in order (tools/generate_workspaces.py)
     "qn": ("nq",),  # the next one
     "vn": ("nv",),
     "a": ("nv",),  # the acceleration
-    "J": ("nr", "nv"),  # the constraints' Jacobian (C1, C2)
+    "J": ("nr", "nv"),  # the core's J argument (C1, C2; not formed by FORWARD)
     "gam": ("nr",),  # their drift γ (C3-C5)
     "G": ("nr", "nr"),  # the Delassus matrix (C7)
     "lam": ("nr",),  # the forces λ
@@ -185,18 +186,19 @@ def _dynamics(m, q, v, tau, f, con, fac, qdd, sc, work):
         return aba_core(m, q, v, tau, f, qdd, work)
     cons, settings, cwork = con
     status = constraint_core(m, cons, q, v, tau, settings, FORWARD, sc.J, sc.gam, sc.G, qdd,
-                             sc.lam, sc.info, cwork, work, f)  # RNEA in the shared workspace
+                             sc.lam, sc.info, cwork, f)
     if status == OK and sc.info[INFO - 1] >= 0.0:
         return fault(CONSTRAINTS_CONFLICT, int(sc.info[INFO - 1]))
     return status
 
 
 @serial
-def _record(m, con, v, status, sc):
+def _record(m, con, status, sc):
     """``sc.X``: the position error (C5's e), the velocity error ``J v`` and the force λ of
     each row at the state whose dynamics ``_dynamics`` just solved with ``status``; NaN
-    where it failed. Nothing without constraints (``con`` None: pruned as in
-    ``_dynamics``)."""
+    where it failed (``J v`` from the bodies' twists that solve left in the constraint
+    workspace, C12's rows as wrenches). Nothing without constraints (``con`` None: pruned
+    as in ``_dynamics``)."""
     if con is None:
         return
     cons, settings, cwork = con
@@ -207,12 +209,10 @@ def _record(m, con, v, status, sc):
             for r in range(nr):
                 X[i, r] = np.nan
         return
-    e = constraint_workspace(ws.data_pointer(cwork), m, nr).e
+    k_ = constraint_workspace(ws.data_pointer(cwork), m, nr)
+    row_values(m, nr, k_.Vw, k_, X[1])  # J v
     for r in range(nr):
-        acc = 0.0
-        for k in range(m.nv):
-            acc += sc.J[r, k] * v[k]
-        X[0, r], X[1, r], X[2, r] = e[r], acc, sc.lam[r]
+        X[0, r], X[2, r] = k_.e[r], sc.lam[r]
 
 
 @serial
@@ -333,7 +333,7 @@ def step(m, method, q, v, u, f, ctrl, con, world, fac, dt, qn, vn, a, sc, work):
         if i == 0:
             for k in range(m.nv):
                 a[k] = Ka[0, k]
-            _record(m, con, v, status, sc)
+            _record(m, con, status, sc)
         if status != OK:
             return status
     w = dt
@@ -483,7 +483,7 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
     if s == OK:
         s = closed_loop_acceleration(mb, q, v, ub[hold * (steps - 1)], fb, ctrl, con, fac, a,
                                      sc, work)
-        _record(mb, con, v, s, sc)
+        _record(mb, con, s, sc)
         r = kept_row(steps, steps, every)
         _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
         if s == OK:  # the contacts at the last state: those of one more step from it

@@ -14,10 +14,10 @@ from ...kernels.lane_arrays import lane_array, lane_matrix, lane_tensor
 
 CoreWorkspace = namedtuple("CoreWorkspace", ("M", "Mw", "tmp8", "c", "s", "Sw", "Vb", "Ab", "E",
                                              "T", "tw", "x", "Sa", "Ih", "par", "U", "Gd", "Dinv",
-                                             "Dm", "Dj", "It", "fr", "Es", "ys", "dq", "H", "J",
-                                             "g", "MJt", "C", "b", "y", "d", "af", "h", "cols",
-                                             "e", "W", "rb", "blocks", "act", "Ec", "Z", "Y",
-                                             "Yt", "live"))
+                                             "Dm", "Dj", "It", "fr", "Es", "ys", "dq", "Vw", "Cw",
+                                             "Aw", "Eb", "H", "J", "g", "MJt", "C", "b", "y", "d",
+                                             "af", "h", "cols", "e", "W", "rb", "blocks", "act",
+                                             "Ec", "Z", "Y", "Yt", "live"))
 
 
 @inline
@@ -48,6 +48,10 @@ def workspace_size(n, nq, nv, nl, nr):
         + n * 6
         + nv
         + nv
+        + n * 6
+        + n * 6
+        + n * 6
+        + n * 6
         + nv * nv
         + nr * nv
         + nr
@@ -100,6 +104,10 @@ def workspace(buf, m, nr):
     _Es, o = carve(buf, o, (m.n, 6))
     _ys, o = carve(buf, o, (m.nv,))
     _dq, o = carve(buf, o, (m.nv,))
+    _Vw, o = carve(buf, o, (m.n, 6))
+    _Cw, o = carve(buf, o, (m.n, 6))
+    _Aw, o = carve(buf, o, (m.n, 6))
+    _Eb, o = carve(buf, o, (m.n, 6))
     _H, o = carve(buf, o, (m.nv, m.nv))
     _J, o = carve(buf, o, (nr, m.nv))
     _g, o = carve(buf, o, (nr,))
@@ -122,9 +130,9 @@ def workspace(buf, m, nr):
     _Yt, o = carve(buf, o, (nr, 6))
     _live, o = carve(buf, o, (nr,))
     return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _Sa, _Ih, _par,
-                         _U, _Gd, _Dinv, _Dm, _Dj, _It, _fr, _Es, _ys, _dq, _H, _J, _g, _MJt, _C,
-                         _b, _y, _d, _af, _h, _cols, _e, _W, _rb, _blocks, _act, _Ec, _Z, _Y, _Yt,
-                         _live)
+                         _U, _Gd, _Dinv, _Dm, _Dj, _It, _fr, _Es, _ys, _dq, _Vw, _Cw, _Aw, _Eb, _H,
+                         _J, _g, _MJt, _C, _b, _y, _d, _af, _h, _cols, _e, _W, _rb, _blocks, _act,
+                         _Ec, _Z, _Y, _Yt, _live)
 
 
 @inline
@@ -182,6 +190,14 @@ def lane_workspace(buf, m, nr):
     o += m.nv
     _dq = lane_array(buf, o)
     o += m.nv
+    _Vw = lane_matrix(buf, o, 6)
+    o += m.n * 6
+    _Cw = lane_matrix(buf, o, 6)
+    o += m.n * 6
+    _Aw = lane_matrix(buf, o, 6)
+    o += m.n * 6
+    _Eb = lane_matrix(buf, o, 6)
+    o += m.n * 6
     _H = lane_matrix(buf, o, m.nv)
     o += m.nv * m.nv
     _J = lane_matrix(buf, o, m.nv)
@@ -225,6 +241,6 @@ def lane_workspace(buf, m, nr):
     _live = lane_array(buf, o)
     o += nr
     return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _Sa, _Ih, _par,
-                         _U, _Gd, _Dinv, _Dm, _Dj, _It, _fr, _Es, _ys, _dq, _H, _J, _g, _MJt, _C,
-                         _b, _y, _d, _af, _h, _cols, _e, _W, _rb, _blocks, _act, _Ec, _Z, _Y, _Yt,
-                         _live)
+                         _U, _Gd, _Dinv, _Dm, _Dj, _It, _fr, _Es, _ys, _dq, _Vw, _Cw, _Aw, _Eb, _H,
+                         _J, _g, _MJt, _C, _b, _y, _d, _af, _h, _cols, _e, _W, _rb, _blocks, _act,
+                         _Ec, _Z, _Y, _Yt, _live)
