@@ -128,8 +128,8 @@ def pair_rows(pairs, friction, ps, m, Sw, links, J, mu, lam, prev, had, c, shape
             d = out[p, j, 3]
             for i in range(3):
                 tmp[i] = out[p, j, i] - d * normals[p, i]  # x_b = x_a - d n
-            _add_columns(Sw, m.parents, m.iv, ja, 1.0, out[p, j], 3, r0, J)
-            _add_columns(Sw, m.parents, m.iv, jb, -1.0, tmp, 3, r0, J)
+            _add_columns(Sw, m.parents, m.iv, ja, 1.0, out[p, j], 3, r0, J, F, False)
+            _add_columns(Sw, m.parents, m.iv, jb, -1.0, tmp, 3, r0, J, F, False)
             for k in range(m.nv):
                 x, y, z = J[r0, k], J[r0 + 1, k], J[r0 + 2, k]
                 for i in range(3):
