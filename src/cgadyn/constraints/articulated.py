@@ -45,6 +45,7 @@ from ..kernels import (
     twist_cross_wrench,
     wrench_adjoint,
 )
+from ..kernels.lane_arrays import positive
 from ..kernels.layout import coefficients, store_bivector
 from ..multibody.joints import free_root
 
@@ -73,7 +74,7 @@ def articulated_inertias(m, k_, sweeps):
             inertia_apply(Ih[j], Sa[k], U[k])  # U_j = Î_j[S_j] (M1)
         if k1 - k0 == 1:
             d = -dot(Sa[k0], U[k0]) + m.armature[k0]  # D_j = ⟨S_j, U_j⟩ + rotor inertia
-            if not (d > 0.0 and 1.0 / d < 1e300):
+            if not positive(d):
                 return j
             Dinv[k0, 0] = 1.0 / d
             for i in range(6):
@@ -224,7 +225,7 @@ def _cholesky6(A):
             for k in range(c):
                 acc -= A[a, k] * A[c, k]
             if a == c:
-                if not (acc > 0.0 and 1.0 / acc < 1e300):
+                if not positive(acc):
                     return False
                 A[a, a] = acc ** 0.5
             else:

@@ -1,6 +1,7 @@
 """Constrained forward dynamics (C6-C8) and impulse dynamics (C9), each one compiled call
-(``constraints/core.py``: J, γ, M⁻¹, G and the forces), and contact inverse dynamics (C10) on
-the compiled J and ``rnea``.
+(``constraints/core.py``: γ, G by the articulated-body recursion C12, the free motion and
+M⁻¹ Jᵀ λ by its sweeps C13, and the forces), and contact inverse dynamics (C10) on the
+compiled J and ``rnea``.
 
 Forces come in Pinocchio's ``lambda_c`` layout: ``[f]`` per point constraint and ``[f, τ]``
 per frame constraint, each in its constraint's frame, in constraint order. A batch of states
