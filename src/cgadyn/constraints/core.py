@@ -351,9 +351,8 @@ def _physical_motion(m, k_):
 
 
 @inline
-def constraint_system(m, cons, q, v, drift, J, g, k_, wrenches):
-    """J (nr, nv) (C1, C2) and, with ``drift``, γ (nr) (C3-C5); with ``wrenches`` the
-    rows' wrenches too (C12)."""
+def constraint_system(m, cons, q, v, drift, J, g, k_):
+    """J (nr, nv) (C1, C2) and, with ``drift``, γ (nr) (C3-C5)."""
     nc = int(cons[0])
     _world_columns(m, q, v, drift, k_)
     for r in range(J.shape[0]):
@@ -371,8 +370,6 @@ def constraint_system(m, cons, q, v, drift, J, g, k_, wrenches):
         local = cons[o + FRAME] == 0.0
         _add_columns(k_.Sw, m.parents, m.iv, b1, 1.0, p1, size, r0, J, k_.T[0], local)
         _add_columns(k_.Sw, m.parents, m.iv, b2, -1.0, p2, size, r0, J, k_.T[0], local)
-        if wrenches:
-            _row_wrenches(cons, o, b1, b2, r0, size, k_)
         if drift:
             _drift(m, cons, o, b1, b2, r0, g, k_)
         r0 += size
@@ -536,7 +533,7 @@ def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, w
     nr = int(cons[1])
     k_ = workspace(data_pointer(work), m, nr)
     if mode == SYSTEM or mode == DRIFT:
-        constraint_system(m, cons, q, v, mode == DRIFT, J, g, k_, False)
+        constraint_system(m, cons, q, v, mode == DRIFT, J, g, k_)
         for r in range(nr):
             if not math.isfinite(g[r]):
                 return fault(NONFINITE_RESULT, -1)
