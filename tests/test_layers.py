@@ -19,8 +19,8 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "src" / "cgadyn"
 
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("_sources", "_json", "_views", "_native", "_progress", "_inlining", "_jit", "_threads",
-     "_arrays", "_paths"),
+    ("_sources", "_json", "_views", "_native", "_progress", "_collector", "_inlining", "_jit",
+     "_threads", "_arrays", "_paths"),
     ("algebra",),
     ("kernels",),
     ("cga",),

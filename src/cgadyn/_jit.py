@@ -44,7 +44,7 @@ from pathlib import Path
 import numba
 from numba.extending import intrinsic
 
-from . import _inlining, _progress
+from . import _collector, _inlining, _progress  # noqa: F401 (_collector: its listener)
 from ._sources import closure_fingerprints, compiled_sources
 
 __all__ = ["caching", "core", "inline", "intrinsic", "native", "parallel", "serial"]

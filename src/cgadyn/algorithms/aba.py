@@ -207,10 +207,7 @@ def aba_core(m, q, v, tau, f, qdd, work):
             Wh[p, k] += tmp2[k]
     for j in range(n):  # V now holds the accelerations V̇_j, V̇_0 = -g
         p = m.parents[j]
-        if p < 0:
-            adjoint_apply_transpose(Ad[j], m.gravity, tmp)
-        else:
-            adjoint_apply_transpose(Ad[j], V[p], tmp)
+        adjoint_apply_transpose(Ad[j], m.gravity if p < 0 else V[p], tmp)
         for k in range(6):
             tmp[k] += C[j, k]  # V̄_j = ~M_j V̇_λ M_j + c_j
         k0, k1 = m.iv[j], m.iv[j + 1]

@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from ..._jit import inline
+from ..._jit import core, inline
 from ...kernels import dot, motor_mul
 from ...kernels.halfangle import LIBM_BEYOND, half_angle_sincos
 from .free_flyer import (
@@ -85,7 +85,8 @@ def joint_motors(m, q, c, s, tmp, out):
     ``Model``), so a revolute joint's motor is a rotor and a prismatic joint's a
     translator, and the product with ``X_j`` is the cheaper one each allows. Free flyers
     take a second loop: as a third branch of the first, their code more than doubles its
-    time; so do the other types (a helical joint's screw, a planar, a translation joint).
+    time. The rarer types (spherical, helical, planar, translation) are ``rare_joint_motors``,
+    called rather than inlined.
     """
     for j in range(m.n):
         t = m.types[j]
@@ -95,20 +96,34 @@ def joint_motors(m, q, c, s, tmp, out):
             revolute_motor(m.placements[j], m.S, k, c[i], s[i], tmp, out[j])
         elif t == PRISMATIC:
             prismatic_motor(m.placements[j], m.S, k, q[i], tmp, out[j])
+    rare = False
     for j in range(m.n):
         t = m.types[j]
         if t == FREE_FLYER:
             free_flyer_motor(q, m.iq[j], tmp)
             motor_mul(m.placements[j], tmp, out[j])
-        elif t == SPHERICAL:
-            spherical_motor(m.placements[j], q, m.iq[j], tmp, out[j])
+        elif t > PRISMATIC:
+            rare = True
+    if rare:
+        rare_joint_motors(m.types, m.iq, m.iv, m.placements, m.S, q, c, s, tmp, out)
+
+
+@core
+def rare_joint_motors(types, iq, iv, placements, S, q, c, s, tmp, out):
+    """``out[j] = M_j`` for every spherical, helical, planar and translation joint
+    (``joint_motors``). Compiled once and called, not inlined into every recursion: inlined,
+    these types' code was a tenth of each recursion's compilation, and the joints are rare."""
+    for j in range(types.shape[0]):
+        t = types[j]
+        if t == SPHERICAL:
+            spherical_motor(placements[j], q, iq[j], tmp, out[j])
         elif t == HELICAL:
-            i = m.iq[j]
-            helical_motor(m.placements[j], m.S, m.iv[j], q[i], c[i], s[i], tmp, out[j])
+            i = iq[j]
+            helical_motor(placements[j], S, iv[j], q[i], c[i], s[i], tmp, out[j])
         elif t == PLANAR:
-            planar_motor(m.placements[j], q, m.iq[j], tmp, out[j])
+            planar_motor(placements[j], q, iq[j], tmp, out[j])
         elif t == TRANSLATION:
-            translation_motor(m.placements[j], q, m.iq[j], tmp, out[j])
+            translation_motor(placements[j], q, iq[j], tmp, out[j])
 
 
 @inline
