@@ -278,27 +278,55 @@ def contact_velocity(m, world, q, v, vn, dt, work):
     ``CONTACT_UNSOLVED`` where neither solver converges and a residual exceeds
     ``accept``."""
     w_ = world
-    kinds, sizes, vertices, offsets = w_.world.kinds, w_.world.sizes, w_.world.vertices, \
-        w_.world.offsets
-    placements, links, active, sb, Tb = w_.world.placements, w_.world.links, \
-        w_.world.active, w_.world.ground, w_.world.ground_pose
-    frame, params, limits, frictions = w_.world.frame, w_.world.params, w_.world.limits, \
-        w_.world.frictions
-    poses, out, counts, cand, big, mu, info = w_.poses, w_.out, w_.counts, w_.cand, w_.big, \
-        w_.mu, w_.info
-    settings, prev, force, had, tmp8, T, count = w_.settings, w_.prev, w_.force, w_.had, \
-        w_.tmp8, w_.T, w_.count
-    report, cwork, lrows, bounds, lprev, lhad, twists = w_.report, w_.cwork, w_.lrows, \
-        w_.bounds, w_.lprev, w_.lhad, w_.twists
-    bodies = w_.bodies
-    pairs, radii, shape_mu, ps = w_.world.pairs, w_.world.radii, w_.world.shape_friction, \
-        w_.pairs
-    compliance = w_.world.compliance
-    shapes = kinds.shape[0]
-    K = C.MAX_CONTACTS * (shapes + pair_count(pairs))
-    k_ = constraint_workspace(ws.data_pointer(cwork), m, 0)
+    k_ = constraint_workspace(ws.data_pointer(w_.cwork), m, 0)
     _world_columns(m, q, v, False, k_)  # the joints' world motors and Jacobian columns
-    for s in range(shapes):  # each shape's pose: its link's frame times its placement (K10)
+    nc, nl = _detect(m, w_, k_, q, v, vn, dt)
+    nf = w_.world.frictions.shape[0]
+    for k in range(w_.force.shape[0]):
+        for i in range(3):
+            w_.force[k, i] = 0.0
+    w_.count[0] = nc
+    for i in range(REPORT):
+        w_.report[i] = 0.0
+    w_.factored[1] = 1.0 if nc + nl + nf > 0 else 0.0
+    if nc + nl + nf == 0:
+        for k in range(w_.had.shape[0]):
+            w_.had[k] = 0.0
+        for k in range(w_.lhad.shape[0]):
+            w_.lhad[k] = 0.0
+        return OK
+    mc = 3 * nc + nl + nf
+    p = ws.data_pointer(w_.big)
+    J, o = ws.carve(p, 0, (mc, m.nv))
+    G, o = ws.carve(p, o, (mc, mc))
+    Cs, o = ws.carve(p, o, (mc, mc))
+    g, o = ws.carve(p, o, (mc,))
+    lam, o = ws.carve(p, o, (mc,))
+    R, o = ws.carve(p, o, (mc,))
+    w = ws.carve(p, o, (SCRATCH_ROWS, max(mc, 6)))[0]
+    k_ = constraint_workspace(ws.data_pointer(w_.cwork), m, mc)
+    warm = _rows(m, w_, k_, nc, nl, J, lam, R, dt)
+    if w_.factored[0] == 0.0:  # the free velocity came from ABA: M's factors here
+        status = _factor(m, q, k_.H, work)
+        if status != OK:
+            return status
+    _delassus(m, J, k_, G)  # M⁻¹ Jᵀ in k_.MJt, G = J M⁻¹ Jᵀ
+    _free_term(m, w_, nc, nl, J, g, R, vn, dt)
+    status = _solve(w_, nc, nl, nf, warm, G, g, lam, R, Cs, w)
+    if status != OK:
+        return status
+    return _keep(m, w_, k_, nc, nl, nf, lam, vn, dt)
+
+
+@inline
+def _detect(m, w_, k_, q, v, vn, dt):
+    """The shapes' poses, each its link's frame times its placement (K10); their contacts
+    with the ground and with each other whose gap the step may close (K21, K21a, K22, K37,
+    K39) into ``out``, ``counts`` and the pairs' scratch; the joint limits' bounds near which
+    the step may go into ``lrows`` (K26). Returns ``(contacts, limit rows)``."""
+    wa = w_.world
+    links, T, tmp8, poses = wa.links, w_.T, w_.tmp8, w_.poses
+    for s in range(links.shape[0]):
         if links[s] < 0:
             for i in range(4):
                 for j in range(4):
@@ -310,50 +338,42 @@ def contact_velocity(m, world, q, v, vn, dt, work):
             for j in range(4):
                 acc = 0.0
                 for r in range(4):
-                    acc += T[i, r] * placements[s, r, j]
+                    acc += T[i, r] * wa.placements[s, r, j]
                 poses[s, i, j] = acc
-    _shape_twists(m, k_.Sw, links, v, vn, twists, bodies)
-    C.shapes_on_plane(kinds, sizes, vertices, offsets, poses, radii, active, sb, Tb,
-                      params[MARGIN], params[PATCH], cand, out, counts, twists,
-                      dt)  # K21, K21a, K22
+    _shape_twists(m, k_.Sw, links, v, vn, w_.twists, w_.bodies)
+    params = wa.params
+    C.shapes_on_plane(wa.kinds, wa.sizes, wa.vertices, wa.offsets, poses, wa.radii,
+                      wa.active, wa.ground, wa.ground_pose, params[MARGIN], params[PATCH],
+                      w_.cand, w_.out, w_.counts, w_.twists, dt)  # K21, K21a, K22
     nc = 0
-    for s in range(shapes):
-        nc += int(counts[s])
-    nc += detect_pairs(pairs, radii, ps, kinds, sizes, vertices, offsets, poses,
-                       params[MARGIN], params[PATCH], twists, dt)  # K21a, K37, K39
-    nl = active_limits(limits, q, v, vn, dt, params[MARGIN], lrows)  # K26
-    nf, L = frictions.shape[0], 2 * limits.shape[0]
-    for k in range(K):
-        for i in range(3):
-            force[k, i] = 0.0
-    count[0] = nc
-    for i in range(REPORT):
-        report[i] = 0.0
-    w_.factored[1] = 1.0 if nc + nl + nf > 0 else 0.0
-    if nc + nl + nf == 0:
-        for k in range(K):
-            had[k] = 0.0
-        for k in range(lhad.shape[0]):
-            lhad[k] = 0.0
-        return OK
-    mc = 3 * nc + nl + nf
-    p = ws.data_pointer(big)
-    J, o = ws.carve(p, 0, (mc, m.nv))
-    G, o = ws.carve(p, o, (mc, mc))
-    Cs, o = ws.carve(p, o, (mc, mc))
-    g, o = ws.carve(p, o, (mc,))
-    lam, o = ws.carve(p, o, (mc,))
-    R, o = ws.carve(p, o, (mc,))
-    w = ws.carve(p, o, (SCRATCH_ROWS, max(mc, 6)))[0]
-    k_ = constraint_workspace(ws.data_pointer(cwork), m, mc)
-    for r in range(mc):
+    for s in range(links.shape[0]):
+        nc += int(w_.counts[s])
+    nc += detect_pairs(wa.pairs, wa.radii, w_.pairs, wa.kinds, wa.sizes, wa.vertices,
+                       wa.offsets, poses, params[MARGIN], params[PATCH], w_.twists,
+                       dt)  # K21a, K37, K39
+    nl = active_limits(wa.limits, q, v, vn, dt, params[MARGIN], w_.lrows)  # K26
+    return nc, nl
+
+
+@inline
+def _rows(m, w_, k_, nc, nl, J, lam, R, dt):
+    """The rows of J, each warm-started in ``lam`` from its slot's λ of the previous step
+    (K25): ``(t₁, t₂, n)`` per contact point with the ground, held in the ground frame
+    (K23); the pairs' (K37); ``±e_v`` per limit bound near which the step may go, ``λ >= 0``
+    (K26); ``e_k`` per friction loss, ``|λ| <= f dt`` (K30), the interval rows' bounds into
+    ``bounds``. ``R`` zeros. Whether any row starts from a previous λ."""
+    wa = w_.world
+    links, out, frame, prev, had = wa.links, w_.out, wa.frame, w_.prev, w_.had
+    lrows, bounds, lprev, lhad = w_.lrows, w_.bounds, w_.lprev, w_.lhad
+    shapes, nf, L = links.shape[0], wa.frictions.shape[0], 2 * wa.limits.shape[0]
+    for r in range(J.shape[0]):
         R[r] = 0.0
         for k in range(m.nv):
             J[r, k] = 0.0
     c = 0
     warm = False
-    for s in range(shapes):  # rows (t₁, t₂, n) of each contact point, held in the ground
-        for j in range(int(counts[s])):
+    for s in range(shapes):
+        for j in range(int(w_.counts[s])):
             r0 = 3 * c
             _add_columns(k_.Sw, m.parents, m.iv, m.link_joint[links[s]], 1.0, out[s, j], 3,
                          r0, J, k_.T[0], False)
@@ -361,61 +381,76 @@ def contact_velocity(m, world, q, v, vn, dt, work):
                 x, y, z = J[r0, k], J[r0 + 1, k], J[r0 + 2, k]
                 for i in range(3):
                     J[r0 + i, k] = frame[i, 0] * x + frame[i, 1] * y + frame[i, 2] * z
-            mu[c] = ground_friction(shape_mu, s, params[FRICTION])  # K38
+            w_.mu[c] = ground_friction(wa.shape_friction, s, wa.params[FRICTION])  # K38
             slot = C.MAX_CONTACTS * s + j
-            for i in range(3):  # warm start from the slot's λ of the previous step (K25)
+            for i in range(3):
                 lam[r0 + i] = prev[slot, i] if had[slot] != 0.0 else 0.0
             if had[slot] != 0.0:
                 warm = True
             c += 1
-    c, warm_pairs = pair_rows(pairs, shape_mu, ps, m, k_.Sw, links, J, mu, lam, prev, had, c,
-                              shapes)
+    c, warm_pairs = pair_rows(wa.pairs, wa.shape_friction, w_.pairs, m, k_.Sw, links, J,
+                              w_.mu, lam, prev, had, c, shapes)
     warm = warm or warm_pairs
-    for k in range(nl):  # a row ±e_v per bound near which the step may go (K26)
+    for k in range(nl):
         r, slot = 3 * nc + k, int(lrows[k, ROW_SLOT])
         J[r, int(lrows[k, ROW_V])] = lrows[k, ROW_SIGN]
         lam[r] = lprev[slot] if lhad[slot] != 0.0 else 0.0
         if lhad[slot] != 0.0:
             warm = True
-        bounds[k, 0], bounds[k, 1] = 0.0, math.inf  # λ >= 0 (K26)
-    for k in range(nf):  # a row e_k per friction loss, |λ| <= f dt (K30)
+        bounds[k, 0], bounds[k, 1] = 0.0, math.inf
+    for k in range(nf):
         r, slot = 3 * nc + nl + k, L + k
-        J[r, int(frictions[k, 0])] = 1.0
+        J[r, int(wa.frictions[k, 0])] = 1.0
         lam[r] = lprev[slot] if lhad[slot] != 0.0 else 0.0
         if lhad[slot] != 0.0:
             warm = True
-        bounds[nl + k, 0], bounds[nl + k, 1] = -dt * frictions[k, 1], dt * frictions[k, 1]
-    if w_.factored[0] == 0.0:  # the free velocity came from ABA: M's factors here
-        status = _factor(m, q, k_.H, work)
-        if status != OK:
-            return status
-    _delassus(m, J, k_, G)  # M⁻¹ Jᵀ in k_.MJt, G = J M⁻¹ Jᵀ
-    c = 0
-    for r in range(mc):  # g = J v_free, and the gap's term on the normal rows (K23)
+        bounds[nl + k, 0], bounds[nl + k, 1] = -dt * wa.frictions[k, 1], \
+            dt * wa.frictions[k, 1]
+    return warm
+
+
+@inline
+def _free_term(m, w_, nc, nl, J, g, R, vn, dt):
+    """``g = J v_free`` with the gap's term on the ground contacts' normal rows (K23), or a
+    compliant shape's spring and damper with its compliance in ``R`` (K41), the pairs' and
+    the limit rows' gap terms (K37, K26)."""
+    wa = w_.world
+    stabilization = wa.params[STABILIZATION]
+    for r in range(J.shape[0]):
         acc = 0.0
         for k in range(m.nv):
             acc += J[r, k] * vn[k]
         g[r] = acc
-    for s in range(shapes):  # K23, or a spring and damper's (K41)
-        for j in range(int(counts[s])):
-            term, R[3 * c + 2] = normal_row(out[s, j, 3], compliance[s, 0], compliance[s, 1],
-                                            params[STABILIZATION], dt)
+    c = 0
+    for s in range(wa.kinds.shape[0]):
+        for j in range(int(w_.counts[s])):
+            term, R[3 * c + 2] = normal_row(w_.out[s, j, 3], wa.compliance[s, 0],
+                                            wa.compliance[s, 1], stabilization, dt)
             g[3 * c + 2] += term
             c += 1
-    pair_gaps(pairs, ps, g, c, params[STABILIZATION], dt)
+    pair_gaps(wa.pairs, w_.pairs, g, c, stabilization, dt)
     for k in range(nl):
-        g[3 * nc + k] += _gap(lrows[k, ROW_GAP], params[STABILIZATION], dt)
+        g[3 * nc + k] += _gap(w_.lrows[k, ROW_GAP], stabilization, dt)
+
+
+@inline
+def _solve(w_, nc, nl, nf, warm, G, g, lam, R, Cs, w):
+    """λ by the solver ``params`` names first (from the warm start where ``warm`` and the
+    settings allow it, else from zero), then by the other from the first one's λ where the
+    first stops short (K18); the report of both into ``report``. A status:
+    ``CONTACT_UNSOLVED`` where neither converges and a residual exceeds ``accept``."""
+    params, settings, info, report = w_.world.params, w_.settings, w_.info, w_.report
     for i in range(ncp.SETTINGS):
         settings[i] = params[PARAMS + i]
     settings[ncp.WARM] = 1.0 if warm and params[WARM] != 0.0 else 0.0
     if settings[ncp.WARM] == 0.0:
-        for r in range(mc):
+        for r in range(lam.shape[0]):
             lam[r] = 0.0
-    muv, bv = mu[:nc], bounds[:nl + nf]
+    muv, bv = w_.mu[:nc], w_.bounds[:nl + nf]
     first = int(params[FIRST])
     solve_one(first, G, g, muv, bv, R, settings, lam, info, Cs, w)
     iterations = info[ncp.ITERATIONS]
-    if info[ncp.CONVERGED] == 0.0:  # the other solver from the first one's λ (K18)
+    if info[ncp.CONVERGED] == 0.0:
         settings[ncp.WARM] = 1.0
         solve_one(PGS if first == ADMM else ADMM, G, g, muv, bv, R, settings, lam, info, Cs,
                   w)
@@ -424,24 +459,35 @@ def contact_velocity(m, world, q, v, vn, dt, work):
         info[ncp.DUAL], info[ncp.COMPLEMENTARITY]
     if info[ncp.CONVERGED] == 0.0 and max(report[1], report[2], report[3]) > params[ACCEPT]:
         return fault(CONTACT_UNSOLVED, -1)
-    for i in range(m.nv):  # v⁺ = v_free + M⁻¹ Jᵀ λ (K24)
+    return OK
+
+
+@inline
+def _keep(m, w_, k_, nc, nl, nf, lam, vn, dt):
+    """``v⁺ = v_free + M⁻¹ Jᵀ λ`` into ``vn`` (K24); each row's λ kept in its slot for the
+    next step's warm start (K25), the contacts' forces in ``force``. A status:
+    ``NONFINITE_RESULT`` where v⁺ is not finite."""
+    wa = w_.world
+    had, lhad, lprev, lrows = w_.had, w_.lhad, w_.lprev, w_.lrows
+    for i in range(m.nv):
         acc = 0.0
-        for r in range(mc):
+        for r in range(lam.shape[0]):
             acc += k_.MJt[i, r] * lam[r]
         vn[i] += acc
-    for k in range(K):
+    for k in range(had.shape[0]):
         had[k] = 0.0
     c = 0
-    for s in range(shapes):
-        for j in range(int(counts[s])):
-            keep_slot(C.MAX_CONTACTS * s + j, lam, c, frame, dt, prev, had, force)
+    for s in range(wa.kinds.shape[0]):
+        for j in range(int(w_.counts[s])):
+            keep_slot(C.MAX_CONTACTS * s + j, lam, c, wa.frame, dt, w_.prev, had, w_.force)
             c += 1
-    keep_pairs(pairs, ps, lam, prev, had, force, c, shapes, dt)
+    keep_pairs(wa.pairs, w_.pairs, lam, w_.prev, had, w_.force, c, wa.kinds.shape[0], dt)
     for k in range(lhad.shape[0]):
         lhad[k] = 0.0
     for k in range(nl):
         slot = int(lrows[k, ROW_SLOT])
         lhad[slot], lprev[slot] = 1.0, lam[3 * nc + k]
+    L = 2 * wa.limits.shape[0]
     for k in range(nf):
         lhad[L + k], lprev[L + k] = 1.0, lam[3 * nc + nl + k]
     for i in range(m.nv):
