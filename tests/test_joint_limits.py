@@ -68,11 +68,11 @@ def test_cones_and_intervals_together_agree_between_solvers():
 
 
 def _steps(model, q, v, steps, **kw):
-    out = [(q, v, None)]
+    out = [(q, v, None, None)]
     for _ in range(steps):
         s = contact_step(model, None, q, v, np.zeros(model.nv), DT, NOWHERE, **kw)
         q, v = s.q, s.v
-        out.append((q, v, s.limit_torques))
+        out.append((q, v, s.limit_torques, s.friction_torques))
     return out
 
 
@@ -109,15 +109,28 @@ def test_a_slider_dropped_on_its_stop_never_gains_energy():
 def test_the_compiled_step_is_contact_step_with_limits(friction):
     """300 steps of the pendulum across its impact on the stop, without and with a friction
     loss: the compiled loop's q and v equal ``contact_step``'s to 1e-10 (forces from zero
-    each step, as ``contact_step``)."""
+    each step, as ``contact_step``), and so do the limit's and the friction's torques of
+    each step (``Trajectory.limit_torques``, ``friction_torques``: row k the step from state
+    k) to 1e-7 (λ / dt)."""
     model = _pendulum(friction)
     q0, v0 = np.array([0.2]), np.array([-1.0])  # up, then down onto the stop
     ref = _steps(model, q0, v0, 300)
     tr = cgadyn.simulate(model, q0, v0, DT, 300, integrator=SIE, world=NOWHERE,
                          contact=cgadyn.ContactSettings(warm_start=False))
     assert max(s[0][0] for s in ref) > UPPER - 1e-6  # the stop was reached
-    for k, (qk, vk, _) in enumerate(ref):
+    for k, (qk, vk, _, _) in enumerate(ref):
         assert np.abs(tr.q[k] - qk).max() < 1e-10 and np.abs(tr.v[k] - vk).max() < 1e-10
+    limit = np.array([s[2] for s in ref[1:]])
+    friction_torques = np.array([s[3] for s in ref[1:]])
+    assert np.abs(limit).max() > 1.0  # the stop acted
+    assert friction == 0.0 or np.abs(friction_torques).max() > 1.0
+    assert np.abs(tr.limit_torques[:300] - limit).max() < 1e-7
+    assert np.abs(tr.friction_torques[:300] - friction_torques).max() < 1e-7
+    for k in range(300):  # the step's momentum: M (v⁺ - v) / dt + h = τ_limit + τ_friction
+        M = cgadyn.crba(model, tr.q[k])
+        h = cgadyn.rnea(model, tr.q[k], tr.v[k], np.zeros(1))
+        joint = tr.limit_torques[k] + tr.friction_torques[k]
+        assert np.abs(M @ (tr.v[k + 1] - tr.v[k]) / DT + h - joint).max() < 1e-8
     off = cgadyn.simulate(model, q0, v0, DT, 300, integrator=SIE, world=NOWHERE,
                           joint_limits=False)
     assert off.q[:, 0].max() > UPPER + 0.1

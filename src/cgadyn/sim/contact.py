@@ -83,7 +83,7 @@ pairs' code)."""
 ContactScratch = namedtuple("ContactScratch", (
     "world", "poses", "out", "counts", "cand", "big", "mu", "info", "settings", "prev",
     "force", "had", "tmp8", "T", "count", "report", "cwork", "lrows", "bounds", "lprev",
-    "lhad", "twists", "bodies", "factored", "pairs"))
+    "lhad", "twists", "bodies", "factored", "pairs", "joint_torques"))
 """A rollout's contact scratch (``carve_scratch``) beside its ``WorldArrays`` (``world``):
 the shapes' poses, the contacts found (``out``, ``counts``), candidates, the problem's
 matrices (``big``), the cones' μ, the solver's info and settings, each slot's impulse of the
@@ -92,7 +92,10 @@ and the report of the step (``count``, ``report``), the constraint workspace, th
 limits' rows, the interval rows' bounds and previous impulses (``lprev``, ``lhad``), the
 shapes' link twists (K21a) and the joints' (``bodies``), ``factored`` (whether the
 workspace holds M's factors at this step's q; whether the last step had rows), the pairs'
-scratch (``sim.pairs.carve_pairs``; None without pairs)."""
+scratch (``sim.pairs.carve_pairs``; None without pairs), and ``joint_torques`` (2, nv): the
+generalised forces of the joint limits and of the friction losses in the last step (their
+impulses over dt, as ``contact.step.ContactStep``'s ``limit_torques`` and
+``friction_torques``)."""
 
 MARGIN, STABILIZATION, FRICTION, WARM, FIRST, ACCEPT, PATCH = range(7)
 PARAMS = 7
@@ -104,7 +107,8 @@ REPORT = 4
 complementarity]`` (zeros for a step without a contact problem)."""
 KEPT = 3
 """A kept row's first columns: the contacts' number, the solvers' iterations and the largest
-residual of the step (``_keep_contacts``); the slots' forces follow."""
+residual of the step (``_keep_contacts``); the slots' forces follow (3 K), then the joint
+limits' and the friction losses' generalised forces (2 nv, ``joint_torques``)."""
 
 
 def world_arrays(model, collisions, world, contact, joint_limits: bool = True,
@@ -159,7 +163,7 @@ def scratch_size(n, nq, nv, nl, shapes, limits, frictions):
             + m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6) + K + ncp.INFO
             + ncp.SETTINGS + 2 * K * 3 + K + 8 + 16 + 1 + REPORT
             + L * LIMIT_COLUMNS + 2 * (L + frictions) + 2 * (L + frictions)
-            + constraint_workspace_size(n, nq, nv, nl, m) + n * 12 + 2)
+            + constraint_workspace_size(n, nq, nv, nl, m) + n * 12 + 2 + 2 * nv)
 
 
 @serial
@@ -195,6 +199,7 @@ def carve_scratch(world, buf, n, nq, nv, nl):
     twists, o = ws.carve(p, o, (shapes, 2, 6))
     bodies, o = ws.carve(p, o, (n, 2, 6))
     factored, o = ws.carve(p, o, (2,))
+    joint_torques, o = ws.carve(p, o, (2, nv))
     ps = carve_pairs(world.pairs, p, o)
     for k in range(K):
         had[k] = 0.0
@@ -207,7 +212,7 @@ def carve_scratch(world, buf, n, nq, nv, nl):
     factored[0], factored[1] = 0.0, 1.0
     return ContactScratch(world, poses, out, counts, cand, big, mu, info, settings, prev,
                           force, had, tmp8, T, count, report, cwork, lrows, bounds, lprev,
-                          lhad, twists, bodies, factored, ps)
+                          lhad, twists, bodies, factored, ps, joint_torques)
 
 
 @serial
@@ -288,6 +293,9 @@ def contact_velocity(m, world, q, v, vn, dt, work):
     w_.count[0] = nc
     for i in range(REPORT):
         w_.report[i] = 0.0
+    for i in range(2):
+        for k in range(m.nv):
+            w_.joint_torques[i, k] = 0.0
     w_.factored[1] = 1.0 if nc + nl + nf > 0 else 0.0
     if nc + nl + nf == 0:
         for k in range(w_.had.shape[0]):
@@ -484,12 +492,14 @@ def _keep(m, w_, k_, nc, nl, nf, lam, vn, dt):
     keep_pairs(wa.pairs, w_.pairs, lam, w_.prev, had, w_.force, c, wa.kinds.shape[0], dt)
     for k in range(lhad.shape[0]):
         lhad[k] = 0.0
-    for k in range(nl):
+    for k in range(nl):  # τ_limit = Σ ±e_v λ / dt
         slot = int(lrows[k, ROW_SLOT])
         lhad[slot], lprev[slot] = 1.0, lam[3 * nc + k]
+        w_.joint_torques[0, int(lrows[k, ROW_V])] += lrows[k, ROW_SIGN] * lam[3 * nc + k] / dt
     L = 2 * wa.limits.shape[0]
-    for k in range(nf):
+    for k in range(nf):  # τ_friction = Σ e_k λ / dt
         lhad[L + k], lprev[L + k] = 1.0, lam[3 * nc + nl + k]
+        w_.joint_torques[1, int(wa.frictions[k, 0])] += lam[3 * nc + nl + k] / dt
     for i in range(m.nv):
         if not math.isfinite(vn[i]):
             return fault(NONFINITE_RESULT, -1)

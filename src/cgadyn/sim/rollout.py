@@ -273,17 +273,23 @@ def _world_size(world, n, nq, nv, nl):
 
 @serial
 def _keep_contacts(world, row):
-    """``row = [count, iterations, residual, the forces of the slots (K, 3)]`` of the last
-    contact step (``sim.contact.KEPT``); nothing without a world."""
+    """``row = [count, iterations, residual, the forces of the slots (K, 3), the limits' and
+    the friction losses' generalised forces (2, nv)]`` of the last contact step
+    (``sim.contact.KEPT``); nothing without a world."""
     if world is None:
         return
-    force, count, report = world.force, world.count, world.report
+    force, count, report, torques = world.force, world.count, world.report, \
+        world.joint_torques
     row[0] = count[0]
     row[1] = report[0]
     row[2] = max(report[1], report[2], report[3])
     for k in range(force.shape[0]):
         for i in range(3):
             row[KEPT + 3 * k + i] = force[k, i]
+    o = KEPT + 3 * force.shape[0]
+    for i in range(2):
+        for k in range(torques.shape[1]):
+            row[o + i * torques.shape[1] + k] = torques[i, k]
 
 
 @serial
@@ -399,8 +405,8 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, se
     compiles a loop without contact). Writes the kept states into ``Q``
     (B, rows, nq), ``V``, ``A`` (B, rows, nv), the constraints' record of each (``_record``)
     into ``X`` (B, rows, 3, nr), the contacts of each (``_keep_contacts``) into ``CF`` (B,
-    rows, KEPT + 3 K), a failed contact step's report into ``CR`` (B, REPORT), and per rollout the
-    steps ``completed`` and the ``status`` (0, or the fault that stopped it). The
+    rows, KEPT + 3 K + 2 nv), a failed contact step's report into ``CR`` (B, REPORT), and
+    per rollout the steps ``completed`` and the ``status`` (0, or the fault that stopped it). The
     acceleration at the last state takes the last open-loop torque. Each rollout fills its
     rows of the outputs with NaN first (``_unset``: they may come in unwritten, so that
     their pages are first touched by the thread that writes them, in parallel); a rollout

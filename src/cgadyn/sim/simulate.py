@@ -131,8 +131,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     singular (a loop through a singular pose, with ``damping`` 0) or have no solution.
     With constraints, the ``Trajectory`` also holds ``constraint_violation`` (the position
     and velocity error of each constraint at each state kept) and ``forces`` (λ). With a
-    world, ``contact_count``, ``contact_forces``, ``contact_iterations`` and
-    ``contact_residual`` (``Trajectory``).
+    world, ``contact_count``, ``contact_forces``, ``contact_iterations``,
+    ``contact_residual``, ``limit_torques`` and ``friction_torques`` (``Trajectory``).
     A run whose states would not fit in the memory available is refused before it starts,
     with what to reduce.
 
@@ -187,7 +187,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     # the contact slots: each shape's, then each pair's (sim.pairs)
     K = 0 if world is None else slots(len(shapes) + (0 if arrays.pairs is None
                                                      else len(arrays.pairs)))
-    _fits(model, B, steps, rows, p.nr, K)
+    _fits(model, B, steps, rows, p.nr, None if world is None else K)
     q0 = np.array(np.broadcast_to(q0, (B, model.nq)), order="C")  # own copies, C order:
     v0 = np.array(np.broadcast_to(v0, (B, model.nv)), order="C")  # one compiled signature
     _energy(model, q0, v0, gravity)  # finite states, unit quaternions: its ValueError
@@ -214,7 +214,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     status = np.zeros(B, dtype=np.int64)
     # without rows None: the loop compiled without the constraint core (rollout._dynamics)
     cons, solve = (np.array(p.array, dtype=float), settings) if p.nr else (None, None)
-    CF = np.empty(shape + (KEPT + 3 * K if world is not None else 0,))
+    CF = np.empty(shape + (KEPT + 3 * K + 2 * model.nv if world is not None else 0,))
     CR = np.full((B, REPORT), np.nan)
     with PARALLEL_LOCK:
         rollouts(step_model, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, q_ref, v_ref,
@@ -226,18 +226,21 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     diverged = status != 0
     last = np.array([_last_row(int(c), steps, every) if d else rows - 1
                      for c, d in zip(completed, diverged, strict=True)], dtype=np.int64)
-    count = forces = iterations = residual = None
+    count = forces = iterations = residual = limit = friction = None
     if world is not None:
         count = np.where(np.isnan(CF[..., 0]), -1, CF[..., 0]).astype(np.int64)
         iterations = np.where(np.isnan(CF[..., 1]), -1, CF[..., 1]).astype(np.int64)
         residual = CF[..., 2].copy()
-        forces = CF[..., KEPT:].reshape(shape + (K, 3))
+        forces = CF[..., KEPT:KEPT + 3 * K].reshape(shape + (K, 3))
+        limit = CF[..., KEPT + 3 * K:KEPT + 3 * K + model.nv]
+        friction = CF[..., KEPT + 3 * K + model.nv:]
     if not batch:
         end = int(last[0]) + 1
         Q, V, A, X, t = Q[0, :end], V[0, :end], A[0, :end], X[0, :end], t[:end].copy()
         if world is not None:
             count, forces = count[0, :end], forces[0, :end]
             iterations, residual = iterations[0, :end], residual[0, :end]
+            limit, friction = limit[0, :end], friction[0, :end]
         completed, diverged = int(completed[0]), bool(diverged[0])
         if diverged:
             t[-1] = completed * dt  # the last state it reached
@@ -248,6 +251,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
                       constraint_violation=_violation(X, p.starts), forces=X[..., 2, :],
                       contact_count=count, contact_forces=forces,
                       contact_iterations=iterations, contact_residual=residual,
+                      limit_torques=limit, friction_torques=friction,
                       scene=None if world is None else ContactScene(
                           model, shapes, world, contact, step_inertia))
 
@@ -346,12 +350,14 @@ def available_memory() -> int:
     return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
 
 
-def _fits(model, B: int, steps: int, rows: int, nr: int = 0, slots: int = 0) -> None:
+def _fits(model, B: int, steps: int, rows: int, nr: int = 0, slots: int | None = None) -> None:
     """Refuse, before anything is allocated, a run whose kept states (q, v, q̈, the two
-    energies, the ``nr`` constraint rows' errors and forces and the ``slots`` contacts'
-    count and forces of each) would take more than ``MEMORY_SHARE`` of the memory
-    available."""
-    per_row = 8 * (model.nq + 2 * model.nv + 2 + 3 * nr + 2 * nr + (2 + 6 * slots) * (slots > 0))
+    energies, the ``nr`` constraint rows' errors and forces and, with a world (``slots``
+    not None), the contacts' count, iterations and residual, the forces of its ``slots``
+    and the joint limits' and friction losses' torques of each) would take more than
+    ``MEMORY_SHARE`` of the memory available."""
+    world = 0 if slots is None else KEPT + 3 * slots + 2 * model.nv + 3
+    per_row = 8 * (model.nq + 2 * model.nv + 2 + 3 * nr + 2 * nr + world)
     need, have = B * rows * per_row, int(MEMORY_SHARE * available_memory())
     if need <= have:
         return

@@ -84,9 +84,14 @@ class Trajectory:
     the solvers' iterations in that step (both solvers' where the first stopped short; -1 in
     a row no state reached), and ``contact_residual``, the largest residual (K19) of the
     forces it kept: at most ``ContactSettings.tolerance`` where the solver converged, up to
-    ``accept`` where it stopped short (0 for a step without a contact problem). None
-    without a world. ``scene`` (a ``sim.criteria.ContactScene``: the model, collisions,
-    world and contact settings of the run) lets ``contacts(k)`` find the contacts of a kept
+    ``accept`` where it stopped short (0 for a step without a contact problem);
+    ``limit_torques`` and ``friction_torques`` (rows, nv) or (B, rows, nv), the generalised
+    forces of the joint limits and of the friction losses in that step (their impulses over
+    dt, K26, K30: zero where none acts, NaN in a row no state reached): in a
+    semi-implicit Euler step without springs or dampers, ``M (v⁺ - v) / dt = τ - h + Jᵀ f
+    + limit_torques + friction_torques``, f the contact forces. None without a world.
+    ``scene`` (a ``sim.criteria.ContactScene``: the model, collisions, world and contact
+    settings of the run) lets ``contacts(k)`` find the contacts of a kept
     state again, with their forces, and ``contact_criteria()`` compute the physical
     criteria of every step (docs/contact.md, K31-K34).
 
@@ -112,6 +117,8 @@ class Trajectory:
     contact_forces: np.ndarray | None = None
     contact_iterations: np.ndarray | None = None
     contact_residual: np.ndarray | None = None
+    limit_torques: np.ndarray | None = None
+    friction_torques: np.ndarray | None = None
     scene: object = None
 
     @property
