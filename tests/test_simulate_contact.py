@@ -152,3 +152,26 @@ def test_solo12_stands_for_five_seconds():
     assert np.all(tr.contact_forces[-1, others] == 0.0)
     weight = G * cgadyn.total_mass(model)
     assert tr.contact_forces[-1, :, 2].sum() == pytest.approx(weight, rel=1e-6)
+
+
+def test_solo12_held_by_its_base_stands_on_the_ground():
+    """A world and constraints in one rollout (docs/constraints.md, C14): solo12 on the
+    ground under joint PD, its base held where it starts by a point constraint. Over 1 s the
+    held point stays within 1e-6 m, the feet touch the ground, and at rest the ground and the
+    constraint together carry the weight (to 1e-6), with no net horizontal force. Without
+    the constraint the base sinks by millimetres."""
+    model, cm, q = solo12_on_the_ground()
+    hold = [cgadyn.Constraint(model, "point", "base_link", q=q, corrector=(100.0, 20.0))]
+    pd = cgadyn.PD(kp=20.0, kd=0.5, q_ref=q, gravity_compensation=False)
+    zero = np.zeros(model.nv)
+    tr = _sim(model, cm, q, zero, 1000, controller=pd, constraints=hold)
+    assert not tr.diverged, tr.message
+    assert tr.constraint_violation[:, 0, 0].max() < 1e-6
+    weight = G * cgadyn.total_mass(model)
+    ground = tr.contact_forces[-2, :, 2].sum()
+    assert ground > 0.05 * weight  # the feet carry part of it
+    assert ground + tr.forces[-2, 2] == pytest.approx(weight, rel=1e-6)
+    assert np.abs(tr.forces[-2, :2] + tr.contact_forces[-2, :, :2].sum(axis=0)).max() \
+        < 1e-6 * weight
+    free = _sim(model, cm, q, zero, 1000, controller=pd)
+    assert q[2] - free.q[-1, 2] > 1e-3

@@ -44,7 +44,7 @@ from ..algorithms.kinematics import link_motor
 from ..algorithms.ltdl import ltdl, ltdl_solve
 from ..algorithms.rnea import rnea_core
 from ..algorithms.status import CONTACT_UNSOLVED, NONFINITE_RESULT, OK, SINGULAR, fault
-from ..constraints.core import _add_columns, _delassus, _world_columns
+from ..constraints.core import _add_columns, _delassus, _world_columns, constraint_system
 from ..constraints.work.core import workspace as constraint_workspace
 from ..constraints.work.core import workspace_size as constraint_workspace_size
 from ..contact import manifold as C
@@ -152,29 +152,30 @@ def slots(shapes: int) -> int:
 
 
 @serial
-def scratch_size(n, nq, nv, nl, shapes, limits, frictions):
+def scratch_size(n, nq, nv, nl, shapes, limits, frictions, nr):
     """Floats of one rollout's contact scratch (``carve_scratch``) for ``shapes`` shapes,
-    ``limits`` joint limits (two bounds each) and ``frictions`` friction losses."""
+    ``limits`` joint limits (two bounds each), ``frictions`` friction losses and ``nr``
+    rows of bilateral constraints."""
     K = C.MAX_CONTACTS * shapes
     L = 2 * limits
-    m = 3 * K + L + frictions
+    m = 3 * K + L + frictions + nr
     return (shapes * 16 + shapes * C.MAX_CONTACTS * C.OUT + shapes
             + C.CANDIDATES * C.CANDIDATE_COLUMNS + shapes * 12
             + m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6) + K + ncp.INFO
             + ncp.SETTINGS + 2 * K * 3 + K + 8 + 16 + 1 + REPORT
-            + L * LIMIT_COLUMNS + 2 * (L + frictions) + 2 * (L + frictions)
+            + L * LIMIT_COLUMNS + 2 * (L + frictions + nr) + 2 * (L + frictions)
             + constraint_workspace_size(n, nq, nv, nl, m) + n * 12 + 2 + 2 * nv)
 
 
 @serial
-def carve_scratch(world, buf, n, nq, nv, nl):
+def carve_scratch(world, buf, n, nq, nv, nl, nr):
     """The world of ``world_arrays`` and a rollout's scratch carved from ``buf``
-    (``scratch_size``), as one tuple."""
+    (``scratch_size``, ``nr`` rows of bilateral constraints), as one tuple."""
     shapes = world.kinds.shape[0]
     K = C.MAX_CONTACTS * (shapes + pair_count(world.pairs))  # the pairs' slots after the shapes'
     L = 2 * world.limits.shape[0]
     F = world.frictions.shape[0]
-    m = 3 * K + L + F
+    m = 3 * K + L + F + nr
     p = ws.data_pointer(buf)
     poses, o = ws.carve(p, 0, (shapes, 4, 4))
     out, o = ws.carve(p, o, (shapes, C.MAX_CONTACTS, C.OUT))
@@ -193,7 +194,7 @@ def carve_scratch(world, buf, n, nq, nv, nl):
     report, o = ws.carve(p, o, (REPORT,))
     cwork, o = ws.carve(p, o, (constraint_workspace_size(n, nq, nv, nl, m),))
     lrows, o = ws.carve(p, o, (L, LIMIT_COLUMNS))
-    bounds, o = ws.carve(p, o, (L + F, 2))
+    bounds, o = ws.carve(p, o, (L + F + nr, 2))
     lprev, o = ws.carve(p, o, (L + F,))  # the limits' slots, then the friction rows'
     lhad, o = ws.carve(p, o, (L + F,))
     twists, o = ws.carve(p, o, (shapes, 2, 6))
@@ -276,12 +277,16 @@ def factored_dynamics(m, factored, cwork, q, v, tau, f, qdd, zero, work):
 
 
 @serial
-def contact_velocity(m, world, q, v, vn, dt, work):
+def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     """``vn``: ``v_free`` in, ``v⁺`` out (the module's docstring; K20-K25); the forces of
     the contacts into the slots of ``force`` (world frame, λ / dt; zero where none), their
     number into ``count``, the solvers' report into ``report``. A status:
     ``CONTACT_UNSOLVED`` where neither solver converges and a residual exceeds
-    ``accept``."""
+    ``accept``. With bilateral constraints (``con``, ``rollout._bind``'s; None for none),
+    their rows follow the others, unbounded, and hold ``J v⁺ = J v_free``: the free
+    velocity satisfies them (the constrained dynamics, C6-C7), and the impulses may not
+    break them (C14); their impulses over dt are added to the forces λ of the state in
+    ``sc.X``."""
     w_ = world
     k_ = constraint_workspace(ws.data_pointer(w_.cwork), m, 0)
     _world_columns(m, q, v, False, k_)  # the joints' world motors and Jacobian columns
@@ -303,7 +308,8 @@ def contact_velocity(m, world, q, v, vn, dt, work):
         for k in range(w_.lhad.shape[0]):
             w_.lhad[k] = 0.0
         return OK
-    mc = 3 * nc + nl + nf
+    nb = bilateral_count(con)
+    mc = 3 * nc + nl + nf + nb
     p = ws.data_pointer(w_.big)
     J, o = ws.carve(p, 0, (mc, m.nv))
     G, o = ws.carve(p, o, (mc, mc))
@@ -314,16 +320,64 @@ def contact_velocity(m, world, q, v, vn, dt, work):
     w = ws.carve(p, o, (SCRATCH_ROWS, max(mc, 6)))[0]
     k_ = constraint_workspace(ws.data_pointer(w_.cwork), m, mc)
     warm = _rows(m, w_, k_, nc, nl, J, lam, R, dt)
+    status = _bilateral(m, con, q, v, J, w_.bounds, lam, mc - nb, nl + nf, sc)
+    if status != OK:
+        return status
     if w_.factored[0] == 0.0:  # the free velocity came from ABA: M's factors here
         status = _factor(m, q, k_.H, work)
         if status != OK:
             return status
     _delassus(m, J, k_, G)  # M⁻¹ Jᵀ in k_.MJt, G = J M⁻¹ Jᵀ
     _free_term(m, w_, nc, nl, J, g, R, vn, dt)
-    status = _solve(w_, nc, nl, nf, warm, G, g, lam, R, Cs, w)
+    for r in range(mc - nb, mc):
+        g[r] = 0.0  # J v⁺ = J v_free on the bilateral rows (C14)
+    status = _solve(w_, nc, nl + nf + nb, warm, G, g, lam, R, Cs, w)
     if status != OK:
         return status
+    _keep_bilateral(con, lam, mc - nb, dt, sc)
     return _keep(m, w_, k_, nc, nl, nf, lam, vn, dt)
+
+
+@serial
+def bilateral_count(con):
+    """The rows of a rollout's bilateral constraints (``con``: ``rollout._bind``'s), 0 for
+    none (None: pruned, no constraint code compiled)."""
+    if con is None:
+        return 0
+    cons, settings, cwork = con
+    return int(cons[1])
+
+
+@serial
+def _bilateral(m, con, q, v, J, bounds, lam, r0, b0, sc):
+    """Rows ``r0..`` of J: the constraints' Jacobian at q (C1, C2), unbounded (``bounds``
+    from ``b0``), their λ from zero. A status: ``NONFINITE_RESULT`` where J is not finite.
+    Nothing without constraints (``con`` None)."""
+    if con is None:
+        return OK
+    cons, settings, cwork = con
+    nr = int(cons[1])
+    k_ = constraint_workspace(ws.data_pointer(cwork), m, nr)
+    Jc = ws.carve(ws.data_pointer(J), r0 * m.nv, (nr, m.nv))[0]
+    constraint_system(m, cons, q, v, False, Jc, sc.gam, k_)
+    for r in range(nr):
+        lam[r0 + r] = 0.0
+        bounds[b0 + r, 0], bounds[b0 + r, 1] = -math.inf, math.inf
+        for k in range(m.nv):
+            if not math.isfinite(Jc[r, k]):
+                return fault(NONFINITE_RESULT, -1)
+    return OK
+
+
+@serial
+def _keep_bilateral(con, lam, r0, dt, sc):
+    """The bilateral rows' impulses over dt added to the state's constraint forces λ
+    (``sc.X[2]``, written by ``rollout._record``); nothing without constraints."""
+    if con is None:
+        return
+    cons, settings, cwork = con
+    for r in range(int(cons[1])):
+        sc.X[2, r] += lam[r0 + r] / dt
 
 
 @inline
@@ -442,10 +496,11 @@ def _free_term(m, w_, nc, nl, J, g, R, vn, dt):
 
 
 @inline
-def _solve(w_, nc, nl, nf, warm, G, g, lam, R, Cs, w):
+def _solve(w_, nc, ni, warm, G, g, lam, R, Cs, w):
     """λ by the solver ``params`` names first (from the warm start where ``warm`` and the
     settings allow it, else from zero), then by the other from the first one's λ where the
-    first stops short (K18); the report of both into ``report``. A status:
+    first stops short (K18); the report of both into ``report``; ``ni`` interval rows
+    after the cones' (``bounds``). A status:
     ``CONTACT_UNSOLVED`` where neither converges and a residual exceeds ``accept``."""
     params, settings, info, report = w_.world.params, w_.settings, w_.info, w_.report
     for i in range(ncp.SETTINGS):
@@ -454,7 +509,7 @@ def _solve(w_, nc, nl, nf, warm, G, g, lam, R, Cs, w):
     if settings[ncp.WARM] == 0.0:
         for r in range(lam.shape[0]):
             lam[r] = 0.0
-    muv, bv = w_.mu[:nc], w_.bounds[:nl + nf]
+    muv, bv = w_.mu[:nc], w_.bounds[:ni]
     first = int(params[FIRST])
     solve_one(first, G, g, muv, bv, R, settings, lam, info, Cs, w)
     iterations = info[ncp.ITERATIONS]

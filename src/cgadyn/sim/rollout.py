@@ -174,16 +174,33 @@ def _dynamics(m, q, v, tau, f, con, fac, qdd, sc, work):
     settings, cwork)``: ``constraints.core``'s pack and settings, its workspace) the
     constrained dynamics ``M q̈ = τ - h + Jᵀ λ``, ``J q̈ = -γ`` (C6, C7), λ in ``sc.lam``. A
     status: ``CONSTRAINTS_CONFLICT`` at the worst row where the proximal solve ends with no
-    solution. With a world (never with constraints; ``fac`` its ``factored`` flags and
+    solution. With a world and no constraints (``fac`` its ``factored`` flags and
     constraint workspace, ``_factors``), ``M⁻¹ (τ - h)`` from the factors of M that its
-    contact step then reuses (``sim.contact.factored_dynamics``). Compiled apart from its
+    contact step then reuses (``sim.contact.factored_dynamics``); with both, the constrained
+    dynamics, M left for the contact step to factor (C14). Compiled apart from its
     callers, for ``con`` and ``fac`` None or not: numba removes the branch of the other, so
     a rollout without constraints never compiles their core."""
     if fac is not None:
-        factored, cwork = fac
-        return factored_dynamics(m, factored, cwork, q, v, tau, f, qdd, sc.zero, work)
+        return _world_dynamics(m, q, v, tau, f, con, fac, qdd, sc, work)
     if con is None:
         return aba_core(m, q, v, tau, f, qdd, work)
+    return _constrained(m, q, v, tau, f, con, qdd, sc, work)
+
+
+@serial
+def _world_dynamics(m, q, v, tau, f, con, fac, qdd, sc, work):
+    """``_dynamics`` with a world: from M's factors without constraints (``con`` None),
+    else the constrained dynamics, M left for the contact step to factor (C14)."""
+    factored, cwork = fac
+    if con is None:
+        return factored_dynamics(m, factored, cwork, q, v, tau, f, qdd, sc.zero, work)
+    factored[0] = 0.0
+    return _constrained(m, q, v, tau, f, con, qdd, sc, work)
+
+
+@serial
+def _constrained(m, q, v, tau, f, con, qdd, sc, work):
+    """The constrained dynamics of ``_dynamics`` (C6, C7), λ in ``sc.lam``."""
     cons, settings, cwork = con
     status = constraint_core(m, cons, q, v, tau, settings, FORWARD, sc.J, sc.gam, sc.G, qdd,
                              sc.lam, sc.info, cwork, f)
@@ -233,22 +250,22 @@ def _bind(cons, settings, cwork):
 
 
 @serial
-def _contact(m, world, q, v, a, dt, vn, work):
+def _contact(m, world, q, v, a, dt, vn, work, con, sc):
     """``vn = v + dt a``, then the contact impulses of ``world`` on it (``sim.contact``);
     nothing without a world (``world`` None: pruned, no contact code compiled)."""
     if world is None:
         return OK
     for k in range(m.nv):
         vn[k] = v[k] + dt * a[k]
-    return contact_velocity(m, world, q, v, vn, dt, work)
+    return contact_velocity(m, world, q, v, vn, dt, work, con, sc)
 
 
 @serial
-def _bind_world(world, buf, n, nq, nv, nl):
+def _bind_world(world, buf, n, nq, nv, nl, nr):
     """None without a world, else it and this rollout's scratch (``carve_scratch``)."""
     if world is None:
         return None
-    return carve_scratch(world, buf, n, nq, nv, nl)
+    return carve_scratch(world, buf, n, nq, nv, nl, nr)
 
 
 @serial
@@ -262,12 +279,12 @@ def _factors(world):
 
 
 @serial
-def _world_size(world, n, nq, nv, nl):
+def _world_size(world, n, nq, nv, nl, nr):
     """Floats of a rollout's contact scratch; 0 without a world."""
     if world is None:
         return 0
     return scratch_size(n, nq, nv, nl, world.kinds.shape[0] + pair_count(world.pairs),
-                        world.limits.shape[0], world.frictions.shape[0]) \
+                        world.limits.shape[0], world.frictions.shape[0], nr) \
         + pair_scratch_size(world.pairs)
 
 
@@ -350,7 +367,7 @@ def step(m, method, q, v, u, f, ctrl, con, world, fac, dt, qn, vn, a, sc, work):
     elif method == SEMI_IMPLICIT_EULER:
         for k in range(m.nv):
             vn[k] = v[k] + dt * a[k]
-        status = _contact(m, world, q, v, a, dt, vn, work)
+        status = _contact(m, world, q, v, a, dt, vn, work, con, sc)
         if status != OK:
             return status
         for k in range(m.nv):
@@ -417,7 +434,7 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, se
     nr = _rows_of(cons)
     size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
     csize = heap_size(m.n, m.nq, m.nv, m.nl, nr)
-    wsize = _world_size(world, m.n, m.nq, m.nv, m.nl)
+    wsize = _world_size(world, m.n, m.nq, m.nv, m.nl, _rows_of(cons))
     for b in prange(q0.shape[0]):
         # the buffers are arguments of the call that carves them: alive while it runs; b as
         # int64, the type the loop's first typing gives it (else _rollout compiles twice)
@@ -441,7 +458,7 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
     work, o = ws.carve(ws.data_pointer(heap), 0, (shared,))  # bare: no reference counts
     cwork = ws.carve(ws.data_pointer(heap), o, (heap.shape[0] - shared,))[0]
     con = _bind(cons, settings, cwork)
-    wd = _bind_world(world, wbuf, mb.n, mb.nq, mb.nv, mb.nl)
+    wd = _bind_world(world, wbuf, mb.n, mb.nq, mb.nv, mb.nl, nr)
     fac = _factors(wd)
     sc = workspace(ws.data_pointer(buf), mb, nr)
     for k in range(mb.nv):
@@ -493,7 +510,7 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
         r = kept_row(steps, steps, every)
         _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
         if s == OK:  # the contacts at the last state: those of one more step from it
-            _contact(mb, wd, q, v, a, dt, vn, work)
+            _contact(mb, wd, q, v, a, dt, vn, work, con, sc)
             _keep_contacts(wd, CFb[r])
     elif kept_row(done, steps, every) < 0:
         r = stop_row(done, every)

@@ -154,7 +154,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
         raise ValueError(f"integrator must be one of {', '.join(map(repr, INTEGRATORS))}, "
                          f"got {integrator!r}")
     every = _every(record_every, final_only, steps)
-    shapes = _contact_world(model, world, collisions, integrator, constraints)
+    shapes = _contact_world(model, world, collisions, integrator)
     contact = _contact_settings(contact, world)
     for name, flag in (("joint_limits", joint_limits), ("friction_loss", friction_loss)):
         if flag is not None and not isinstance(flag, bool):
@@ -266,10 +266,9 @@ def _contact_settings(contact, world):
     return checked_settings(contact, "simulate")
 
 
-def _contact_world(model, world, collisions, integrator: str, constraints):
+def _contact_world(model, world, collisions, integrator: str):
     """The collision model of a rollout with ``world`` (None without), checked: a world
-    needs semi-implicit Euler, ``collisions`` unless it has no ground, and takes no
-    ``constraints`` yet."""
+    needs semi-implicit Euler and ``collisions`` unless it has no ground."""
     from ..contact.inputs import checked_collisions, checked_world
 
     if world is None:
@@ -282,9 +281,6 @@ def _contact_world(model, world, collisions, integrator: str, constraints):
         raise ValueError(f"simulate: contact with a world steps with "
                          f"integrator='semi_implicit_euler' (the contact step, K24), got "
                          f"integrator={integrator!r}")
-    if constraints:
-        raise ValueError("simulate: a world with constraints is not supported yet; pass "
-                         "one or the other")
     return checked_collisions(model, collisions, world, "simulate")
 
 
