@@ -4,8 +4,9 @@ complementarity (K28) and PGS's step on it (K29) (``docs/contact.md``, "Joint li
 
 A joint limit's row has the set ``ℝ₊ = [0, ∞)`` (K26); a joint's friction loss, the box
 ``[-f, f]``; a bilateral constraint's in a rollout with contact, the line ``ℝ`` (C14). All
-are intervals, so one projection and one residual serve them all: the condition on a row is ``-σ ∈ N_[lo, hi](λ)``, the interval's normal cone, which for
-``ℝ₊`` is the complementarity ``0 <= λ ⊥ σ >= 0`` of a contact's normal.
+are intervals, so one projection and one residual serve them all: the condition on a row
+is ``-σ ∈ N_[lo, hi](λ)``, the interval's normal cone, which for ``ℝ₊`` is the
+complementarity ``0 <= λ ⊥ σ >= 0`` of a contact's normal.
 """
 
 from __future__ import annotations
