@@ -508,9 +508,10 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
                                      sc, work)
         _record(mb, con, s, sc)
         r = kept_row(steps, steps, every)
+        if s == OK:  # the contacts at the last state: those of one more step from it (and
+            _contact(mb, wd, q, v, a, dt, vn, work, con, sc)  # the constraints' share, C14)
         _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
-        if s == OK:  # the contacts at the last state: those of one more step from it
-            _contact(mb, wd, q, v, a, dt, vn, work, con, sc)
+        if s == OK:
             _keep_contacts(wd, CFb[r])
     elif kept_row(done, steps, every) < 0:
         r = stop_row(done, every)
