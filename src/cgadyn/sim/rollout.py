@@ -434,7 +434,7 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, se
     nr = _rows_of(cons)
     size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
     csize = heap_size(m.n, m.nq, m.nv, m.nl, nr)
-    wsize = _world_size(world, m.n, m.nq, m.nv, m.nl, _rows_of(cons))
+    wsize = _world_size(world, m.n, m.nq, m.nv, m.nl, nr)
     for b in prange(q0.shape[0]):
         # the buffers are arguments of the call that carves them: alive while it runs; b as
         # int64, the type the loop's first typing gives it (else _rollout compiles twice)
