@@ -4,10 +4,11 @@ sample in one call (``docs/constraints.md``).
 
 A list of constraints reaches compiled code as one float array (``pack``): a header
 ``[nc, nr]`` (constraints, rows), then ``ROW`` floats per constraint: its kind (0 a point,
-1 a frame), link, other link (-1 the world), frame (0 ``"local"``, 1
-``"local_world_aligned"``), the corrector's ``Kp, Kd`` and the motors ``P₁, P₂`` of its two
-frames (``P₂`` in the world for a world anchor). Twists here are Pinocchio's ``[v, ω]`` at
-the world origin, as in the docs.
+1 a frame), the joints that carry its two frames (-1 the world, or a link fixed in it), frame
+(0 ``"local"``, 1 ``"local_world_aligned"``), the corrector's ``Kp, Kd`` and the motors
+``P₁, P₂`` of its two frames in those joints' frames (the link's placement and the
+constraint's in it, composed when packed; in the world for -1). Twists here are
+Pinocchio's ``[v, ω]`` at the world origin, as in the docs.
 
 ``constraint_core`` runs one ``mode``: ``SYSTEM`` (J, and γ with ``v``), ``DELASSUS``
 (``G + μ I``), ``FORWARD`` (q̈, λ; C6-C8) or ``IMPULSE`` (v⁺, Λ; C9). ``settings`` holds
@@ -28,7 +29,7 @@ from .._views import data_pointer
 from ..algorithms._checks import check_configuration
 from ..algorithms._pointers import SIGNATURE, packed_array
 from ..algorithms._workspace import STACK_FLOATS, chunks, stack_buffer
-from ..algorithms.kinematics import link_motor, world_motors
+from ..algorithms.kinematics import world_motors
 from ..algorithms.ltdl import ltdl_solve_rows
 from ..algorithms.minverse import move_axes_inertias
 from ..algorithms.status import DELASSUS_SINGULAR, NONFINITE_RESULT, OK, SINGULAR, at_sample, fault
@@ -50,7 +51,7 @@ from .work.core import workspace, workspace_size
 
 HEAD, ROW = 2, 22
 """The pack's header ``[nc, nr]`` and the floats per constraint."""
-KIND, LINK, OTHER, FRAME, KP, KD, P1, P2 = 0, 1, 2, 3, 4, 5, 6, 14
+KIND, BODY1, BODY2, FRAME, KP, KD, P1, P2 = 0, 1, 2, 3, 4, 5, 6, 14
 """Offsets within a constraint's floats."""
 SYSTEM, DRIFT, DELASSUS, FORWARD, IMPULSE = range(5)
 """Modes: J; J and γ; G + μI; constrained dynamics; impulse dynamics."""
@@ -155,20 +156,21 @@ def _world_columns(m, q, v, drift, k_):
 
 
 @inline
-def _end(m, cons, o, which, k_):
-    """End ``which`` (0, 1) of the constraint at ``o``: its motor ``E[which]``, matrix
-    ``T[which]`` and body (the joint carrying it, -1 for the world)."""
+def _end(m, cons, o, which, fixed, k_):
+    """End ``which`` (0, 1) of the constraint at ``o``: its motor ``E[which]`` (``M^w_j P``,
+    P in the frame of the joint j that carries it), matrix ``T[which]`` and body j (-1 for
+    the world; its motor and matrix only with ``fixed``: the rows' wrenches and J never
+    read a fixed end's, the drift does)."""
     E = k_.E
-    link = int(cons[o + (LINK if which == 0 else OTHER)])
+    body = int(cons[o + (BODY1 if which == 0 else BODY2)])
     at = o + (P1 if which == 0 else P2)
-    if link < 0:
+    if body < 0:
+        if not fixed:
+            return body
         for i in range(8):
             E[which, i] = cons[at + i]
-        body = -1
     else:
-        link_motor(m, k_.Mw, link, k_.tmp8)  # M^w_link
-        motor_mul(k_.tmp8, cons[at:at + 8], E[which])  # M^w_link P
-        body = m.link_joint[link]
+        motor_mul(k_.Mw[body], cons[at:at + 8], E[which])  # M^w_j P
     motor_matrix(E[which], k_.T[which])
     return body
 
@@ -304,12 +306,13 @@ def _row_wrenches(cons, o, b1, b2, r0, size, k_):
     world's otherwise) at each end's point (both at frame 1's origin for a frame), then a
     torque for a frame's last three. The ends' matrices are in ``k_.T``."""
     R, local = k_.T[0], cons[o + FRAME] == 0.0
+    ends = 1 if b2 < 0 else 2  # the world takes no wrench
     for i in range(size):
         a = i % 3
         e1 = R[0, a] if local else (1.0 if a == 0 else 0.0)
         e2 = R[1, a] if local else (1.0 if a == 1 else 0.0)
         e3 = R[2, a] if local else (1.0 if a == 2 else 0.0)
-        for end in range(2):
+        for end in range(ends):
             p = k_.T[end if size == 3 else 0, :3, 3]
             row_wrench(p, e1, e2, e3, i < 3, k_.W[end, r0 + i])
         k_.rb[0, r0 + i] = b1
@@ -327,8 +330,8 @@ def constraint_wrenches(m, cons, drift, g, k_):
     for c in range(int(cons[0])):
         o = HEAD + ROW * c
         size = 3 if cons[o + KIND] == 0.0 else 6
-        b1 = _end(m, cons, o, 0, k_)
-        b2 = _end(m, cons, o, 1, k_)
+        b1 = _end(m, cons, o, 0, True, k_)
+        b2 = _end(m, cons, o, 1, drift, k_)
         _row_wrenches(cons, o, b1, b2, r0, size, k_)
         if drift:
             for i in range(size):
@@ -363,8 +366,8 @@ def constraint_system(m, cons, q, v, drift, J, g, k_):
     for c in range(nc):
         o = HEAD + ROW * c
         size = 3 if cons[o + KIND] == 0.0 else 6
-        b1 = _end(m, cons, o, 0, k_)
-        b2 = _end(m, cons, o, 1, k_)
+        b1 = _end(m, cons, o, 0, True, k_)
+        b2 = _end(m, cons, o, 1, drift, k_)
         p1 = k_.T[0, :3, 3]
         p2 = k_.T[1, :3, 3] if size == 3 else p1
         local = cons[o + FRAME] == 0.0

@@ -17,10 +17,21 @@ from ..algorithms.api import rnea
 from .calls import DYNAMICS_GROUP, fast, run
 from .core import FORWARD, IMPULSE, SYSTEM
 from .model import pack
-from .operators import checked_settings, states, zeros_like_v
+from .operators import (
+    ACCURACY,
+    NO_DAMPING,
+    NO_RESTITUTION,
+    PLAIN,
+    checked_settings,
+    states,
+    zeros_like_v,
+)
 from .solve import solve_info
 
 G0 = _inputs.DEFAULT_GRAVITY
+DEFAULT = checked_settings(NO_DAMPING, None, ACCURACY, NO_RESTITUTION)
+"""The settings of a call with the defaults (``operators.NO_DAMPING``)."""
+
 
 def _finish(p, out, return_info):
     """``(x, λ)`` or ``(x, λ, info)`` from the core's outputs; a set with no solution is an
@@ -35,8 +46,8 @@ def _finish(p, out, return_info):
     return (x, lam, i) if return_info else (x, lam)
 
 
-def constrained_dynamics(model, q, v, tau, constraints, damping=0.0, iterations=None,
-                         accuracy=1e-12, return_info=False, gravity=G0):
+def constrained_dynamics(model, q, v, tau, constraints, damping=NO_DAMPING, iterations=None,
+                         accuracy=ACCURACY, return_info=False, gravity=G0):
     """``q̈, forces`` of ``M q̈ = τ - h + Jᵀ λ``, ``J q̈ = -γ`` (C6); Pinocchio's
     ``constraintDynamics``.
 
@@ -50,7 +61,8 @@ def constrained_dynamics(model, q, v, tau, constraints, damping=0.0, iterations=
     ``q`` (nq,) or (B, nq), ``v``, ``tau`` (nv,) or (B, nv).
     """
     p = pack(model, constraints)
-    s = checked_settings(damping, iterations, accuracy)
+    s = DEFAULT if damping is NO_DAMPING and iterations is None and accuracy is ACCURACY \
+        else checked_settings(damping, iterations, accuracy)
     if DYNAMICS_GROUP in p.slots and gravity is G0:  # the fast path: one canonical sample
         r = fast(p.slots[DYNAMICS_GROUP], model.packed, p.array, q, v, tau, s, FORWARD)
         if type(r) is tuple:
@@ -59,13 +71,15 @@ def constrained_dynamics(model, q, v, tau, constraints, damping=0.0, iterations=
     return _finish(p, run(model, p, FORWARD, q, v, tau, s, gravity), return_info)
 
 
-def impulse_dynamics(model, q, v, constraints, restitution=0.0, damping=0.0, iterations=None,
-                     accuracy=1e-12, return_info=False):
+def impulse_dynamics(model, q, v, constraints, restitution=NO_RESTITUTION, damping=NO_DAMPING,
+                     iterations=None, accuracy=ACCURACY, return_info=False):
     """``v⁺, impulses`` of an impact (C9): ``M (v⁺ - v) = Jᵀ Λ`` with ``J v⁺ = -e J v``;
     Pinocchio's ``impulseDynamics``. ``restitution`` e in [0, 1]; ``damping``,
     ``iterations``, ``accuracy`` and ``return_info`` as in ``constrained_dynamics``."""
     p = pack(model, constraints)
-    s = checked_settings(damping, iterations, accuracy, restitution)
+    s = DEFAULT if (damping is NO_DAMPING and iterations is None and accuracy is ACCURACY
+                    and restitution is NO_RESTITUTION) \
+        else checked_settings(damping, iterations, accuracy, restitution)
     if DYNAMICS_GROUP in p.slots:  # the fast path: one canonical sample
         r = fast(p.slots[DYNAMICS_GROUP], model.packed, p.array, q, v, v, s, IMPULSE)
         if type(r) is tuple:
@@ -84,7 +98,7 @@ def contact_inverse_dynamics(model, q, v, a, constraints, gravity=G0):
     q, v, a = states(model, (q, v, a), ("q", "v", "a"))
     free = ~np.asarray(model.actuated, dtype=bool)
     z = zeros_like_v(model, q)
-    Js = run(model, p, SYSTEM, q, z, z, checked_settings(0.0))[0]
+    Js = run(model, p, SYSTEM, q, z, z, PLAIN)[0]
     taus = rnea(model, q, v, a, gravity)
 
     def one(J, tau):

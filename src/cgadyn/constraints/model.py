@@ -54,6 +54,13 @@ def _placement(value, name: str) -> np.ndarray:
     return T.copy()
 
 
+def _joint_frame(model, link: int, P: np.ndarray) -> tuple[int, np.ndarray]:
+    """The joint that carries the frame ``P`` of ``link`` (-1 where the link is fixed in the
+    world), and that frame in the joint's frame (in the world for -1): what compiled code
+    moves by the joint's world motor (``constraints/core.py``), one motor product per end."""
+    return int(model.link_joint[link]), model.link_placement_matrices[link] @ P
+
+
 def _gain(value, name: str) -> float:
     try:
         x = float(value)
@@ -136,9 +143,11 @@ class Constraint:
             object.__setattr__(self, name, value)
         P1.flags.writeable = False
         P2.flags.writeable = False
-        row = np.concatenate([[0.0 if kind == "point" else 1.0, i, -1 if j is None else j,
+        b1, F1 = _joint_frame(model, i, P1)
+        b2, F2 = (-1, P2) if j is None else _joint_frame(model, j, P2)
+        row = np.concatenate([[0.0 if kind == "point" else 1.0, b1, b2,
                                FRAMES.index(frame), *self.corrector],
-                              motor_from_matrix(P1), motor_from_matrix(P2)])
+                              motor_from_matrix(F1), motor_from_matrix(F2)])
         row.flags.writeable = False
         object.__setattr__(self, "row", row)  # its floats in a pack (constraints/core.py)
 

@@ -73,18 +73,21 @@ def checked_settings(damping, iterations=1, accuracy=0.0, restitution=0.0) -> np
     return found
 
 
+NO_DAMPING, NO_RESTITUTION, ACCURACY = 0.0, 0.0, 1e-12
+"""The defaults of the public functions' ``damping``, ``restitution`` and ``accuracy``: an
+argument that *is* its default object skips ``checked_settings`` (a call's own cost)."""
 def constraint_jacobian(model, q, constraints) -> np.ndarray:
     """The constraint Jacobian ``J`` (m, nv), or (B, m, nv): C1 rows for a point, C2 for a
     frame, in constraint order; Pinocchio's ``getConstraintsJacobian``."""
     p = pack(model, constraints)
     if SYSTEM_GROUP in p.slots:  # the fast path: the C entry takes one canonical sample
         r = fast(p.slots[SYSTEM_GROUP], model.packed, p.array, q, p.zero, p.zero,
-                 checked_settings(0.0), SYSTEM)
+                 PLAIN, SYSTEM)
         if type(r) is tuple:
             return r[0]
     (q,) = states(model, (q,), ("q",))
     z = zeros_like_v(model, q)
-    return run(model, p, SYSTEM, q, z, z, checked_settings(0.0))[0]
+    return run(model, p, SYSTEM, q, z, z, PLAIN)[0]
 
 
 def constraint_drift(model, q, v, constraints) -> np.ndarray:
@@ -93,12 +96,12 @@ def constraint_drift(model, q, v, constraints) -> np.ndarray:
     motion has ``J q̈ + γ = 0`` (C6), Pinocchio's convention."""
     p = pack(model, constraints)
     if SYSTEM_GROUP in p.slots:  # the fast path, as constraint_jacobian's
-        r = fast(p.slots[SYSTEM_GROUP], model.packed, p.array, q, v, v, checked_settings(0.0),
+        r = fast(p.slots[SYSTEM_GROUP], model.packed, p.array, q, v, v, PLAIN,
                  DRIFT)
         if type(r) is tuple:
             return r[1]
     q, v = states(model, (q, v), ("q", "v"))
-    return run(model, p, DRIFT, q, v, v, checked_settings(0.0))[1]
+    return run(model, p, DRIFT, q, v, v, PLAIN)[1]
 
 
 def damping_value(damping) -> float:
@@ -111,13 +114,17 @@ def damping_value(damping) -> float:
     return mu
 
 
-def delassus(model, q, constraints, damping=0.0) -> np.ndarray:
+PLAIN = checked_settings(NO_DAMPING)
+"""The settings of a call with the defaults: no damping, one solve."""
+
+
+def delassus(model, q, constraints, damping=NO_DAMPING) -> np.ndarray:
     """The Delassus matrix ``G + damping·I`` (m, m) or (B, m, m), ``G = J M⁻¹ Jᵀ`` (C7), in
     the constraints' frames. Pinocchio 4.1's ``computeDelassusMatrix`` at ``mu = 0`` gives G
     for constraints anchored to the world, in their local frames (docs/constraints.md); its
     ``mu`` is not a shift of the diagonal."""
     p = pack(model, constraints)
-    s = checked_settings(damping)
+    s = PLAIN if damping is NO_DAMPING else checked_settings(damping)
     if DELASSUS_GROUP in p.slots:  # the fast path: the C entry takes one canonical sample
         G = fast(p.slots[DELASSUS_GROUP], model.packed, p.array, q, p.zero, p.zero, s,
                  DELASSUS)
