@@ -43,7 +43,9 @@ from ..kernels import (
     inertia_apply,
     twist_cross,
     twist_cross_wrench,
+    twist_sandwich_rev,
     wrench_adjoint,
+    wrench_sandwich,
 )
 from ..kernels.lane_arrays import positive
 from ..kernels.layout import coefficients, store_bivector
@@ -51,11 +53,11 @@ from ..multibody.joints import free_root
 
 
 @inline
-def articulated_inertias(m, k_, sweeps):
+def articulated_inertias(m, k_):
     """M1 and Î_λ's update (M2) for every joint, leaves first: ``U``, ``Gd``, ``Dinv`` per
     coordinate; -1, or the first joint whose D_j is not positive definite. A free-flyer
-    root without rotor inertia also gets the Cholesky factor of its Î_j, in place
-    (``k_.fr[j]`` 1; C12'), and its U, Gd, Dinv only with ``sweeps`` (for C13)."""
+    root without rotor inertia gets the Cholesky factor of its Î_j instead, in place
+    (``k_.fr[j]`` 1), which C12' and C13' read."""
     Ih, Sa, U, Gd, Dinv, D, Dj, It = k_.Ih, k_.Sa, k_.U, k_.Gd, k_.Dinv, k_.Dm, k_.Dj, k_.It
     for j in range(m.n - 1, -1, -1):
         k0, k1 = m.iv[j], m.iv[j + 1]
@@ -66,10 +68,9 @@ def articulated_inertias(m, k_, sweeps):
                 rotors += abs(m.armature[k])
             if rotors == 0.0:
                 k_.fr[j] = 1.0
-                if not sweeps:
-                    if not _cholesky6(Ih[j]):
-                        return j
-                    continue
+                if not _cholesky6(Ih[j]):
+                    return j
+                continue
         for k in range(k0, k1):
             inertia_apply(Ih[j], Sa[k], U[k])  # U_j = Î_j[S_j] (M1)
         if k1 - k0 == 1:
@@ -96,14 +97,14 @@ def articulated_inertias(m, k_, sweeps):
                         Gd[a, i] += w * U[b, i]  # D_j⁻¹ U_j
         p = m.parents[j]
         if p < 0:
-            if k_.fr[j] != 0.0 and not _cholesky6(Ih[j]):
-                return j
             continue
-        if k1 - k0 == 1:  # Î_λ += Î_j - U_j D_j⁻¹ U_jᵀ (M2)
+        if k1 - k0 == 1:  # Î_λ += Î_j - U_j D_j⁻¹ U_jᵀ (M2), symmetric: the lower half
             for i in range(6):
                 w = U[k0, i]
-                for k in range(6):
-                    Ih[p, i, k] += Ih[j, i, k] - w * Gd[k0, k]
+                for k in range(i + 1):
+                    x = Ih[p, i, k] + (Ih[j, i, k] - w * Gd[k0, k])
+                    Ih[p, i, k] = x
+                    Ih[p, k, i] = x
         else:
             _articulated(Ih[j], U, Gd, k0, k1, It)
             for i in range(6):
@@ -159,40 +160,48 @@ def delassus_rows(m, nc, nr, k_, G):
             _free_root_rows(Ec[j], k_.Ih[j], k_.Yt, live, na, blocks, G)
             continue
         if k1 - k0 == 1:  # one coordinate: S_j, D_j⁻¹ U_j in registers, D_j⁻¹ a number
-            s0, s1, s2, s3, s4, s5 = coefficients(Sa[k0])
-            g0, g1, g2, g3, g4, g5 = coefficients(Gd[k0])
-            w = Dinv[k0, 0]
-            for t in range(na):
-                c = int(live[t])
-                for r in range(int(blocks[0, c]), int(blocks[1, c])):
-                    e0, e1, e2, e3, e4, e5 = coefficients(Ec[j, r])
-                    z = s0 * e0 + s1 * e1 + s2 * e2 + s3 * e3 + s4 * e4 + s5 * e5
-                    Z[k0, r] = z  # Z_j[r] = ⟨S_j, E_j[r]⟩ (C12)
-                    Y[0, r] = w * z
-                    if p >= 0:  # E_λ[r] += E_j[r] - U_j D_j⁻¹ Z_j[r] (C12)
-                        Ec[p, r, 0] += e0 - g0 * z
-                        Ec[p, r, 1] += e1 - g1 * z
-                        Ec[p, r, 2] += e2 - g2 * z
-                        Ec[p, r, 3] += e3 - g3 * z
-                        Ec[p, r, 4] += e4 - g4 * z
-                        Ec[p, r, 5] += e5 - g5 * z
-        else:
-            for t in range(na):
-                c = int(live[t])
-                for r in range(int(blocks[0, c]), int(blocks[1, c])):
-                    for k in range(k0, k1):
-                        Z[k, r] = -dot(Sa[k], Ec[j, r])  # Z_j[r] = ⟨S_j, E_j[r]⟩ (C12)
-                    for a in range(k0, k1):  # Y_j = D_j⁻¹ Z_j
-                        x = 0.0
-                        for b in range(k0, k1):
-                            x += Dinv[a, b - k0] * Z[b, r]
-                        Y[a - k0, r] = x
-                    if p >= 0:
-                        for i in range(6):
-                            x = Ec[j, r, i]
-                            for k in range(k0, k1):
-                                x -= Gd[k, i] * Z[k, r]
-                            Ec[p, r, i] += x  # E_λ[r] += E_j[r] - U_j D_j⁻¹ Z_j[r] (C12)
+            sj, gj, w = coefficients(Sa[k0]), coefficients(Gd[k0]), Dinv[k0, 0]
+            for t in range(na):  # a block's size is a constant in each branch: unrolled
+                r0 = int(blocks[0, int(live[t])])
+                if int(blocks[1, int(live[t])]) - r0 == 3:
+                    _one_coordinate(Ec, Z, j, p, k0, r0, 3, sj, gj)
+                else:
+                    _one_coordinate(Ec, Z, j, p, k0, r0, 6, sj, gj)
+            for t in range(na):  # G += Z_jᵀ D_j⁻¹ Z_j on the rows below j, lower half (C12)
+                ra = int(blocks[0, int(live[t])])
+                small = int(blocks[1, int(live[t])]) - ra == 3
+                for t2 in range(t):
+                    rc = int(blocks[0, int(live[t2])])
+                    if int(blocks[1, int(live[t2])]) - rc == 3:
+                        if small:
+                            _rank_one(G, Z, k0, w, ra, 3, rc, 3, False)
+                        else:
+                            _rank_one(G, Z, k0, w, ra, 6, rc, 3, False)
+                    elif small:
+                        _rank_one(G, Z, k0, w, ra, 3, rc, 6, False)
+                    else:
+                        _rank_one(G, Z, k0, w, ra, 6, rc, 6, False)
+                if small:
+                    _rank_one(G, Z, k0, w, ra, 3, ra, 3, True)
+                else:
+                    _rank_one(G, Z, k0, w, ra, 6, ra, 6, True)
+            continue
+        for t in range(na):
+            c = int(live[t])
+            for r in range(int(blocks[0, c]), int(blocks[1, c])):
+                for k in range(k0, k1):
+                    Z[k, r] = -dot(Sa[k], Ec[j, r])  # Z_j[r] = ⟨S_j, E_j[r]⟩ (C12)
+                for a in range(k0, k1):  # Y_j = D_j⁻¹ Z_j
+                    x = 0.0
+                    for b in range(k0, k1):
+                        x += Dinv[a, b - k0] * Z[b, r]
+                    Y[a - k0, r] = x
+                if p >= 0:
+                    for i in range(6):
+                        x = Ec[j, r, i]
+                        for k in range(k0, k1):
+                            x -= Gd[k, i] * Z[k, r]
+                        Ec[p, r, i] += x  # E_λ[r] += E_j[r] - U_j D_j⁻¹ Z_j[r] (C12)
         for t in range(na):  # G += Y_jᵀ Z_j on the rows below j, the lower half (C12)
             c = int(live[t])
             for t2 in range(t + 1):
@@ -200,11 +209,6 @@ def delassus_rows(m, nc, nr, k_, G):
                 s0 = int(blocks[0, c2])
                 for r in range(int(blocks[0, c]), int(blocks[1, c])):
                     s1 = r + 1 if c2 == c else int(blocks[1, c2])
-                    if k1 - k0 == 1:
-                        y = Y[0, r]
-                        for s in range(s0, s1):
-                            G[r, s] += y * Z[k0, s]
-                        continue
                     for s in range(s0, s1):
                         x = G[r, s]
                         for a in range(k1 - k0):
@@ -213,6 +217,37 @@ def delassus_rows(m, nc, nr, k_, G):
     for r in range(nr):  # ``live`` is in increasing order: the sums fill the lower half
         for s in range(r):
             G[s, r] = G[r, s]
+
+
+@inline
+def _one_coordinate(Ec, Z, j, p, k0, r0, size, sj, gj):
+    """C12 at a joint of one coordinate for the ``size`` rows from ``r0`` (3 or 6, a constant
+    where called, so that the loop unrolls): ``Z_j[r] = ⟨S_j, E_j[r]⟩`` and the wrench
+    ``E_λ[r] += E_j[r] - U_j D_j⁻¹ Z_j[r]`` passed to the parent p (none at a root); ``sj``,
+    ``gj`` the coefficients of S_j and D_j⁻¹ U_j."""
+    s0, s1, s2, s3, s4, s5 = sj
+    g0, g1, g2, g3, g4, g5 = gj
+    for r in range(r0, r0 + size):
+        e0, e1, e2, e3, e4, e5 = coefficients(Ec[j, r])
+        z = s0 * e0 + s1 * e1 + s2 * e2 + s3 * e3 + s4 * e4 + s5 * e5
+        Z[k0, r] = z
+        if p >= 0:
+            Ec[p, r, 0] += e0 - g0 * z
+            Ec[p, r, 1] += e1 - g1 * z
+            Ec[p, r, 2] += e2 - g2 * z
+            Ec[p, r, 3] += e3 - g3 * z
+            Ec[p, r, 4] += e4 - g4 * z
+            Ec[p, r, 5] += e5 - g5 * z
+
+
+@inline
+def _rank_one(G, Z, k0, w, ra, na, rb, nb, diagonal):
+    """``G[r, s] += Z_j[r] D_j⁻¹ Z_j[s]`` (C12) for the ``na`` rows from ``ra`` and the ``nb``
+    from ``rb`` (constants where called), ``s <= r`` on a ``diagonal`` block."""
+    for r in range(ra, ra + na):
+        y = w * Z[k0, r]
+        for s in range(rb, r + 1 if diagonal else rb + nb):
+            G[r, s] += y * Z[k0, s]
 
 
 @inline
@@ -312,11 +347,14 @@ def articulated_sweeps(m, x, E, bias, gravity, k_, out):
                    E_λ += E_j - Ĩ_j[c_j] - U_j y_j,   Ĩ_j[c] = Î_j[c] - U_j ⟨c, D_j⁻¹ U_j⟩
         forward:   q̈_j = y_j - ⟨A_λ + c_j, D_j⁻¹ U_j⟩,   A_j = A_λ + c_j + S_j q̈_j
 
-    Without ``bias`` c_j and the base acceleration are zero. ``E`` ends as the bodies'
-    accelerations."""
+    Without ``bias`` c_j and the base acceleration are zero. A free root whose Î_j holds its
+    Cholesky factor (``k_.fr[j]``) is solved by C13' (``_free_root_motion``). ``E`` ends as
+    the bodies' accelerations."""
     Sa, U, Gd, Dinv, Cw, y, t = k_.Sa, k_.U, k_.Gd, k_.Dinv, k_.Cw, k_.ys, k_.tw
     for j in range(m.n - 1, -1, -1):
         k0, k1 = m.iv[j], m.iv[j + 1]
+        if k_.fr[j] != 0.0:
+            continue  # a free root: its q̈_j in the forward sweep (C13')
         for k in range(k0, k1):
             y[k] = x[k] - dot(Sa[k], E[j])  # u_j = x_j + ⟨S_j, E_j⟩
         for a in range(k0, k1):
@@ -348,6 +386,9 @@ def articulated_sweeps(m, x, E, bias, gravity, k_, out):
             t[i] = E[p, i] if p >= 0 else (gravity[i] if bias else 0.0)
             if bias:
                 t[i] += Cw[j, i]  # A_λ + c_j
+        if k_.fr[j] != 0.0:
+            _free_root_motion(m, j, k0, x, E[j], k_.Ih[j], t, k_, out)
+            continue
         for a in range(k0, k1):
             out[a] += dot(t, Gd[a])  # q̈_j = y_j - ⟨A_λ + c_j, D_j⁻¹ U_j⟩
         for i in range(6):
@@ -355,6 +396,39 @@ def articulated_sweeps(m, x, E, bias, gravity, k_, out):
             for a in range(k0, k1):
                 acc += Sa[a, i] * out[a]
             E[j, i] = acc  # A_j = A_λ + c_j + S_j q̈_j
+
+
+@inline
+def _free_root_motion(m, j, k0, x, E, L, t, k_, out):
+    """C13' at a free-flyer root j, ``L`` the Cholesky factor of its Î_j: its six S_k span
+    every twist, so the sweeps' ``q̈_j = D_j⁻¹ (u_j - U_jᵀ t)`` with ``u_j = x_j + S_jᵀ E_j``
+    is ``A_j = Î_j⁻¹ (S_j⁻ᵀ x_j + E_j)`` and ``q̈_j = S_j⁻¹ (A_j - t)`` (t its base
+    acceleration plus c_j). ``S_j = T B``: T the twist sandwich by the world motor, B the
+    free flyer's unit twists (a signed permutation, so ``B⁻ᵀ = B``), and the wrench
+    sandwich is ``T⁻ᵀ`` (both keep the pairing), so ``S_j⁻ᵀ x = M (B x) ~M`` and
+    ``S_j⁻¹ V = Bᵀ (~M V M)``. ``E`` (6) ends as A_j."""
+    b, w = k_.Dm[0], k_.Dm[1]
+    for i in range(6):
+        acc = 0.0
+        for a in range(6):
+            acc += m.S[k0 + a, i] * x[k0 + a]
+        b[i] = acc  # B x
+    wrench_sandwich(k_.Mw[j], b, w)  # S_j⁻ᵀ x
+    for i in range(6):  # L Lᵀ A = S_j⁻ᵀ x + E, forward then back substitution
+        acc = w[i] + E[i]
+        for k in range(i):
+            acc -= L[i, k] * b[k]
+        b[i] = acc / L[i, i]
+    for i in range(5, -1, -1):
+        acc = b[i]
+        for k in range(i + 1, 6):
+            acc -= L[k, i] * E[k]
+        E[i] = acc / L[i, i]
+    for i in range(6):
+        w[i] = E[i] - t[i]
+    twist_sandwich_rev(k_.Mw[j], w, b)  # ~M (A_j - t) M
+    for a in range(6):
+        out[k0 + a] = -dot(m.S[k0 + a], b)  # q̈_j = Bᵀ (~M (A_j - t) M)
 
 
 @inline

@@ -553,7 +553,7 @@ def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, w
         body_motion(m, v, f, k_, mode == FORWARD)  # V_j, c_j, A_j at q̈ = 0; ABA's bias
         _physical_motion(m, k_)
     constraint_wrenches(m, cons, mode == FORWARD, g, k_)
-    j = articulated_inertias(m, k_, mode != DELASSUS)  # M1, M2
+    j = articulated_inertias(m, k_)  # M1, M2
     if j >= 0:
         return fault(SINGULAR, j)
     delassus_rows(m, int(cons[0]), nr, k_, G)  # C12
