@@ -409,8 +409,9 @@ def _delassus(m, J, k_, G):
 
 @inline
 def _factor(A, n, pivot):
-    """Cholesky ``A = L Lᵀ`` in place (L in the lower triangle); the first row whose pivot²
-    falls below ``pivot`` times its count of rows, or -1."""
+    """Cholesky ``A = L Lᵀ`` in place: L below the diagonal, the reciprocals ``1 / L_aa`` on
+    it (so that ``_factor`` and ``_substitute`` multiply, one division per row); the first
+    row whose pivot² falls below ``pivot`` times its count of rows, or -1."""
     for a in range(n):
         for c in range(a + 1):
             acc = A[a, c]
@@ -419,25 +420,25 @@ def _factor(A, n, pivot):
             if a == c:
                 if not acc > pivot * (a + 1):
                     return a
-                A[a, a] = math.sqrt(acc)
+                A[a, a] = 1.0 / math.sqrt(acc)
             else:
-                A[a, c] = acc / A[c, c]
+                A[a, c] = acc * A[c, c]
     return -1
 
 
 @inline
 def _substitute(L, n, x):
-    """``x = (L Lᵀ)⁻¹ x`` in place."""
+    """``x = (L Lᵀ)⁻¹ x`` in place, L from ``_factor``."""
     for a in range(n):
         acc = x[a]
         for k in range(a):
             acc -= L[a, k] * x[k]
-        x[a] = acc / L[a, a]
+        x[a] = acc * L[a, a]
     for a in range(n - 1, -1, -1):
         acc = x[a]
         for k in range(a + 1, n):
             acc -= L[k, a] * x[k]
-        x[a] = acc / L[a, a]
+        x[a] = acc * L[a, a]
 
 
 @inline
