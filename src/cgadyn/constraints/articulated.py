@@ -77,9 +77,10 @@ def articulated_inertias(m, k_):
             d = -dot(Sa[k0], U[k0]) + m.armature[k0]  # D_j = ⟨S_j, U_j⟩ + rotor inertia
             if not positive(d):
                 return j
-            Dinv[k0, 0] = 1.0 / d
+            w = 1.0 / d
+            Dinv[k0, 0] = w
             for i in range(6):
-                Gd[k0, i] = U[k0, i] / d
+                Gd[k0, i] = U[k0, i] * w
         else:
             for a in range(k0, k1):
                 for b in range(k0, k1):
@@ -157,7 +158,7 @@ def delassus_rows(m, nc, nr, k_, G):
             continue
         p = m.parents[j]
         if k_.fr[j] != 0.0:  # a free root: G += E_jᵀ Î_j⁻¹ E_j (C12')
-            _free_root_rows(Ec[j], k_.Ih[j], k_.Yt, live, na, blocks, G)
+            _free_root_rows(Ec[j], k_.Ih[j], k_.Yt, live, na, nr, na == nc, blocks, G)
             continue
         if k1 - k0 == 1:  # one coordinate: S_j, D_j⁻¹ U_j in registers, D_j⁻¹ a number
             sj, gj, w = coefficients(Sa[k0]), coefficients(Gd[k0]), Dinv[k0, 0]
@@ -252,8 +253,9 @@ def _rank_one(G, Z, k0, w, ra, na, rb, nb, diagonal):
 
 @inline
 def _cholesky6(A):
-    """``A = L Lᵀ`` in place (L in the lower triangle) for a 6x6 symmetric ``A``; False
-    where it is not positive definite."""
+    """``A = L Lᵀ`` in place for a 6x6 symmetric ``A``: L below the diagonal, the
+    reciprocals ``1 / L_aa`` on it (its solves multiply); False where A is not positive
+    definite."""
     for a in range(6):
         for c in range(a + 1):
             acc = A[a, c]
@@ -262,20 +264,20 @@ def _cholesky6(A):
             if a == c:
                 if not positive(acc):
                     return False
-                A[a, a] = acc ** 0.5
+                A[a, a] = 1.0 / acc ** 0.5
             else:
-                A[a, c] = acc / A[c, c]
+                A[a, c] = acc * A[c, c]
     return True
 
 
 @inline
-def _free_root_rows(E, L, Yt, live, na, blocks, G):
+def _free_root_rows(E, L, Yt, live, na, nr, whole, blocks, G):
     """``G += Eᵀ Î⁻¹ E`` on the rows that reach a free-flyer root, ``L`` the Cholesky factor
     of its articulated inertia Î (``articulated_inertias``). Its six S_k span every twist,
     so ``Z_jᵀ D_j⁻¹ Z_j = Eᵀ S (Sᵀ Î S)⁻¹ Sᵀ E = Eᵀ Î⁻¹ E`` (C12'): with ``Y = L⁻¹ E``,
-    ``G += Yᵀ Y``; no S_k, U_j or D_j. ``Yt`` holds Y's columns as rows."""
-    d0, d1, d2 = 1.0 / L[0, 0], 1.0 / L[1, 1], 1.0 / L[2, 2]
-    d3, d4, d5 = 1.0 / L[3, 3], 1.0 / L[4, 4], 1.0 / L[5, 5]
+    ``G += Yᵀ Y``; no S_k, U_j or D_j. ``Yt`` holds Y's columns as rows. ``whole``: every
+    constraint reaches it (the usual case), so G's whole lower half takes one plain loop."""
+    d0, d1, d2, d3, d4, d5 = L[0, 0], L[1, 1], L[2, 2], L[3, 3], L[4, 4], L[5, 5]
     for t in range(na):
         c = int(live[t])
         for r in range(int(blocks[0, c]), int(blocks[1, c])):
@@ -288,6 +290,13 @@ def _free_root_rows(E, L, Yt, live, na, blocks, G):
             y5 = (e5 - L[5, 0] * y0 - L[5, 1] * y1 - L[5, 2] * y2 - L[5, 3] * y3
                   - L[5, 4] * y4) * d5
             Yt[r, 0], Yt[r, 1], Yt[r, 2], Yt[r, 3], Yt[r, 4], Yt[r, 5] = y0, y1, y2, y3, y4, y5
+    if whole:
+        for r in range(nr):
+            y0, y1, y2, y3, y4, y5 = coefficients(Yt[r])
+            for s in range(r + 1):
+                G[r, s] += (y0 * Yt[s, 0] + y1 * Yt[s, 1] + y2 * Yt[s, 2]
+                            + y3 * Yt[s, 3] + y4 * Yt[s, 4] + y5 * Yt[s, 5])
+        return
     for t in range(na):
         c = int(live[t])
         for r in range(int(blocks[0, c]), int(blocks[1, c])):
@@ -418,12 +427,12 @@ def _free_root_motion(m, j, k0, x, E, L, t, k_, out):
         acc = w[i] + E[i]
         for k in range(i):
             acc -= L[i, k] * b[k]
-        b[i] = acc / L[i, i]
+        b[i] = acc * L[i, i]
     for i in range(5, -1, -1):
         acc = b[i]
         for k in range(i + 1, 6):
             acc -= L[k, i] * E[k]
-        E[i] = acc / L[i, i]
+        E[i] = acc * L[i, i]
     for i in range(6):
         w[i] = E[i] - t[i]
     twist_sandwich_rev(k_.Mw[j], w, b)  # ~M (A_j - t) M
