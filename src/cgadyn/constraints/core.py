@@ -442,6 +442,17 @@ def _substitute(L, n, x):
 
 
 @inline
+def _finite(G, n):
+    """Whether the n x n matrix G is finite: ``Σ 0·G_rs`` is 0 unless an entry is inf or NaN
+    (a branch-free sum where a test per entry would branch n² times)."""
+    acc = 0.0
+    for r in range(n):
+        for s in range(n):
+            acc += 0.0 * G[r, s]
+    return acc == 0.0
+
+
+@inline
 def _residual(G, lam, b, n):
     """``|G λ - b|∞`` and its row."""
     worst, row = 0.0, 0
@@ -469,10 +480,7 @@ def solve_forces(G, b, settings, lam, info, k_):
     bmax = 0.0
     for r in range(n):
         bmax = max(bmax, abs(b[r]))
-        for s in range(n):
-            if not math.isfinite(G[r, s]):
-                return fault(NONFINITE_RESULT, -1)
-    if not math.isfinite(bmax):
+    if not _finite(G, n) or not math.isfinite(bmax):
         return fault(NONFINITE_RESULT, -1)
     mu, iterations, accuracy = settings[MU], int(settings[ITERATIONS]), settings[ACCURACY]
     if mu == 0.0:
@@ -530,6 +538,43 @@ def solve_forces(G, b, settings, lam, info, k_):
     return OK
 
 
+@inline
+def _articulated_delassus(m, cons, q, v, f, mode, g, G, k_):
+    """What every mode but J's computes first: the world motors, S_k and I_j (eqs. 4, 16);
+    for the dynamics the bodies' motion at q̈ = 0 and ABA's bias; the rows' wrenches (and γ
+    for ``FORWARD``), the articulated inertias (M1, M2) and G by C12. A status."""
+    status = check_configuration(m, q)
+    if status != OK:
+        return status
+    world_motors(m, q, k_.c, k_.s, k_.tmp8, k_.M, k_.Mw)
+    move_axes_inertias(m, k_.Mw, k_.par, k_.Sa, k_.Ih)  # S_k, I_j in the world (eqs. 4, 16)
+    if mode != DELASSUS:
+        body_motion(m, v, f, k_, mode == FORWARD)  # V_j, c_j, A_j at q̈ = 0; ABA's bias
+        _physical_motion(m, k_)
+    constraint_wrenches(m, cons, mode == FORWARD, g, k_)
+    j = articulated_inertias(m, k_)  # M1, M2
+    if j >= 0:
+        return fault(SINGULAR, j)
+    delassus_rows(m, int(cons[0]), int(cons[1]), k_, G)  # C12
+    return OK
+
+
+@core
+def delassus_core(m, cons, q, settings, G, work):
+    """``G + μ I`` of one sample (``DELASSUS``); a status. A function of its own, apart
+    from the dynamics' ``constraint_core``: compiled alone, the Delassus pass is faster."""
+    nr = int(cons[1])
+    k_ = workspace(data_pointer(work), m, nr)
+    status = _articulated_delassus(m, cons, q, q, k_.Es, DELASSUS, k_.g, G, k_)
+    if status != OK:
+        return status
+    for r in range(nr):
+        G[r, r] += settings[MU]
+    if not _finite(G, nr):
+        return fault(NONFINITE_RESULT, -1)
+    return OK
+
+
 @core
 def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, work, f):
     """One sample of ``mode`` (the module's docstring); a status. ``f`` the external
@@ -545,27 +590,11 @@ def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, w
                 if not math.isfinite(J[r, k]):
                     return fault(NONFINITE_RESULT, -1)
         return OK
-    status = check_configuration(m, q)
+    if mode == DELASSUS:
+        return delassus_core(m, cons, q, settings, G, work)
+    status = _articulated_delassus(m, cons, q, v, f, mode, g, G, k_)
     if status != OK:
         return status
-    world_motors(m, q, k_.c, k_.s, k_.tmp8, k_.M, k_.Mw)
-    move_axes_inertias(m, k_.Mw, k_.par, k_.Sa, k_.Ih)  # S_k, I_j in the world (eqs. 4, 16)
-    if mode != DELASSUS:
-        body_motion(m, v, f, k_, mode == FORWARD)  # V_j, c_j, A_j at q̈ = 0; ABA's bias
-        _physical_motion(m, k_)
-    constraint_wrenches(m, cons, mode == FORWARD, g, k_)
-    j = articulated_inertias(m, k_)  # M1, M2
-    if j >= 0:
-        return fault(SINGULAR, j)
-    delassus_rows(m, int(cons[0]), nr, k_, G)  # C12
-    if mode == DELASSUS:
-        for r in range(nr):
-            G[r, r] += settings[MU]
-        for r in range(nr):
-            for s in range(nr):
-                if not math.isfinite(G[r, s]):
-                    return fault(NONFINITE_RESULT, -1)
-        return OK
     b, E = k_.b, k_.Es
     if mode == FORWARD:
         for j in range(m.n):
@@ -607,13 +636,16 @@ def constraint_single(packed, cons, q, v, tau, settings, mode, J, g, G, a, lam, 
     m = unpack(packed)
     size = workspace_size(m.n, m.nq, m.nv, m.nl, int(cons[1]))
     buf = stack_buffer(size) if size <= STACK_FLOATS else np.empty(size)
+    if mode == DELASSUS:
+        return delassus_core(m, cons, q, settings, G, buf)
     return constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, buf,
                            buf[:0].reshape((0, 6)))
 
 
 @native(SIGNATURE)
 def constraint_native(pk, x, f, nf, o, options):
-    """``constraint_single`` on raw pointers, for ``cgadyn._native``: inputs ``cons, q, v,
+    """One sample on raw pointers, for ``cgadyn._native`` (``delassus_core`` or
+    ``constraint_core``, its workspace on this call's stack): inputs ``cons, q, v,
     tau, settings``, option ``mode``; outputs ``J, γ`` (``SYSTEM``, ``DRIFT``), ``G``
     (``DELASSUS``) or ``q̈ (or v⁺), λ, info`` (``FORWARD``, ``IMPULSE``)."""
     packed = packed_array(pk)
@@ -626,6 +658,10 @@ def constraint_native(pk, x, f, nf, o, options):
     tau = carray(x[3], (m.nv,))
     settings = carray(x[4], (4,))
     mode = options[0]
+    size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
+    buf = stack_buffer(size) if size <= STACK_FLOATS else np.empty(size)
+    if mode == DELASSUS:
+        return delassus_core(m, cons, q, settings, carray(o[0], (nr, nr)), buf)
     # the outputs a mode does not return, as scratch on this call's stack (no allocation)
     k = nr * m.nv + nr + nr * nr + m.nv + nr + INFO
     spare = stack_buffer(k) if k <= STACK_FLOATS else np.empty(k)
@@ -637,16 +673,13 @@ def constraint_native(pk, x, f, nf, o, options):
     a = spare[o1:o1 + m.nv]
     lam = spare[o1 + m.nv:o1 + m.nv + nr]
     info = spare[o1 + m.nv + nr:o1 + m.nv + nr + INFO]
+    f0 = buf[:0].reshape((0, 6))
     if mode == SYSTEM or mode == DRIFT:
-        return constraint_single(packed, cons, q, v, tau, settings, mode,
-                                 carray(o[0], (nr, m.nv)), carray(o[1], (nr,)), G, a, lam,
-                                 info)
-    if mode == DELASSUS:
-        return constraint_single(packed, cons, q, v, tau, settings, mode, J, g,
-                                 carray(o[0], (nr, nr)), a, lam, info)
-    return constraint_single(packed, cons, q, v, tau, settings, mode, J, g, G,
-                             carray(o[0], (m.nv,)), carray(o[1], (nr,)),
-                             carray(o[2], (INFO,)))
+        return constraint_core(m, cons, q, v, tau, settings, mode, carray(o[0], (nr, m.nv)),
+                               carray(o[1], (nr,)), G, a, lam, info, buf, f0)
+    return constraint_core(m, cons, q, v, tau, settings, mode, J, g, G,
+                           carray(o[0], (m.nv,)), carray(o[1], (nr,)), carray(o[2], (INFO,)),
+                           buf, f0)
 
 
 @parallel
