@@ -592,6 +592,17 @@ def constraint_core(m, cons, q, v, tau, settings, mode, J, g, G, a, lam, info, w
         return OK
     if mode == DELASSUS:
         return delassus_core(m, cons, q, settings, G, work)
+    return dynamics_core(m, cons, q, v, tau, settings, mode, G, a, lam, info, work, f)
+
+
+@core
+def dynamics_core(m, cons, q, v, tau, settings, mode, G, a, lam, info, work, f):
+    """One sample of ``FORWARD`` or ``IMPULSE``: ``a`` the accelerations or the velocities
+    after the impact, ``lam`` the forces or impulses, ``info`` the solve's; a status. ``G``
+    the Delassus matrix, as scratch. A function of its own, as ``delassus_core`` is."""
+    nr = int(cons[1])
+    k_ = workspace(data_pointer(work), m, nr)
+    g = k_.g
     status = _articulated_delassus(m, cons, q, v, f, mode, g, G, k_)
     if status != OK:
         return status
@@ -663,13 +674,10 @@ def constraint_native(pk, x, f, nf, o, options):
     if mode == DELASSUS:
         return delassus_core(m, cons, q, settings, carray(o[0], (nr, nr)), buf)
     # the outputs a mode does not return, as scratch on this call's stack (no allocation)
-    k = nr * m.nv + nr + nr * nr + m.nv + nr + INFO
+    k = nr * nr + m.nv + nr + INFO
     spare = stack_buffer(k) if k <= STACK_FLOATS else np.empty(k)
-    J = spare[:nr * m.nv].reshape((nr, m.nv))  # views that keep a heap ``spare`` alive
-    o1 = nr * m.nv
-    g = spare[o1:o1 + nr]
-    G = spare[o1 + nr:o1 + nr + nr * nr].reshape((nr, nr))
-    o1 += nr + nr * nr
+    G = spare[:nr * nr].reshape((nr, nr))  # views that keep a heap ``spare`` alive
+    o1 = nr * nr
     a = spare[o1:o1 + m.nv]
     lam = spare[o1 + m.nv:o1 + m.nv + nr]
     info = spare[o1 + m.nv + nr:o1 + m.nv + nr + INFO]
@@ -677,9 +685,8 @@ def constraint_native(pk, x, f, nf, o, options):
     if mode == SYSTEM or mode == DRIFT:
         return constraint_core(m, cons, q, v, tau, settings, mode, carray(o[0], (nr, m.nv)),
                                carray(o[1], (nr,)), G, a, lam, info, buf, f0)
-    return constraint_core(m, cons, q, v, tau, settings, mode, J, g, G,
-                           carray(o[0], (m.nv,)), carray(o[1], (nr,)), carray(o[2], (INFO,)),
-                           buf, f0)
+    return dynamics_core(m, cons, q, v, tau, settings, mode, G, carray(o[0], (m.nv,)),
+                         carray(o[1], (nr,)), carray(o[2], (INFO,)), buf, f0)
 
 
 @parallel
