@@ -227,6 +227,22 @@ def test_mujoco_ball_joints_agree_with_mujoco():
     assert np.array_equal(q, s.q) and np.array_equal(v, s.v)
 
 
+def test_a_ball_joints_cone_limit_is_warned_of_by_name():
+    """cgadyn's spherical joint has no cone limit: a limited ball joint loads, and the
+    warning names it and its range, so that a simulation past it is no surprise."""
+    mujoco = pytest.importorskip("mujoco")
+    from cgadyn.multibody.mujoco_model import from_mujoco
+
+    xml = BALLS.replace('<joint name="j3" type="ball" pos="0 0.1 0"/>',
+                        '<joint name="j3" type="ball" pos="0 0.1 0" range="0 0.7"/>')
+    with pytest.warns(UserWarning, match=r"ball joints 'j3' \(0\.7 rad\) are not kept"):
+        model = from_mujoco(mujoco.MjModel.from_xml_string(xml))
+    assert model.joint_kinds[2] == "spherical"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no warning where no ball joint is limited
+        from_mujoco(mujoco.MjModel.from_xml_string(BALLS))
+
+
 def test_pinocchio_mjcf_ball_joints_convert(tmp_path):
     """Pinocchio's own MJCF parser makes ball joints ``JointModelSpherical``; converted,
     they agree with Pinocchio."""

@@ -11,7 +11,8 @@ places every body. ``from_mujoco`` reads what it compiled, whole:
   bodies, a robot and the objects it handles), ``ball`` a spherical joint about its
   anchor ``jnt_pos`` (qpos ``[qw, qx, qy, qz]``, cgadyn's ``[qx, qy, qz, qw]``; qvel the
   angular velocity in the body frame, as cgadyn's). A ball joint's cone limit (``range``)
-  is not kept: cgadyn's model has no cone constraint (its quaternion's limits are [-1, 1]).
+  is not kept, with a warning naming the joints: cgadyn's model has no cone constraint (its
+  quaternion's limits are [-1, 1]).
 - **Bodies.** Body b's frame at rest is its parent's composed with ``body_pos`` and
   ``body_quat`` (w, x, y, z). MuJoCo moves it by its joints in order, each about or along
   its axis ``jnt_axis`` through the point ``jnt_pos`` of the body frame as the previous
@@ -104,7 +105,8 @@ def _check_model(mj, where: str) -> None:
     joint of a top-level body or that is offset in its body, a ball joint whose reference
     ``qpos0`` is not the identity. A gravity other
     than cgadyn's default is only warned of: the model does not hold gravity, calls take
-    ``gravity=``."""
+    ``gravity=``; so is a ball joint's cone limit, which the model does not keep."""
+    cones = []
     for j in range(mj.njnt):
         kind = _MJ_TYPES[int(mj.jnt_type[j])]
         name = _name(mj, _obj("JOINT"), j, f"joint {j}")
@@ -114,6 +116,8 @@ def _check_model(mj, where: str) -> None:
             raise ValueError(f"{where}: ball joint {name!r} has the reference qpos0 "
                              f"{mj.qpos0[mj.jnt_qposadr[j]:mj.jnt_qposadr[j] + 4].tolist()}; "
                              f"cgadyn's spherical joint expects the identity [1, 0, 0, 0]")
+        if kind == "ball" and mj.jnt_limited[j]:
+            cones.append(f"{name!r} ({float(mj.jnt_range[j, 1]):.6g} rad)")
         if kind == "free" and mj.body_parentid[body] != 0:
             raise ValueError(f"{where}: joint {name!r} is a free joint of a body that is "
                              f"not a child of the world; cgadyn's free joints float "
@@ -121,6 +125,10 @@ def _check_model(mj, where: str) -> None:
         if kind == "free" and np.any(mj.jnt_pos[j] != 0.0):
             raise ValueError(f"{where}: free joint {name!r} has pos "
                              f"{mj.jnt_pos[j].tolist()}; expected the body's origin (0 0 0)")
+    if cones:
+        warnings.warn(f"{where}: the cone limits of the ball joints {', '.join(cones)} are "
+                      f"not kept: cgadyn's spherical joint has no cone limit, so its "
+                      f"simulations let these joints turn past them", stacklevel=3)
     gravity = _gravity(mj)
     if not np.allclose(gravity, DEFAULT_GRAVITY, rtol=0.0, atol=1e-12):
         warnings.warn(f"{where}: the MuJoCo model's gravity is {gravity.tolist()}; a cgadyn "
