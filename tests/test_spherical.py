@@ -227,20 +227,19 @@ def test_mujoco_ball_joints_agree_with_mujoco():
     assert np.array_equal(q, s.q) and np.array_equal(v, s.v)
 
 
-def test_a_ball_joints_cone_limit_is_warned_of_by_name():
-    """cgadyn's spherical joint has no cone limit: a limited ball joint loads, and the
-    warning names it and its range, so that a simulation past it is no surprise."""
+def test_a_ball_joints_range_is_its_cone_limit():
+    """A limited ball joint loads without a warning, its ``range`` kept as its cone limit
+    (``Model.cone_limit``; the contact step enforces it, ``tests/test_cone_limits.py``)."""
     mujoco = pytest.importorskip("mujoco")
     from cgadyn.multibody.mujoco_model import from_mujoco
 
     xml = BALLS.replace('<joint name="j3" type="ball" pos="0 0.1 0"/>',
                         '<joint name="j3" type="ball" pos="0 0.1 0" range="0 0.7"/>')
-    with pytest.warns(UserWarning, match=r"ball joints 'j3' \(0\.7 rad\) are not kept"):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
         model = from_mujoco(mujoco.MjModel.from_xml_string(xml))
     assert model.joint_kinds[2] == "spherical"
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")  # no warning where no ball joint is limited
-        from_mujoco(mujoco.MjModel.from_xml_string(BALLS))
+    assert model.cone_limit[2] == 0.7 and np.isinf(np.delete(model.cone_limit, 2)).all()
 
 
 def test_pinocchio_mjcf_ball_joints_convert(tmp_path):

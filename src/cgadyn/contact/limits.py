@@ -5,9 +5,11 @@ coordinates whose friction loss is a box-bounded row of every step (``joint_fric
 "Friction loss", K30).
 
 A limit applies to a joint of one coordinate (``nq = nv = 1``: revolute, prismatic,
-helical; a continuous joint's bounds are infinite), whose ``q`` moves by ``dt v`` in a step.
-Joints of several coordinates (spherical, planar, translation, free flyer) get no limit
-rows: their ``Model.lower``/``upper`` are not enforced.
+helical; a continuous joint's bounds are infinite), whose ``q`` moves by ``dt v`` in a step,
+and to the angle θ of a joint's rotation bounded by a cone (``Model.cone_limit``: MuJoCo's
+``ball`` ``range``; K26'), whose rate is ``θ̇ = aᵀ ω`` (a the rotation's unit axis, ω the
+joint's angular velocity). Other joints of several coordinates (planar, translation, free
+flyer) get no limit rows: their ``Model.lower``/``upper`` are not enforced.
 """
 
 from __future__ import annotations
@@ -18,33 +20,41 @@ import numpy as np
 
 from .._jit import serial
 
-__all__ = ["LIMIT_COLUMNS", "active_limits", "joint_frictions", "joint_limits"]
+__all__ = ["LIMIT_COLUMNS", "ROW_COLUMNS", "active_limits", "joint_frictions", "joint_limits"]
 
-Q, V, LOWER, UPPER = range(4)
-LIMIT_COLUMNS = 4
+Q, V, LOWER, UPPER, CONE = range(5)
+LIMIT_COLUMNS = 5
 """Columns of ``joint_limits``: the coordinate's index in q and in v, its lower and upper
-bound (``±inf`` where it has none)."""
-ROW_V, ROW_SIGN, ROW_GAP, ROW_SLOT = range(4)
-"""Columns of the rows ``active_limits`` finds: the v index, the sign of the row (+1 for the
-lower bound, -1 for the upper), the gap ``d`` and the bound's slot (``2 j`` for limit j's
-lower bound, ``2 j + 1`` for its upper), which keeps its impulse for the next step's warm
-start (K25)."""
+bound (``±inf`` where it has none), and 1 for a cone limit (then the index of the joint's
+quaternion ``(x, y, z, w)`` in q, of its first angular velocity coordinate in v, and the
+largest angle as the upper bound), else 0."""
+ROW_V, ROW_WIDTH, ROW_GAP, ROW_SLOT, ROW_COEF = 0, 1, 2, 3, 4
+ROW_COLUMNS = 7
+"""Columns of the rows ``active_limits`` finds: the first v index and the count of v
+coordinates the row reads (1, or 3 for a cone), the gap ``d``, the bound's slot (``2 j``
+for limit j's lower bound, ``2 j + 1`` for its upper), which keeps its impulse for the next
+step's warm start (K25), and the row's coefficients on those coordinates (three columns:
++1 for a lower bound, -1 for an upper one, ``-a`` for a cone), each the gradient of d."""
 
 
 def joint_limits(model) -> np.ndarray:
-    """(L, 4) ``[q index, v index, lower, upper]`` of each joint of one coordinate with a
-    finite lower or upper bound (``Model.lower``, ``Model.upper``): the joints whose limits
-    a step enforces (the module's docstring)."""
+    """(L, 5) ``[q index, v index, lower, upper, cone]`` of each joint of one coordinate with
+    a finite lower or upper bound (``Model.lower``, ``Model.upper``), and of each joint with a
+    finite ``Model.cone_limit``: the joints whose limits a step enforces, in joint order."""
     from ..multibody.joints import TYPES
 
     rows = []
     iq, iv = model.idx_q, model.idx_v
     for j, t in enumerate(model.joint_types):
-        if TYPES[int(t)].nq != 1 or TYPES[int(t)].nv != 1:
+        record = TYPES[int(t)]
+        if record.cone and np.isfinite(model.cone_limit[j]):
+            rows.append([iq[j] + record.quaternion, iv[j], -np.inf, model.cone_limit[j], 1.0])
+            continue
+        if record.nq != 1 or record.nv != 1:
             continue
         lo, hi = float(model.lower[iq[j]]), float(model.upper[iq[j]])
         if np.isfinite(lo) or np.isfinite(hi):
-            rows.append([iq[j], iv[j], lo, hi])
+            rows.append([iq[j], iv[j], lo, hi, 0.0])
     return np.array(rows, dtype=float).reshape(len(rows), LIMIT_COLUMNS)
 
 
@@ -61,17 +71,51 @@ def active_limits(limits, q, v, vn, dt, margin, rows):
     """The bounds of ``limits`` (``joint_limits``) that are rows of the step (K26): the lower
     bound where its gap ``d = q - lower`` (row ``+e_v``), the upper where ``d = upper - q``
     (row ``-e_v``) is below ``margin`` plus how far the coordinate may move in the step,
-    ``dt sqrt(v_i² + v_free,i²)`` (``vn`` the free velocity). Fills ``rows`` (2 L, 4, see
-    ``ROW_V``...) in the order of ``limits``, lower before upper; returns their number."""
+    ``dt sqrt(v_i² + v_free,i²)`` (``vn`` the free velocity); a cone where
+    ``d = θ_max - θ`` is below ``margin`` plus ``dt sqrt(|ω|² + |ω_free|²)`` (row ``-aᵀ``
+    on ω, K26'). Fills ``rows`` (2 L, ``ROW_COLUMNS``) in the order of ``limits``, lower
+    before upper; returns their number."""
     count = 0
     for j in range(limits.shape[0]):
         i, k = int(limits[j, Q]), int(limits[j, V])
+        if limits[j, CONE] != 0.0:
+            count = _cone(limits[j, UPPER], q, v, vn, i, k, dt, margin, 2 * j + 1, rows, count)
+            continue
         reach = margin + dt * math.sqrt(v[k] * v[k] + vn[k] * vn[k])
         for side in range(2):
             sign = 1.0 if side == 0 else -1.0
             d = q[i] - limits[j, LOWER] if side == 0 else limits[j, UPPER] - q[i]
             if d < reach:  # an infinite bound never is a row
-                rows[count, ROW_V], rows[count, ROW_SIGN] = k, sign
+                rows[count, ROW_V], rows[count, ROW_WIDTH] = k, 1.0
                 rows[count, ROW_GAP], rows[count, ROW_SLOT] = d, 2 * j + side
+                rows[count, ROW_COEF] = sign
+                rows[count, ROW_COEF + 1] = rows[count, ROW_COEF + 2] = 0.0
                 count += 1
     return count
+
+
+@serial
+def _cone(largest, q, v, vn, i, k, dt, margin, slot, rows, count):
+    """The row of a cone limit (K26'), if the step may reach it: the quaternion
+    ``(x, y, z, w)`` at ``q[i]`` (taken with ``w >= 0``, the same rotation) turns by
+    ``θ = 2 atan2(|(x, y, z)|, w)`` about ``a = (x, y, z) / |(x, y, z)|``, and
+    ``θ̇ = aᵀ ω`` for the angular velocity ω at ``v[k]`` (in the child's frame or the
+    parent's alike: R a = a); the gap ``d = θ_max - θ``, the row ``-aᵀ``. The new count."""
+    x, y, z, w = q[i], q[i + 1], q[i + 2], q[i + 3]
+    if w < 0.0:
+        x, y, z, w = -x, -y, -z, -w
+    s = math.sqrt(x * x + y * y + z * z)
+    d = largest - 2.0 * math.atan2(s, w)
+    speed = 0.0
+    for c in range(3):
+        speed += v[k + c] * v[k + c] + vn[k + c] * vn[k + c]
+    if not d < margin + dt * math.sqrt(speed):
+        return count
+    if s > 0.0:
+        x, y, z = x / s, y / s, z / s
+    else:  # no rotation: any axis (the row binds only for a cone of angle 0, refused)
+        x, y, z = 1.0, 0.0, 0.0
+    rows[count, ROW_V], rows[count, ROW_WIDTH] = k, 3.0
+    rows[count, ROW_GAP], rows[count, ROW_SLOT] = d, slot
+    rows[count, ROW_COEF], rows[count, ROW_COEF + 1], rows[count, ROW_COEF + 2] = -x, -y, -z
+    return count + 1

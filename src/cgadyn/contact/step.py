@@ -115,7 +115,16 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     from ..constraints.model import Constraint
     from ..constraints.operators import constraint_jacobian
     from .inputs import checked_collisions, checked_settings, checked_world
-    from .limits import LIMIT_COLUMNS, ROW_GAP, ROW_SIGN, ROW_V, active_limits, joint_frictions
+    from .limits import (
+        LIMIT_COLUMNS,
+        ROW_COEF,
+        ROW_COLUMNS,
+        ROW_GAP,
+        ROW_V,
+        ROW_WIDTH,
+        active_limits,
+        joint_frictions,
+    )
     from .limits import joint_limits as joint_limits_of
     from .model import CollisionModel, _collisions
     from .solve import solve_contacts
@@ -154,7 +163,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     contacts = world_contacts(model, cm, q, world, margin, pairs, v, v_free, step,
                               contact.patch)
     limits = joint_limits_of(model) if joint_limits else np.zeros((0, LIMIT_COLUMNS))
-    rows = np.empty((2 * len(limits), LIMIT_COLUMNS))
+    rows = np.empty((2 * len(limits), ROW_COLUMNS))
     nl = active_limits(limits, q, v, v_free, step, float(margin), rows)  # K26
     frictions = joint_frictions(model) if friction_loss else np.zeros((0, 2))
     nc, nf = len(contacts), len(frictions)
@@ -181,7 +190,9 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     n1 = 3 * nc + nl  # the first friction row
     if nc:
         J[:3 * nc] = R @ constraint_jacobian(model, q, constraints)
-    J[3 * nc + np.arange(nl), rows[:nl, ROW_V].astype(int)] = rows[:nl, ROW_SIGN]  # K26
+    for k in range(nl):  # ±e_v, or -aᵀ on a cone-limited joint's ω (K26, K26')
+        v0, width = int(rows[k, ROW_V]), int(rows[k, ROW_WIDTH])
+        J[3 * nc + k, v0:v0 + width] = rows[k, ROW_COEF:ROW_COEF + width]
     J[n1 + np.arange(nf), frictions[:, 0].astype(int)] = 1.0  # K30
     G = J @ np.linalg.solve(crba(model, q), J.T)  # G = J M⁻¹ Jᵀ (C7) over every row
     G = 0.5 * (G + G.T)

@@ -47,6 +47,7 @@ _ARRAY_FIELDS = (
     "friction",
     "stiffness",
     "spring_reference",
+    "cone_limit",
     "actuator_dof",
     "actuator_gear",
     "actuator_ctrlrange",
@@ -134,6 +135,11 @@ class Model:
         friction>``, Pinocchio's ``model.friction``): enforced only by the contact step
         (``contact_step``, ``simulate(..., world=...)``) as a box-bounded row
         (``docs/contact.md``, "Friction loss", K30), never by rnea or aba.
+    cone_limit : float64 (n,)
+        The largest angle (rad) a joint's rotation may reach, ``inf`` for none: MuJoCo's
+        ``ball`` ``range`` (finite only for a joint whose record has ``cone``). Enforced,
+        as the joint limits are, only by the contact step (``docs/contact.md``, "Joint
+        limits", K26).
     stiffness : float64 (nv,)
         Joint spring stiffness per velocity coordinate (MuJoCo's ``jnt_stiffness``),
         nonzero only on additive joints: the passive torque
@@ -181,6 +187,7 @@ class Model:
     friction: np.ndarray | None = None
     stiffness: np.ndarray | None = None
     spring_reference: np.ndarray | None = None
+    cone_limit: np.ndarray | None = None
     actuator_names: tuple = ()
     actuator_dof: np.ndarray | None = None
     actuator_gear: np.ndarray | None = None
@@ -199,6 +206,9 @@ class Model:
         for field, value in defaults.items():
             if getattr(self, field) is None:
                 object.__setattr__(self, field, value.reshape((na,) + value.shape[1:]))
+        if self.cone_limit is None:
+            object.__setattr__(self, "cone_limit",
+                               np.full(len(np.asarray(self.joint_types).reshape(-1)), np.inf))
         if self.spring_reference is None:
             from .joints.table import neutral_of_types
 
@@ -246,6 +256,7 @@ class Model:
             "friction": (nv,),
             "stiffness": (nv,),
             "spring_reference": (nq,),
+            "cone_limit": (n,),
             "actuator_dof": (len(self.actuator_names),),
             "actuator_gear": (len(self.actuator_names),),
             "actuator_ctrlrange": (len(self.actuator_names), 2),
@@ -305,7 +316,7 @@ class Model:
         """Armature, damping, friction and stiffness are finite and non-negative (a negative
         armature, damping or friction would feed energy in); a spring only on a joint whose
         coordinates add (``q ⊕ v = q + v``), where ``-k (q - q_ref)`` is MuJoCo's spring;
-        the spring reference finite."""
+        the spring reference finite; a cone limit positive, and only on a joint with a cone."""
         for field in ("armature", "damping", "friction", "stiffness"):
             values = getattr(self, field)
             bad = np.flatnonzero(~(np.isfinite(values) & (values >= 0.0)))
@@ -318,6 +329,12 @@ class Model:
             raise ValueError("Model.spring_reference has entries that are not finite; "
                              "expected a configuration")
         for j, t in enumerate(self.joint_types):
+            limit = float(self.cone_limit[j])
+            if not (limit > 0.0) or (np.isfinite(limit) and not TYPES[int(t)].cone):
+                raise ValueError(f"Model.cone_limit[{j}] (joint {self.joint_names[j]!r}, "
+                                 f"{TYPES[int(t)].label}) is {limit}; expected inf, or an "
+                                 f"angle > 0 for a joint whose rotation a cone may bound "
+                                 f"(spherical)")
             if not TYPES[int(t)].additive and np.any(self.stiffness[self.joint_dofs(j)]):
                 raise ValueError(f"joint {self.joint_names[j]!r} ({TYPES[int(t)].label}) "
                                  f"has a nonzero stiffness; cgadyn models joint springs only "
@@ -607,6 +624,7 @@ def build_model(
     spring_reference=None,
     pitch=None,
     friction=None,
+    cone_limit=None,
 ) -> Model:
     """Build a :class:`Model` from raw physical data; computes the CGA fields.
 
@@ -617,6 +635,7 @@ def build_model(
     ``armature``, ``damping``, ``friction``, ``stiffness`` (nv,) and ``spring_reference``
     (nq,) default to zero and the neutral configuration (``Model``). ``pitch`` (n,), default
     zero: the pitch of each helical joint (length per radian; read only for those).
+    ``cone_limit`` (n,), default inf: each joint's largest rotation angle (``Model``).
     """
     from cgadyn.cga.conventions import (
         inertia_from_parameters,
@@ -706,4 +725,5 @@ def build_model(
         stiffness=None if stiffness is None else _limits(stiffness, nv, "stiffness"),
         spring_reference=(None if spring_reference is None
                           else _limits(spring_reference, nq, "spring_reference")),
+        cone_limit=None if cone_limit is None else _limits(cone_limit, n, "cone_limit"),
     )

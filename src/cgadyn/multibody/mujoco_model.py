@@ -10,9 +10,9 @@ places every body. ``from_mujoco`` reads what it compiled, whole:
   free flyer (of a top-level body: the root of its own tree; a model may float several
   bodies, a robot and the objects it handles), ``ball`` a spherical joint about its
   anchor ``jnt_pos`` (qpos ``[qw, qx, qy, qz]``, cgadyn's ``[qx, qy, qz, qw]``; qvel the
-  angular velocity in the body frame, as cgadyn's). A ball joint's cone limit (``range``)
-  is not kept, with a warning naming the joints: cgadyn's model has no cone constraint (its
-  quaternion's limits are [-1, 1]).
+  angular velocity in the body frame, as cgadyn's). A limited ball joint's ``range`` is
+  its cone limit, the largest angle of its rotation (``Model.cone_limit``; MuJoCo takes the
+  larger of the two numbers).
 - **Bodies.** Body b's frame at rest is its parent's composed with ``body_pos`` and
   ``body_quat`` (w, x, y, z). MuJoCo moves it by its joints in order, each about or along
   its axis ``jnt_axis`` through the point ``jnt_pos`` of the body frame as the previous
@@ -33,7 +33,7 @@ places every body. ``from_mujoco`` reads what it compiled, whole:
 - **Passive dynamics**: ``dof_armature`` (``Model.armature``), ``dof_damping``
   (``Model.damping``), ``jnt_stiffness`` and ``qpos_spring`` (``Model.stiffness``,
   ``Model.spring_reference``); ``jnt_range`` where ``jnt_limited`` (``Model.lower``,
-  ``Model.upper``; a hinge's or slide's, a ball's cone limit is not read) and
+  ``Model.upper`` for a hinge or a slide, ``Model.cone_limit`` for a ball) and
   ``dof_frictionloss`` (``Model.friction``), which the contact step enforces
   (``docs/contact.md``, "Joint limits", "Friction loss").
 - **Actuators**: the joint motors (``Model.actuators``: gear, control and force ranges);
@@ -105,8 +105,7 @@ def _check_model(mj, where: str) -> None:
     joint of a top-level body or that is offset in its body, a ball joint whose reference
     ``qpos0`` is not the identity. A gravity other
     than cgadyn's default is only warned of: the model does not hold gravity, calls take
-    ``gravity=``; so is a ball joint's cone limit, which the model does not keep."""
-    cones = []
+    ``gravity=``."""
     for j in range(mj.njnt):
         kind = _MJ_TYPES[int(mj.jnt_type[j])]
         name = _name(mj, _obj("JOINT"), j, f"joint {j}")
@@ -116,8 +115,6 @@ def _check_model(mj, where: str) -> None:
             raise ValueError(f"{where}: ball joint {name!r} has the reference qpos0 "
                              f"{mj.qpos0[mj.jnt_qposadr[j]:mj.jnt_qposadr[j] + 4].tolist()}; "
                              f"cgadyn's spherical joint expects the identity [1, 0, 0, 0]")
-        if kind == "ball" and mj.jnt_limited[j]:
-            cones.append(f"{name!r} ({float(mj.jnt_range[j, 1]):.6g} rad)")
         if kind == "free" and mj.body_parentid[body] != 0:
             raise ValueError(f"{where}: joint {name!r} is a free joint of a body that is "
                              f"not a child of the world; cgadyn's free joints float "
@@ -125,10 +122,6 @@ def _check_model(mj, where: str) -> None:
         if kind == "free" and np.any(mj.jnt_pos[j] != 0.0):
             raise ValueError(f"{where}: free joint {name!r} has pos "
                              f"{mj.jnt_pos[j].tolist()}; expected the body's origin (0 0 0)")
-    if cones:
-        warnings.warn(f"{where}: the cone limits of the ball joints {', '.join(cones)} are "
-                      f"not kept: cgadyn's spherical joint has no cone limit, so its "
-                      f"simulations let these joints turn past them", stacklevel=3)
     gravity = _gravity(mj)
     if not np.allclose(gravity, DEFAULT_GRAVITY, rtol=0.0, atol=1e-12):
         warnings.warn(f"{where}: the MuJoCo model's gravity is {gravity.tolist()}; a cgadyn "
@@ -177,7 +170,7 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
     _check_model(mj, repr(model_name))
 
     joints = dict(names=[], kinds=[], parents=[], placements=[], axes=[], lower=[], upper=[],
-                  armature=[], damping=[], friction=[], stiffness=[], spring=[])
+                  armature=[], damping=[], friction=[], stiffness=[], spring=[], cone=[])
     pieces: list[list] = []  # per cgadyn joint: [(mass, com, rotational inertia)] in its frame
     attach = {0: (-1, np.eye(4))}  # body -> (cgadyn joint moving it, its pose in that frame)
     link_names, link_joint, link_poses = [WORLD], [-1], [np.eye(4)]
@@ -193,6 +186,9 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
         joints["axes"].append(axis)
         joints["lower"] += lower
         joints["upper"] += upper
+        joints["cone"].append(float(np.max(mj.jnt_range[mj_joint]))
+                              if kind == _KINDS["ball"] and mj.jnt_limited[mj_joint]
+                              else np.inf)  # a ball's range: its cone limit
         dofs = range(mj.jnt_dofadr[mj_joint], mj.jnt_dofadr[mj_joint] +
                      table.of_kind(kind).nv)
         joints["armature"] += [float(mj.dof_armature[d]) for d in dofs]
@@ -276,7 +272,7 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
             link_joint=link_joint, link_placement_matrices=np.array(link_poses),
             root_link=WORLD, check_inertia=check_inertia, armature=joints["armature"],
             damping=joints["damping"], stiffness=joints["stiffness"],
-            friction=joints["friction"])
+            friction=joints["friction"], cone_limit=joints["cone"])
         return dataclasses.replace(model, spring_reference=table.from_mujoco(
             model, mj.qpos_spring), **_motors(mj, model, joint_of, model_name))
     except ValueError as exc:

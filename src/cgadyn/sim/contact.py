@@ -11,11 +11,12 @@ their compliance ``R`` on the normal row, K41), λ by the solver ``ContactSettin
 then the other from its λ where the first stops short (K11-K19). A contact found in the
 previous step at the same slot (shape, patch point) starts from its λ there (K25). The
 bounds of the joint limits near which the step may take a coordinate
-(``contact.limits.active_limits``) are rows ``±e_v`` after the contacts', with the same gap
-term and ``λ >= 0`` (K26), warm-started from their slot alike; then a row ``e_k`` per
-coordinate with a friction loss, ``|λ| <= f dt`` (K30), warm-started from its impulse in
-the step before. It is one ``@serial`` function called from one site of the loop, compiled
-only for a rollout with a world (the loop passes None otherwise and numba prunes the call).
+(``contact.limits.active_limits``) are rows ``±e_v`` (``-aᵀ`` on a cone-limited joint's ω,
+K26') after the contacts', with the same gap term and ``λ >= 0`` (K26), warm-started from
+their slot alike; then a row ``e_k`` per coordinate with a friction loss,
+``|λ| <= f dt`` (K30), warm-started from its impulse in the step before. It is one
+``@serial`` function called from one site of the loop, compiled only for a rollout with a
+world (the loop passes None otherwise and numba prunes the call).
 
 The world reaches compiled code as a named tuple (``WorldArrays``, ``world_arrays``): the
 shapes' kinds, sizes, vertices and offsets, their placements on their links, their links,
@@ -50,7 +51,16 @@ from ..constraints.work.core import workspace_size as constraint_workspace_size
 from ..contact import manifold as C
 from ..contact import ncp
 from ..contact.admm import SCRATCH_ROWS
-from ..contact.limits import LIMIT_COLUMNS, ROW_GAP, ROW_SIGN, ROW_SLOT, ROW_V, active_limits
+from ..contact.limits import (
+    LIMIT_COLUMNS,
+    ROW_COEF,
+    ROW_COLUMNS,
+    ROW_GAP,
+    ROW_SLOT,
+    ROW_V,
+    ROW_WIDTH,
+    active_limits,
+)
 from ..contact.problem import gap_term as _gap
 from ..contact.problem import normal_row
 from ..contact.solver import ADMM, PGS, solve_one
@@ -163,7 +173,7 @@ def scratch_size(n, nq, nv, nl, shapes, limits, frictions, nr):
             + C.CANDIDATES * C.CANDIDATE_COLUMNS + shapes * 12
             + m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6) + K + ncp.INFO
             + ncp.SETTINGS + 2 * K * 3 + K + 8 + 16 + 1 + REPORT
-            + L * LIMIT_COLUMNS + 2 * (L + frictions + nr) + 2 * (L + frictions)
+            + L * ROW_COLUMNS + 2 * (L + frictions + nr) + 2 * (L + frictions)
             + constraint_workspace_size(n, nq, nv, nl, m) + n * 12 + 2 + 2 * nv)
 
 
@@ -193,7 +203,7 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
     count, o = ws.carve(p, o, (1,))
     report, o = ws.carve(p, o, (REPORT,))
     cwork, o = ws.carve(p, o, (constraint_workspace_size(n, nq, nv, nl, m),))
-    lrows, o = ws.carve(p, o, (L, LIMIT_COLUMNS))
+    lrows, o = ws.carve(p, o, (L, ROW_COLUMNS))
     bounds, o = ws.carve(p, o, (L + F + nr, 2))
     lprev, o = ws.carve(p, o, (L + F,))  # the limits' slots, then the friction rows'
     lhad, o = ws.carve(p, o, (L + F,))
@@ -421,7 +431,8 @@ def _detect(m, w_, k_, q, v, vn, dt):
 def _rows(m, w_, k_, nc, nl, J, lam, R, dt):
     """The rows of J, each warm-started in ``lam`` from its slot's λ of the previous step
     (K25): ``(t₁, t₂, n)`` per contact point with the ground, held in the ground frame
-    (K23); the pairs' (K37); ``±e_v`` per limit bound near which the step may go, ``λ >= 0``
+    (K23); the pairs' (K37); ``±e_v`` (a cone's ``-aᵀ``) per limit bound near which the
+    step may go, ``λ >= 0``
     (K26); ``e_k`` per friction loss, ``|λ| <= f dt`` (K30), the interval rows' bounds into
     ``bounds``. ``R`` zeros. Whether any row starts from a previous λ."""
     wa = w_.world
@@ -454,8 +465,9 @@ def _rows(m, w_, k_, nc, nl, J, lam, R, dt):
                               w_.mu, lam, prev, had, c, shapes)
     warm = warm or warm_pairs
     for k in range(nl):
-        r, slot = 3 * nc + k, int(lrows[k, ROW_SLOT])
-        J[r, int(lrows[k, ROW_V])] = lrows[k, ROW_SIGN]
+        r, slot, v0 = 3 * nc + k, int(lrows[k, ROW_SLOT]), int(lrows[k, ROW_V])
+        for i in range(int(lrows[k, ROW_WIDTH])):  # ±e_v, or -aᵀ on a cone's ω (K26')
+            J[r, v0 + i] = lrows[k, ROW_COEF + i]
         lam[r] = lprev[slot] if lhad[slot] != 0.0 else 0.0
         if lhad[slot] != 0.0:
             warm = True
@@ -547,10 +559,11 @@ def _keep(m, w_, k_, nc, nl, nf, lam, vn, dt):
     keep_pairs(wa.pairs, w_.pairs, lam, w_.prev, had, w_.force, c, wa.kinds.shape[0], dt)
     for k in range(lhad.shape[0]):
         lhad[k] = 0.0
-    for k in range(nl):  # τ_limit = Σ ±e_v λ / dt
-        slot = int(lrows[k, ROW_SLOT])
+    for k in range(nl):  # τ_limit = Σ J_rᵀ λ_r / dt
+        slot, v0 = int(lrows[k, ROW_SLOT]), int(lrows[k, ROW_V])
         lhad[slot], lprev[slot] = 1.0, lam[3 * nc + k]
-        w_.joint_torques[0, int(lrows[k, ROW_V])] += lrows[k, ROW_SIGN] * lam[3 * nc + k] / dt
+        for i in range(int(lrows[k, ROW_WIDTH])):
+            w_.joint_torques[0, v0 + i] += lrows[k, ROW_COEF + i] * lam[3 * nc + k] / dt
     L = 2 * wa.limits.shape[0]
     for k in range(nf):  # τ_friction = Σ e_k λ / dt
         lhad[L + k], lprev[L + k] = 1.0, lam[3 * nc + nl + k]

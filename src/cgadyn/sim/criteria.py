@@ -141,9 +141,11 @@ def _found(scene: ContactScene, dt: float, q, v, a):
 def _momentum_free(model) -> np.ndarray:
     """The velocity coordinates on which no joint limit or friction loss row may act (K26,
     K30): there the contact impulses alone change the momentum in a step (K24)."""
-    from ..contact.limits import joint_frictions, joint_limits
+    from ..contact.limits import CONE, V, joint_frictions, joint_limits
 
-    busy = np.concatenate([joint_limits(model)[:, 1], joint_frictions(model)[:, 0]])
+    limits = joint_limits(model)
+    cones = limits[limits[:, CONE] != 0.0, V]  # a cone's row reads its joint's three ω
+    busy = np.concatenate([limits[:, V], cones + 1, cones + 2, joint_frictions(model)[:, 0]])
     return np.setdiff1d(np.arange(model.nv), busy.astype(np.int64))
 
 

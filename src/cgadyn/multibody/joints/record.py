@@ -55,6 +55,8 @@ class JointType:
     in the plane): checked and normalised alike.
     axis: ``"revolute"`` (a line) or ``"prismatic"`` (a direction) for a joint about or
     along one axis, ``None`` for a joint without one.
+    cone: whether the angle of the joint's rotation (its quaternion's, ``v_j`` its angular
+    velocity) may be bounded by ``Model.cone_limit``: MuJoCo's ``ball`` ``range``.
     neutral: ``q_j`` at rest (Pinocchio's ``neutral``).
     subspace: the motion subspace ``S_j`` (nv, 6) as CGA twists, from the joint's axis
     twist ``B_j`` (``Model.axes[j]``: ``cga.conventions.twist_from_axis`` of ``axis``;
@@ -92,6 +94,7 @@ class JointType:
     quaternion: int = -1
     unit_length: int = 4
     axis: str | None = None
+    cone: bool = False
     limits: Callable = _kept
     random: Callable | None = None
     pinocchio_nq: int | None = None

@@ -57,7 +57,7 @@ TYPES = (
     JointType(code=SPHERICAL, name="spherical", kind="spherical", label="spherical",
               nq=4, nv=3, q_names=("qx", "qy", "qz", "qw"), v_names=("wx", "wy", "wz"),
               speeds=("angular",) * 3, actuated=True, floating=False, additive=False,
-              quaternion=0, neutral=(0.0, 0.0, 0.0, 1.0), subspace=_rotations,
+              quaternion=0, cone=True, neutral=(0.0, 0.0, 0.0, 1.0), subspace=_rotations,
               limits=_unit_quaternion, random=_random, pinocchio=("JointModelSpherical",),
               mujoco="ball", to_mujoco=_to_mujoco, from_mujoco=_from_mujoco),
 )
