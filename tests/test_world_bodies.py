@@ -264,3 +264,36 @@ def test_bad_bodies_are_named():
         _sim(World(bodies=[sunk]), 2)
     with pytest.raises(ValueError, match="Body 'panda_link1'.*name is taken"):
         with_bodies(cgadyn.load("panda"), None, [_box("panda_link1")])
+
+
+def test_a_rollouts_pair_contacts_and_criteria_are_contact_steps():
+    """A ball thrown off-centre onto a box on the ground: at every 10th step the contacts
+    ``Trajectory.contacts`` finds again, the ball's on the box among them, are
+    ``contact_step``'s from the same state (point, force, the other shape), and the
+    criteria ``Trajectory.contact_criteria`` gives equal its step's, to 1e-9."""
+    world = World(bodies=[_box(), Body(cgadyn.Sphere(0.05), 0.5, position=(0.03, 0, 0.3),
+                                       friction=0.4, name="ball")])
+    extended, _, q = world_model(EMPTY, None, world)
+    v = np.zeros(extended.nv)
+    v[6], v[10] = 0.3, 2.0
+    settings = cgadyn.ContactSettings(warm_start=False, tolerance=1e-12, accept=1e-10)
+    tr = _sim(world, 300, q0=q, v0=v, contact=settings)
+    history = tr.contact_criteria()
+    assert history.unmatched == 0
+    assert np.array_equal(history.contacts, tr.contact_count[:-1])
+    pairs_seen = 0
+    for k in range(0, 300, 10):
+        s = contact_step(EMPTY, None, tr.q[k], tr.v[k], np.zeros(0), DT, world,
+                         contact=settings)
+        found = tr.contacts(k)
+        assert len(found) == len(s.contacts) == tr.contact_count[k]
+        for c, i in zip(found, range(len(found)), strict=True):
+            other = s.contacts.other[i]
+            assert c.other == (None if other < 0 else ("box", "ball")[other])
+            assert np.abs(c.point - s.contacts.point[i]).max() < 1e-12
+            assert np.abs(c.force - s.forces[i]).max() < 1e-8
+            pairs_seen += other >= 0
+        if len(found):
+            for name, value in s.criteria.maxima().items():
+                assert getattr(history, name)[k] == pytest.approx(value, abs=1e-9), name
+    assert pairs_seen >= 10

@@ -84,9 +84,11 @@ def gap_velocity(distance, stabilization: float, dt: float, compliance=None
 
 def contact_jacobian(model, q, contacts, frames) -> np.ndarray:
     """(3 nc, nv): the rows ``(t₁, t₂, n)`` of each contact of ``contacts`` (a ``Contacts``)
-    at ``q``, a point of its link held where it is (C1), its world rows turned into its
-    frame (``frames`` (nc, 3, 3), rows ``t₁, t₂, n``: ``step.ground_frame`` of its normal):
-    ``J v`` is the contact points' velocity in their frames (K20)."""
+    at ``q``, a point of its link held where it is (C1), or, for a pair's, held to the
+    other shape's point, on its link where ``other_link`` >= 0 (C2, K37); its world rows
+    turned into its frame (``frames`` (nc, 3, 3), rows ``t₁, t₂, n``:
+    ``step.ground_frame`` of its normal): ``J v`` is the contact points' (relative)
+    velocity in their frames (K20)."""
     from ..algorithms import link_placements
     from ..constraints.model import Constraint
 
@@ -96,10 +98,14 @@ def contact_jacobian(model, q, contacts, frames) -> np.ndarray:
     links = link_placements(model, q)
     constraints = []
     for k in range(nc):
-        at = np.eye(4)
+        at, other = np.eye(4), np.eye(4)
         at[:3, 3] = contacts.point[k]
-        constraints.append(Constraint(model, "point", int(contacts.link[k]),
-                                      placement=np.linalg.inv(links[contacts.link[k]]) @ at,
-                                      other_placement=at))
+        other[:3, 3] = contacts.other_point[k]  # the ground's: the point itself
+        b = int(contacts.other_link[k])
+        constraints.append(Constraint(
+            model, "point", int(contacts.link[k]),
+            placement=np.linalg.inv(links[contacts.link[k]]) @ at,
+            other=b if b >= 0 else None,
+            other_placement=np.linalg.inv(links[b]) @ other if b >= 0 else other))
     J = constraint_jacobian(model, q, constraints).reshape(nc, 3, model.nv)
     return np.einsum("cij,cjk->cik", frames, J).reshape(3 * nc, model.nv)

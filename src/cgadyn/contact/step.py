@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .pairs import candidate_pairs, contact_frame
-from .problem import contact_compliance, gap_velocity
+from .problem import contact_compliance, contact_jacobian, gap_velocity
 from .settings import ContactSettings, other_solver, residual
 from .world import Contacts, World, world_contacts
 
@@ -110,10 +110,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     ``simulate`` does. Raises ``ValueError`` where the solvers end with a residual above
     ``accept`` (naming the residuals) or for bad input.
     """
-    from ..algorithms import aba, crba, integrate, link_placements
+    from ..algorithms import aba, crba, integrate
     from ..algorithms.passive import passive_torques
-    from ..constraints.model import Constraint
-    from ..constraints.operators import constraint_jacobian
     from .inputs import checked_collisions, checked_settings, checked_world
     from .limits import (
         LIMIT_COLUMNS,
@@ -171,25 +169,10 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         return ContactStep(integrate(model, q, step * v_free), v_free, contacts,
                            np.zeros((0, 3)), np.zeros(model.nv), np.zeros(model.nv),
                            velocities=np.zeros((0, 3)))
-    links = link_placements(model, q)
     frames = np.array([ground_frame(n) for n in contacts.normal]).reshape(nc, 3, 3)  # K37
-    constraints = []
-    for k in range(len(contacts)):  # each contact a point of its link, held where it is
-        at, other = np.eye(4), np.eye(4)  # or, on another link, the relative velocity
-        at[:3, 3], other[:3, 3] = contacts.point[k], contacts.other_point[k]
-        b = int(contacts.other_link[k])
-        constraints.append(Constraint(
-            model, "point", int(contacts.link[k]),
-            placement=np.linalg.inv(links[contacts.link[k]]) @ at,
-            other=b if b >= 0 else None,
-            other_placement=np.linalg.inv(links[b]) @ other if b >= 0 else other))
-    R = np.zeros((3 * nc, 3 * nc))  # world rows to contact rows (t₁, t₂, n) per contact
-    for k in range(nc):
-        R[3 * k:3 * k + 3, 3 * k:3 * k + 3] = frames[k]
     J = np.zeros((3 * nc + nl + nf, model.nv))
     n1 = 3 * nc + nl  # the first friction row
-    if nc:
-        J[:3 * nc] = R @ constraint_jacobian(model, q, constraints)
+    J[:3 * nc] = contact_jacobian(model, q, contacts, frames)  # K20, K37
     for k in range(nl):  # ±e_v, or -aᵀ on a cone-limited joint's ω (K26, K26')
         v0, width = int(rows[k, ROW_V]), int(rows[k, ROW_WIDTH])
         J[3 * nc + k, v0:v0 + width] = rows[k, ROW_COEF:ROW_COEF + width]

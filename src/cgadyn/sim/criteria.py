@@ -3,11 +3,12 @@ after the run from what its ``Trajectory`` keeps (``docs/contact.md``, "The phys
 criteria of a step", K31-K34).
 
 The compiled loop keeps, for the step taken from each state ``(q_k, v_k)``, the world-frame
-force of each contact slot (slot ``4 s + i``: the ``i``-th patch point of shape ``s``) and
+force of each contact slot (slot ``4 s + i``: the ``i``-th patch point of shape ``s`` on
+the ground; ``4 (K + p) + i``: of the ``p``-th pair of shapes that may touch, K37) and
 the free acceleration ``a_k`` (``v_free = v_k + dt a_k``, K20). From them this module finds
-the step's contacts again at ``q_k`` (``ground_contacts`` as the step finds them: each
+the step's contacts again at ``q_k`` (``world_contacts`` as the step finds them: each
 point's gap at the end of the step at ``v_k`` and ``v_free`` below the margin, K21a, K22,
-with ``ContactSettings.patch``), and with the next state's velocity ``v_{k+1} = v⁺`` (K24)
+K37-K39, with ``ContactSettings.patch``), and with the next state's velocity ``v_{k+1} = v⁺`` (K24)
 their velocities after the step ``σ = J(q_k) v⁺`` plus the gap's term (K23), which is all
 ``contact.criteria.step_criteria`` needs.
 
@@ -37,22 +38,28 @@ __all__ = ["ContactPoint", "ContactScene", "CriteriaHistory", "trajectory_contac
 class ContactScene:
     """What a rollout with contact ran with, kept by ``simulate`` on its ``Trajectory``
     (``Trajectory.scene``) so that its contacts can be found again: the model, the collision
-    model, the ``World`` and the ``ContactSettings``, and the diagonal the step added to the
-    mass matrix for its implicit gains (``dt D + dt² K``, K40; None without them)."""
+    model, the ``World`` and the ``ContactSettings``, the diagonal the step added to the
+    mass matrix for its implicit gains (``dt D + dt² K``, K40; None without them) and the
+    robot's joints (the model's joints from ``robot_joints`` on are the World's free
+    bodies; None: no bodies)."""
 
     model: object = field(repr=False)
     collisions: object = field(repr=False)
     world: object
     settings: object
     step_inertia: object = field(default=None, repr=False)
+    robot_joints: int | None = None
 
 
 @dataclass(frozen=True)
 class ContactPoint:
     """One contact of a kept state: the ``link`` and ``shape`` names, the contact ``point``
-    on the shape (world frame), the ground's ``normal``, the signed ``distance`` (m; < 0 a
-    penetration), the ``force`` of the ground on the robot there (world frame, N) in the
-    step taken from that state, and its ``slot`` (``4 s + i``)."""
+    on the shape (world frame), the ``normal`` (the ground's, or for a contact between two
+    shapes from the ``other`` shape to this one), the signed ``distance`` (m; < 0 a
+    penetration), the ``force`` on this shape there (world frame, N; of the ground, or of
+    the other shape) in the step taken from that state, its ``slot`` (``4 s + i`` on the
+    ground, ``4 (K + p) + i`` for pair ``p``, ``sim.pairs``), and the ``other`` shape's
+    name (None for the ground)."""
 
     link: str
     shape: str
@@ -61,6 +68,7 @@ class ContactPoint:
     distance: float
     force: np.ndarray
     slot: int
+    other: str | None = None
 
 
 @dataclass(frozen=True)
@@ -124,17 +132,25 @@ def _rollout(traj, rollout):
 
 
 def _found(scene: ContactScene, dt: float, q, v, a):
-    """The contacts of the step taken from ``(q, v)`` (free acceleration ``a``) and the
-    slot of each (K21a, K22, as the step finds them)."""
+    """The contacts of the step taken from ``(q, v)`` (free acceleration ``a``), with the
+    ground and between shapes (K21a, K22, K37-K39, as the step finds them), and the slot
+    of each: ``4 s + i`` for shape ``s``'s ``i``-th point on the ground, ``4 (K + p) + i``
+    for pair ``p``'s (``sim.pairs``)."""
     from ..contact.manifold import MAX_CONTACTS
-    from ..contact.world import ground_contacts
+    from ..contact.pairs import candidate_pairs
+    from ..contact.world import world_contacts
 
-    settings = scene.settings
-    contacts = ground_contacts(scene.model, scene.collisions, q, scene.world, settings.margin,
-                               v, v + dt * a, dt, settings.patch)  # v_free (K20), K21a
+    settings, cm = scene.settings, scene.collisions
+    robot = scene.model.njoints if scene.robot_joints is None else scene.robot_joints
+    pairs = candidate_pairs(cm, robot, scene.world.self_collision)
+    contacts = world_contacts(scene.model, cm, q, scene.world, settings.margin, pairs, v,
+                              v + dt * a, dt, settings.patch)  # v_free (K20), K21a
+    index = {(int(x), int(y)): p for p, (x, y) in enumerate(pairs)}
     slots = np.empty(len(contacts), dtype=np.int64)
-    for i, s in enumerate(contacts.collision):
-        slots[i] = MAX_CONTACTS * s + np.count_nonzero(contacts.collision[:i] == s)
+    for i, (s, o) in enumerate(zip(contacts.collision, contacts.other, strict=True)):
+        before = np.count_nonzero((contacts.collision[:i] == s) & (contacts.other[:i] == o))
+        first = s if o < 0 else len(cm) + index[(int(s), int(o))]
+        slots[i] = MAX_CONTACTS * first + before
     return contacts, slots
 
 
@@ -157,7 +173,8 @@ def _match(scene, dt, q, v, a, v_next, contacts, slots, forces, J) -> tuple[np.n
     from ..algorithms import crba
 
     free = _momentum_free(scene.model)
-    shapes = [np.flatnonzero(contacts.collision == s) for s in np.unique(contacts.collision)]
+    ends = np.stack([contacts.collision, contacts.other], axis=1)
+    shapes = [np.flatnonzero((ends == e).all(axis=1)) for e in np.unique(ends, axis=0)]
     if free.size == 0 or all(len(p) < 2 for p in shapes):
         return slots, False
     frames = _frames(contacts)
@@ -231,7 +248,9 @@ def trajectory_contacts(traj, k: int, rollout: int | None = None) -> list[Contac
     return [ContactPoint(model.link_names[contacts.link[i]], cm[contacts.collision[i]].name,
                          contacts.point[i].copy(), contacts.normal[i].copy(),
                          float(contacts.distance[i]), forces[k, slots[i]].copy(),
-                         int(slots[i])) for i in range(len(contacts))]
+                         int(slots[i]),
+                         cm[contacts.other[i]].name if contacts.other[i] >= 0 else None)
+            for i in range(len(contacts))]
 
 
 def trajectory_criteria(traj, rollout: int | None = None, slip: float = SLIP

@@ -253,7 +253,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
                       contact_iterations=iterations, contact_residual=residual,
                       limit_torques=limit, friction_torques=friction,
                       scene=None if world is None else ContactScene(
-                          model, shapes, world, contact, step_inertia))
+                          model, shapes, world, contact, step_inertia,
+                          robot_joints))
 
 
 def _contact_settings(contact, world):
