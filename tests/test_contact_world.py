@@ -36,10 +36,14 @@ def _contacts(shape, T, world=None, margin=1.0):
     out = np.empty((C.MAX_CONTACTS, C.OUT))
     cand = np.empty((C.CANDIDATES, C.CANDIDATE_COLUMNS))
     radius = bounding_radii([SimpleNamespace(shape=shape)])[0]
-    m = C.plane_contacts(shape.kind, shape.packed_size, shape.packed_vertices, T, radius,
-                         world.plane.packed_size, np.eye(4), margin, 0.0, cand, out,
-                         np.zeros((2, 6)), 0.0)
-    return out[:m]
+    vertices = np.ascontiguousarray(shape.packed_vertices, dtype=float).reshape(-1, 3)
+    counts = np.zeros(1, dtype=np.int64)
+    C.shapes_on_plane(np.array([shape.kind]), np.array([shape.packed_size], dtype=float),
+                      vertices, np.array([0, len(vertices)]), T[None].copy(),
+                      np.array([radius]), np.array([True]), world.plane.packed_size,
+                      np.eye(4), margin, 0.0, cand, out[None], counts, np.zeros((1, 2, 6)),
+                      0.0)
+    return out[:counts[0]]
 
 
 @pytest.mark.parametrize("shape", SHAPES, ids=lambda s: s.name)

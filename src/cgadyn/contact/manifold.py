@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 
-from .._jit import serial
+from .._jit import inline, serial
 from .distance import plane_distance, rotate, rotate_back, to_world
 from .shapes import BOX, CAPSULE, CYLINDER, MESH, SPHERE
 
@@ -100,54 +100,55 @@ def _write(out, m, cand, i):
     return m + 1
 
 
-@serial
-def reach(V, x0, x1, x2, radius, dt):
+@inline
+def reach(V, k, x0, x1, x2, radius, dt):
     """The farthest a point within ``radius`` of ``x`` may travel in a step of length
     ``dt`` (K21a): ``dt (|v_x| + |ω| radius)(1 + dt |ω|)`` with ``v_x = v + ω × x`` (the
     second factor for the turn of that velocity: a point of a body turning at ``ω``
     accelerates by ``ω × v_x``; ``|v_y| <= |v_x| + |ω| radius`` for ``|y - x| <=
-    radius``), at the larger of its link's two world twists ``V[t] = [v, ω]`` (the
-    velocity at the step's start and the free one). In any direction, not only along the
-    normal: the contact impulses of the step turn the velocities (a joint limit's impulse
-    swings a leg into the ground)."""
+    radius``), at the larger of shape ``k``'s link's two world twists ``V[k, t] = [v, ω]``
+    (the velocity at the step's start and the free one). In any direction, not only along
+    the normal: the contact impulses of the step turn the velocities (a joint limit's
+    impulse swings a leg into the ground)."""
     out = 0.0
     for t in range(2):
-        w0, w1, w2 = V[t, 3], V[t, 4], V[t, 5]
-        u0, u1, u2 = V[t, 0] + w1 * x2 - w2 * x1, V[t, 1] + w2 * x0 - w0 * x2, \
-            V[t, 2] + w0 * x1 - w1 * x0
+        w0, w1, w2 = V[k, t, 3], V[k, t, 4], V[k, t, 5]
+        u0, u1, u2 = V[k, t, 0] + w1 * x2 - w2 * x1, V[k, t, 1] + w2 * x0 - w0 * x2, \
+            V[k, t, 2] + w0 * x1 - w1 * x0
         u = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
         w = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
         out = max(out, dt * (u + w * radius) * (1.0 + dt * w))
     return out
 
 
-@serial
-def gap_after(cand, i, V, n0, n1, n2, dt):
+@inline
+def gap_after(cand, i, V, k, dt):
     """Candidate ``i``'s least gap at the end of a step of length ``dt`` (K21a): its
-    distance less the way it may travel (``reach`` of the point; zero twists: the distance
-    itself)."""
-    return cand[i, 3] - reach(V, cand[i, 0], cand[i, 1], cand[i, 2], 0.0, dt)
+    distance less the way it may travel (``reach`` of the point on shape ``k``; zero
+    twists: the distance itself)."""
+    return cand[i, 3] - reach(V, k, cand[i, 0], cand[i, 1], cand[i, 2], 0.0, dt)
+
+
+@inline
+def reach_bound(poses, k, radius, V, dt):
+    """The farthest any point within ``radius`` of the origin of shape ``k``'s pose
+    ``poses[k]`` may travel in a step of ``dt`` at its twists ``V[k]`` (2, 6): ``reach`` of
+    that ball."""
+    return reach(V, k, poses[k, 0, 3], poses[k, 1, 3], poses[k, 2, 3], radius, dt)
 
 
 @serial
-def reach_bound(T, radius, V, dt):
-    """The farthest any point within ``radius`` of the origin of the pose ``T`` may travel in
-    a step of ``dt`` at the twists ``V`` (2, 6): ``reach`` of that ball."""
-    return reach(V, T[0, 3], T[1, 3], T[2, 3], radius, dt)
-
-
-@serial
-def mark_reach(cand, count, margin, V, n0, n1, n2, dt, bound):
-    """Column ``OUT`` of the ``count`` candidates: 1 where the gap less the way the point may
-    travel in the step (``gap_after``) is below ``margin`` (K21a), else 0; ``bound`` bounds
-    that way for every candidate (``reach_bound``), so a candidate farther than ``margin +
-    bound`` is 0 without ``gap_after``. Their number."""
-    k = 0
+def mark_reach(cand, count, margin, V, k, dt, bound):
+    """Column ``OUT`` of the ``count`` candidates of shape ``k``: 1 where the gap less the
+    way the point may travel in the step (``gap_after``) is below ``margin`` (K21a), else 0;
+    ``bound`` bounds that way for every candidate (``reach_bound``), so a candidate farther
+    than ``margin + bound`` is 0 without ``gap_after``. Their number."""
+    n = 0
     for i in range(count):
-        near = cand[i, 3] - bound < margin and gap_after(cand, i, V, n0, n1, n2, dt) < margin
+        near = cand[i, 3] - bound < margin and gap_after(cand, i, V, k, dt) < margin
         cand[i, OUT] = 1.0 if near else 0.0
-        k += int(near)
-    return k
+        n += int(near)
+    return n
 
 
 @serial
@@ -225,23 +226,16 @@ def reduce_patch(cand, count, patch, n0, n1, n2, out):
 
 
 @serial
-def plane_contacts(kind, size, vertices, T, radius, sb, Tb, margin, patch, cand, out, V, dt):
-    """The contacts of shape ``(kind, size, vertices)`` at pose ``T`` with the plane of
-    size ``sb`` (``n``, ``δ`` in its frame) at pose ``Tb``: at most ``MAX_CONTACTS`` rows
-    ``[x, y, z, d]`` in ``out`` (K21, K21a, K22), the plane's world normal pointing out of
-    it, for the shape moving with the twists ``V`` (2, 6) over ``dt``. ``radius`` bounds
-    the shape about its frame's origin (``pairs.bounding_radii``): a shape whose bounding
-    sphere stays ``margin`` above the plane however far its points may travel in the step
-    (``reach_bound``) has no candidate within reach (K21a) and none is formed. ``cand`` has
-    ``CANDIDATE_COLUMNS``. Returns their number."""
-    n0, n1, n2 = rotate(Tb, sb[0], sb[1], sb[2])
-    delta = sb[3] + n0 * Tb[0, 3] + n1 * Tb[1, 3] + n2 * Tb[2, 3]
-    bound = reach_bound(T, radius, V, dt) if math.isfinite(radius) else math.inf
-    if math.isfinite(radius) and plane_distance(T[0, 3], T[1, 3], T[2, 3], n0, n1, n2,
-                                                 delta) - radius - bound >= margin:
-        return 0
+def plane_contacts(kind, size, vertices, T, n0, n1, n2, delta, bound, margin, patch, cand,
+                   out, V, k, dt):
+    """The contacts of shape ``k``, ``(kind, size, vertices)`` at pose ``T``, with the plane
+    ``π = n + δ e∞`` (world frame, ``n`` pointing out of it): at most ``MAX_CONTACTS`` rows
+    ``[x, y, z, d]`` in ``out`` (K21, K21a, K22), for the shape moving with the twists
+    ``V[k]`` (2, 6) over ``dt``, none of its points travelling farther than ``bound``
+    (``reach_bound``, ``inf``: unknown). ``cand`` has ``CANDIDATE_COLUMNS``. Returns their
+    number."""
     count = candidates(kind, size, vertices, T, n0, n1, n2, delta, cand, margin + bound)
-    if mark_reach(cand, count, margin, V, n0, n1, n2, dt, bound) == 0:
+    if mark_reach(cand, count, margin, V, k, dt, bound) == 0:
         return 0
     return reduce_patch(cand, count, patch, n0, n1, n2, out)
 
@@ -249,13 +243,25 @@ def plane_contacts(kind, size, vertices, T, radius, sb, Tb, margin, patch, cand,
 @serial
 def shapes_on_plane(kinds, sizes, vertices, offsets, poses, radii, active, sb, Tb, margin,
                     patch, cand, out, counts, twists, dt):
-    """``plane_contacts`` of every shape ``k`` with ``active[k]`` against one plane, each
-    moving with its link's twists ``twists[k]`` (2, 6) over ``dt``, its bounding radius
-    ``radii[k]``, into ``out[k]`` (``MAX_CONTACTS`` rows each), their number into
-    ``counts[k]``."""
+    """``plane_contacts`` of every shape ``k`` with ``active[k]`` against the plane of size
+    ``sb`` (``n``, ``δ`` in its frame) at pose ``Tb``, each moving with its link's twists
+    ``twists[k]`` (2, 6) over ``dt``, into ``out[k]`` (``MAX_CONTACTS`` rows each), their
+    number into ``counts[k]``. ``radii[k]`` bounds shape ``k`` about its frame's origin
+    (``pairs.bounding_radii``): a shape whose bounding sphere stays ``margin`` above the
+    plane however far its points may travel in the step (``reach_bound``) has no candidate
+    within reach (K21a) and none is formed."""
+    n0, n1, n2 = rotate(Tb, sb[0], sb[1], sb[2])
+    delta = sb[3] + n0 * Tb[0, 3] + n1 * Tb[1, 3] + n2 * Tb[2, 3]
     for k in range(kinds.shape[0]):
         counts[k] = 0
-        if active[k]:
-            counts[k] = plane_contacts(kinds[k], sizes[k], vertices[offsets[k]:offsets[k + 1]],
-                                       poses[k], radii[k], sb, Tb, margin, patch, cand, out[k],
-                                       twists[k], dt)
+        if not active[k]:
+            continue
+        bound = math.inf
+        if math.isfinite(radii[k]):
+            bound = reach_bound(poses, k, radii[k], twists, dt)
+            if plane_distance(poses[k, 0, 3], poses[k, 1, 3], poses[k, 2, 3], n0, n1, n2,
+                              delta) - radii[k] - bound >= margin:
+                continue
+        counts[k] = plane_contacts(kinds[k], sizes[k], vertices[offsets[k]:offsets[k + 1]],
+                                   poses[k], n0, n1, n2, delta, bound, margin, patch, cand,
+                                   out[k], twists, k, dt)

@@ -28,6 +28,7 @@ from .manifold import (
     OUT,
     candidates,
     mark_within,
+    reach_bound,
     reduce_patch,
 )
 from .shapes import BOX, CAPSULE, CYLINDER, MESH, PLANE, SPHERE
@@ -148,23 +149,13 @@ def pair_contacts(kinds, sizes, vertices, offsets, poses, pairs, radii, margin, 
 @serial
 def pair_margin(margin, radii, poses, twists, dt):
     """The margin of the pairs' contacts in a step of ``dt`` (K21a for pairs): ``margin``
-    plus twice the farthest way any point of a moving shape may travel in the step,
-    ``dt (|u| + |ω| R) (1 + dt |ω|)``, ``u`` the velocity of the shape's origin at either of
-    its link's twists ``twists[s]`` (K, 2, 6) and ``R`` its bounding radius (K39); a shape
-    of infinite radius (a plane) never moves."""
+    plus twice the farthest way any point of a moving shape may travel in the step
+    (``manifold.reach_bound`` of its bounding radius, K39, at its link's twists
+    ``twists[s]`` (K, 2, 6)); a shape of infinite radius (a plane) never moves."""
     reach = 0.0
     for s in range(radii.shape[0]):
-        if not math.isfinite(radii[s]):
-            continue
-        x0, x1, x2 = poses[s, 0, 3], poses[s, 1, 3], poses[s, 2, 3]
-        for t in range(2):
-            w0, w1, w2 = twists[s, t, 3], twists[s, t, 4], twists[s, t, 5]
-            u0 = twists[s, t, 0] + w1 * x2 - w2 * x1
-            u1 = twists[s, t, 1] + w2 * x0 - w0 * x2
-            u2 = twists[s, t, 2] + w0 * x1 - w1 * x0
-            w = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
-            u = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
-            reach = max(reach, dt * (u + w * radii[s]) * (1.0 + dt * w))
+        if math.isfinite(radii[s]):
+            reach = max(reach, reach_bound(poses, s, radii[s], twists, dt))
     return margin + 2.0 * reach
 
 

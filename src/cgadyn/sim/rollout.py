@@ -424,11 +424,11 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, se
     into ``X`` (B, rows, 3, nr), the contacts of each (``_keep_contacts``) into ``CF`` (B,
     rows, KEPT + 3 K + 2 nv), a failed contact step's report into ``CR`` (B, REPORT), and
     per rollout the steps ``completed`` and the ``status`` (0, or the fault that stopped it). The
-    acceleration at the last state takes the last open-loop torque. Each rollout fills its
-    rows of the outputs with NaN first (``_unset``: they may come in unwritten, so that
-    their pages are first touched by the thread that writes them, in parallel); a rollout
-    that stops writes the last state it reached into the row of that state, or the next
-    one (``stop_row``), and leaves NaN after it.
+    acceleration at the last state takes the last open-loop torque. The outputs may come in
+    unwritten (so that their pages are first touched by the thread that writes them, in
+    parallel): each rollout writes every one of its rows once, a state or NaN (``_unset``);
+    a rollout that stops writes the last state it reached into the row of that state, or
+    the next one (``stop_row``), and NaN after it.
     """
     m = unpack(packed)
     nr = _rows_of(cons)
@@ -471,7 +471,6 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
     Ab = _rows(A[b], rows, mb.nv)
     Xb = _rows(X[b], rows, 3 * nr)
     CFb = _rows(CF[b], rows, CF.shape[2])
-    _unset(Qb, Vb, Ab, Xb, CFb)  # this thread writes its rollouts' rows first (their pages)
     ub = _rows(u[0], held, mb.nv)  # shared by all rollouts, or
     if u.shape[0] > 1:
         ub = _rows(u[b], held, mb.nv)  # this rollout's own
@@ -489,12 +488,14 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
         v[k] = v0[b, k]
     s = OK
     done = 0
+    last = -1  # the last row written
     for i in range(steps):
         s = step(mb, method, q, v, ub[hold * i], fb, ctrl, con, wd, fac, dt, qn, vn, a, sc, work)
         r = kept_row(i, steps, every)
         if r >= 0:
             _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
             _keep_contacts(wd, CFb[r])
+            last = r
         if s != OK:
             _report(wd, CR[b])
             break
@@ -513,20 +514,25 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
         _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
         if s == OK:
             _keep_contacts(wd, CFb[r])
+        else:
+            _unset(CFb[r])
+        last = r
     elif kept_row(done, steps, every) < 0:
-        r = stop_row(done, every)
-        _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
+        last = stop_row(done, every)
+        _keep(q, v, a, sc.X, Qb[last], Vb[last], Ab[last], Xb[last])
+        _unset(CFb[last])
+    for x in (Qb, Vb, Ab, Xb, CFb):  # NaN in the rows no state reached
+        for r in range(last + 1, x.shape[0]):
+            _unset(x[r])
     completed[b] = done
     status[b] = s
 
 
-@serial
-def _unset(Qb, Vb, Ab, Xb, CFb):
-    """NaN into every row of one rollout's outputs: a row no step reaches stays NaN."""
-    for x in (Qb, Vb, Ab, Xb, CFb):
-        for r in range(x.shape[0]):
-            for c in range(x.shape[1]):
-                x[r, c] = np.nan
+@inline
+def _unset(row):
+    """NaN into a row of an output that no step wrote."""
+    for c in range(row.shape[0]):
+        row[c] = np.nan
 
 
 @inline

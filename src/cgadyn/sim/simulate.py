@@ -207,7 +207,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
         flags |= IMPLICIT
 
     shape = (B, rows)
-    # unwritten: each rollout fills its own rows with NaN in the compiled loop, in parallel
+    # unwritten: each rollout writes its own rows (states, or NaN) in the compiled loop
     Q, V, A = (np.empty(shape + (n,)) for n in (model.nq, model.nv, model.nv))
     X = np.empty(shape + (3, p.nr))
     completed = np.zeros(B, dtype=np.int64)
