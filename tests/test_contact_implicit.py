@@ -87,14 +87,14 @@ def _compliant_box(k: float, c: float):
 def test_a_compliant_box_rests_sunk_by_its_weight_over_its_stiffness():
     """A 2 kg box on four compliant corners (k = 2e4 N/m each, critically damped) settles
     with each corner ``m g / (4 k)`` deep to 1e-9 m, the ground carrying its weight to
-    1e-9 relative (K41)."""
+    1e-6 relative (K41)."""
     k = 2e4
     c = 2.0 * np.sqrt(4 * k * 2.0) / 4
     model, cm, q = _compliant_box(k, c)
     tr = _sim(model, cm, q, np.zeros(6), 3000)
     assert not tr.diverged, tr.message
     weight = 2.0 * G
-    assert tr.contact_forces[-1, :, 2].sum() == pytest.approx(weight, rel=1e-9)
+    assert tr.contact_forces[-1, :, 2].sum() == pytest.approx(weight, rel=1e-6)
     depth = -cgadyn.ground_contacts(model, cm, tr.q[-1], margin=1e-3).distance
     assert np.allclose(depth, weight / (4 * k), atol=1e-9)
     assert abs(tr.q[-1, 2] - (0.1 - weight / (4 * k))) < 1e-9

@@ -28,6 +28,20 @@ OUT = 4
 distance to the plane (negative: a penetration)."""
 CANDIDATE_COLUMNS = OUT + 1
 """A candidate's row: ``OUT``'s, then a scratch column (``reduce_patch``)."""
+TILT = 1e-3
+"""K22's exchange of height for spread (rad): a candidate's height above the deepest, over
+``TILT``, counts against how far it spans the patch. A foot whose sole rests on two of its
+hull's vertices at one height and has others a fraction of a millimetre higher is held at
+both (each alone would let it rock onto the other, step after step); a face lying flat to
+within ``TILT`` is held at its widest corners."""
+LEVEL = 1e-6
+"""Candidates within this height (m) of the deepest are level with it for K22's exchange
+(``TILT``): a face resting on the ground, its corners a fraction of a micrometre apart as
+the step corrects its overlap, is held at its widest corners in the same order each step."""
+TIE = 1e-9
+"""Scores of K22 (m) closer than this are a tie, kept in the candidates' order: the corners
+of a face, equal but for rounding, come in the same order step after step (each contact's
+slot, and so its warm start, stays its own)."""
 
 
 @serial
@@ -174,14 +188,41 @@ def _apart(cand, i, out, m, patch):
     return True
 
 
+@inline
+def _rise(cand, i, first):
+    """Candidate ``i``'s height above the deepest, ``first``, less ``LEVEL``, over ``TILT``
+    (0 within ``LEVEL``): the spread it gives up in K22's choice (``reduce_patch``)."""
+    return max(0.0, cand[i, 3] - cand[first, 3] - LEVEL) / TILT
+
+
+@inline
+def _length(cand, i, j):
+    d0, d1, d2 = cand[j, 0] - cand[i, 0], cand[j, 1] - cand[i, 1], cand[j, 2] - cand[i, 2]
+    return math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+
+
+@inline
+def _in_order(cand, count, out, i0, i1, i2, i3):
+    """The kept candidates ``i0..i3`` (-1: none) into ``out`` in the candidates' order, not
+    in the order chosen: the same points keep the same rows (and so their slots and warm
+    starts) whichever of them is the deepest at a step. Their number."""
+    m = 0
+    for i in range(count):
+        if i == i0 or i == i1 or i == i2 or i == i3:
+            m = _write(out, m, cand, i)
+    return m
+
+
 @serial
 def reduce_patch(cand, count, patch, n0, n1, n2, out):
     """At most four of the ``count`` candidates marked in column ``OUT`` (``mark_reach``,
     ``mark_within``), spanning the patch (K22): the deepest; the one farthest from it; the
-    one making the largest triangle with those two; the one adding the largest area to that
-    triangle. A point no farther than ``patch`` (and 1e-9) from one kept, or adding no
-    area, is not kept: a patch narrower than ``patch`` is one point. Writes them to ``out``
-    and returns their number."""
+    one farthest from the line of those two; the one farthest outside the triangle's edges;
+    each distance less the candidate's height above the deepest over ``TILT``, so that of
+    points spanning the patch alike the one the shape touches after the smaller tilt comes
+    first (``TIE``). A point no farther than ``patch`` (and 1e-9) from one kept, or adding no area,
+    is not kept: a patch narrower than ``patch`` is one point. Writes them to ``out`` in
+    the candidates' order (``_in_order``) and returns their number."""
     first = -1
     for i in range(count):
         if cand[i, OUT] != 0.0 and (first < 0 or cand[i, 3] < cand[first, 3]):
@@ -189,40 +230,40 @@ def reduce_patch(cand, count, patch, n0, n1, n2, out):
     if first < 0:
         return 0
     m = _write(out, 0, cand, first)
-    second, best = -1, 1e-18
+    second, best = -1, -math.inf
     for i in range(count):
         if cand[i, OUT] != 0.0 and _apart(cand, i, out, m, patch):
-            d0, d1 = cand[i, 0] - cand[first, 0], cand[i, 1] - cand[first, 1]
-            d2 = cand[i, 2] - cand[first, 2]
-            s = d0 * d0 + d1 * d1 + d2 * d2
-            if s > best:
+            s = _length(cand, first, i) - _rise(cand, i, first)
+            if s > best + TIE:
                 second, best = i, s
     if second < 0:
         return m
     m = _write(out, m, cand, second)
-    third, best = -1, 1e-18
+    base = _length(cand, first, second)
+    third, best = -1, -math.inf
     for i in range(count):
         if cand[i, OUT] != 0.0 and _apart(cand, i, out, m, patch):
-            s = abs(_area2(cand, first, second, i, n0, n1, n2))
-            if s > best:
+            a = abs(_area2(cand, first, second, i, n0, n1, n2))
+            s = a / base - _rise(cand, i, first)
+            if a > 1e-18 and s > best + TIE:
                 third, best = i, s
     if third < 0:
-        return m
+        return _in_order(cand, count, out, first, second, -1, -1)
     m = _write(out, m, cand, third)
     sign = 1.0 if _area2(cand, first, second, third, n0, n1, n2) > 0.0 else -1.0
-    fourth, best = -1, 1e-18
+    e12, e23, e31 = base, _length(cand, second, third), _length(cand, third, first)
+    fourth, best = -1, -math.inf
     for i in range(count):
         if cand[i, OUT] != 0.0 and _apart(cand, i, out, m, patch):
-            # the area a point adds outside each edge of the triangle (counter-clockwise
+            # how far a point lies outside each edge of the triangle (counter-clockwise
             # about n after ``sign``): positive only beyond that edge
-            s = max(-sign * _area2(cand, first, second, i, n0, n1, n2),
-                    -sign * _area2(cand, second, third, i, n0, n1, n2),
-                    -sign * _area2(cand, third, first, i, n0, n1, n2))
-            if s > best:
+            a = max(-sign * _area2(cand, first, second, i, n0, n1, n2) / e12,
+                    -sign * _area2(cand, second, third, i, n0, n1, n2) / e23,
+                    -sign * _area2(cand, third, first, i, n0, n1, n2) / e31)
+            s = a - _rise(cand, i, first)
+            if a > 1e-18 and s > best + TIE:
                 fourth, best = i, s
-    if fourth >= 0:
-        m = _write(out, m, cand, fourth)
-    return m
+    return _in_order(cand, count, out, first, second, third, fourth)
 
 
 @serial

@@ -107,15 +107,18 @@ def pair_patch(ka, sa, va, Ta, kb, sb, vb, Tb, margin, patch, zero, P, work, tmp
     n0, n1, n2 = -tmp[7], -tmp[8], -tmp[9]  # from b to a
     normal[0], normal[1], normal[2] = n0, n1, n2
     pa0, pa1, pa2, pb0, pb1, pb2 = tmp[1], tmp[2], tmp[3], tmp[4], tmp[5], tmp[6]
-    cand[0, 0], cand[0, 1], cand[0, 2], cand[0, 3] = pa0, pa1, pa2, tmp[0]  # the witnesses
+    d = tmp[0]
     # a's candidates against b's tangent plane π = n + (n · p_b) e∞ (K1, K21)
     count = candidates(ka, sa, va, Ta, n0, n1, n2, n0 * pb0 + n1 * pb1 + n2 * pb2,
-                       cand[1:1 + CANDIDATES], math.inf)
-    c = _keep(cand, 1, count, n0, n1, n2, 1.0, kb, sb, vb, Tb, margin, zero, P, work, tmp)
+                       cand[0:CANDIDATES], math.inf)
+    c = _keep(cand, 0, count, n0, n1, n2, 1.0, kb, sb, vb, Tb, margin, zero, P, work, tmp)
     # b's against a's tangent plane, whose normal is -n
     count = candidates(kb, sb, vb, Tb, -n0, -n1, -n2, -(n0 * pa0 + n1 * pa1 + n2 * pa2),
                        cand[c:c + CANDIDATES], math.inf)
     c = _keep(cand, c, count, n0, n1, n2, -1.0, ka, sa, va, Ta, margin, zero, P, work, tmp)
+    # the witnesses last: of candidates level with them (a face's corners) those come first
+    cand[c, 0], cand[c, 1], cand[c, 2], cand[c, 3] = pa0, pa1, pa2, d
+    c += 1
     if mark_within(cand, c, margin) == 0:
         return 0
     return reduce_patch(cand, c, patch, n0, n1, n2, out)
