@@ -177,7 +177,7 @@ class Kernel:
 
     def source(self) -> str:
         mul, add = count_ops(self.exprs)
-        lines = ["", "", "@inline", f"def {self.name}({', '.join(self.args)}):",
+        lines = ["", "", "@kernel", f"def {self.name}({', '.join(self.args)}):",
                  f'    """{self.doc}', "", f"    {mul} multiplications, {add} additions.",
                  '    """']
         return "\n".join(lines + self.lines(batched=False))
@@ -572,11 +572,11 @@ Layouts (coefficients in the null basis, e0·e∞ = -1):
     wrench (6,): {wrench}
     inertia (6, 6): inertia[k, j] = coefficient of element I^(e_k) on wrench blade j.
 Each kernel writes into ``out`` (which may alias an input) and allocates nothing, so it can
-be called from other compiled code, where it is inlined (``_jit.inline``): a recursion
-is then one function without calls.
+be called from other compiled code, where its operations are emitted into the caller from
+this source (``straight.kernel``): a recursion is then one function without calls.
 """
 
-from .._jit import inline
+from .straight import kernel
 '''
 
 

@@ -8,14 +8,14 @@ Layouts (coefficients in the null basis, e0·e∞ = -1):
     wrench (6,): e23, e13, e12, e01, e02, e03
     inertia (6, 6): inertia[k, j] = coefficient of element I^(e_k) on wrench blade j.
 Each kernel writes into ``out`` (which may alias an input) and allocates nothing, so it can
-be called from other compiled code, where it is inlined (``_jit.inline``): a recursion
-is then one function without calls.
+be called from other compiled code, where its operations are emitted into the caller from
+this source (``straight.kernel``): a recursion is then one function without calls.
 """
 
-from .._jit import inline
+from .straight import kernel
 
 
-@inline
+@kernel
 def motor_mul(a, b, out):
     """Geometric product of two motors, ``out = a b`` (composition, eq. 5).
 
@@ -33,7 +33,7 @@ def motor_mul(a, b, out):
     out[7] = a0*b7 + a1*b6 - a2*b5 + a3*b4 + a4*b3 - a5*b2 + a6*b1 + a7*b0
 
 
-@inline
+@kernel
 def motor_mul_rotor(a, b, out):
     """``out = a b`` for a rotor ``b = b0 + b1 e12 + b2 e13 + b3 e23`` (its e∞ coefficients
     are not read): a revolute joint's motor about an axis through the frame origin.
@@ -52,7 +52,7 @@ def motor_mul_rotor(a, b, out):
     out[7] = a4*b3 - a5*b2 + a6*b1 + a7*b0
 
 
-@inline
+@kernel
 def motor_mul_translator(a, b, out):
     """``out = a b`` for a translator ``b = 1 + b4 e1∞ + b5 e2∞ + b6 e3∞`` (only b4..b6
     are read): a prismatic joint's motor.
@@ -71,7 +71,7 @@ def motor_mul_translator(a, b, out):
     out[7] = a1*b6 - a2*b5 + a3*b4 + a7
 
 
-@inline
+@kernel
 def motor_reverse(a, out):
     """Reverse of a motor, ``out = ~a``.
 
@@ -88,7 +88,7 @@ def motor_reverse(a, out):
     out[7] = a7
 
 
-@inline
+@kernel
 def twist_sandwich(m, x, out):
     """Move a twist by a motor: ``out = M X ~M`` (eq. 4; twists are closed).
 
@@ -114,7 +114,7 @@ def twist_sandwich(m, x, out):
     out[5] = m0*t6 + m1*t7 - m2*t3 - m3*t5 + m4*t2 + m5*t4 - m6*t0 - m7*t1
 
 
-@inline
+@kernel
 def twist_sandwich_rev(m, x, out):
     """Move a twist by the inverse motor: ``out = ~M X M``.
 
@@ -140,7 +140,7 @@ def twist_sandwich_rev(m, x, out):
     out[5] = m0*t6 - m1*t7 + m2*t3 + m3*t5 - m4*t2 - m5*t4 + m6*t0 - m7*t1
 
 
-@inline
+@kernel
 def wrench_sandwich(m, x, out):
     """Move a wrench by a motor: ``out = <M X ~M>_wrench`` (eq. 4, then projected).
 
@@ -169,7 +169,7 @@ def wrench_sandwich(m, x, out):
     out[5] = m0*t3 + m1*t11 - m2*t1 - m3*t2
 
 
-@inline
+@kernel
 def wrench_sandwich_rev(m, x, out):
     """Move a wrench by the inverse motor: ``out = <~M X M>_wrench`` (projected).
 
@@ -195,7 +195,7 @@ def wrench_sandwich_rev(m, x, out):
     out[5] = m0*t3 - m1*t11 + m2*t1 + m3*t2
 
 
-@inline
+@kernel
 def twist_cross(a, b, out):
     """Commutator of two twists, ``out = a × b`` (eqs. 10-11): the Lie bracket.
 
@@ -211,7 +211,7 @@ def twist_cross(a, b, out):
     out[5] = u0*v4 + u1*v3 - u3*v1 - u4*v0
 
 
-@inline
+@kernel
 def twist_cross_wrench(a, b, out):
     """Commutator of a twist and a wrench, ``out = <a × b>_wrench`` (eqs. 10-11).
 
@@ -229,7 +229,7 @@ def twist_cross_wrench(a, b, out):
     out[5] = -v0*w4 - v1*w3
 
 
-@inline
+@kernel
 def dot(v, w):
     """Inner product ``v · w`` of a twist and a wrench (a scalar).
 
@@ -242,7 +242,7 @@ def dot(v, w):
     return -v0*w0 - v1*w1 - v2*w2 - v3*w3 - v4*w4 - v5*w5
 
 
-@inline
+@kernel
 def inertia_apply(inertia, v, out):
     """Apply an inertia tensor to a twist: ``out = I[v] = -Σ_k (I^{e_k} · v) e_k`` (eq. 15).
 
@@ -265,7 +265,7 @@ def inertia_apply(inertia, v, out):
     out[5] = i5_0*v0 + i5_1*v1 + i5_2*v2 + i5_3*v3 + i5_4*v4 + i5_5*v5
 
 
-@inline
+@kernel
 def wrench_adjoint(m, out):
     """Matrix of the projected wrench sandwich: ``<M W ~M>_wrench = out @ W``.
 
@@ -342,7 +342,7 @@ def wrench_adjoint(m, out):
     out[5, 5] = c18
 
 
-@inline
+@kernel
 def inertia_transform(m, inertia, out):
     """Move an inertia tensor by a motor: ``out = M * I`` (eq. 16).
 
@@ -461,7 +461,7 @@ def inertia_transform(m, inertia, out):
     out[5, 5] = a35*x53 + a45*x54 + a55*x55
 
 
-@inline
+@kernel
 def translator_rotor(p1, p2, p3, r0, r1, r2, r3, out):
     """Motor ``out = T R``: the rotor ``r0 + r1 e12 + r2 e13 + r3 e23`` followed by the
     translator ``T = 1 - ½ p e∞`` (Dorst's convention for e0·e∞ = -1).
@@ -478,7 +478,7 @@ def translator_rotor(p1, p2, p3, r0, r1, r2, r3, out):
     out[7] = -0.5*p1*r3 + 0.5*p2*r2 - 0.5*p3*r1
 
 
-@inline
+@kernel
 def motor_translation(m):
     """Translation ``p`` of a normalised motor ``M = T R``: ``p = -2 <M ~R>_(e∞)``.
 
@@ -488,7 +488,7 @@ def motor_translation(m):
     return -2*(m0*m4 + m1*m5 + m2*m6 + m3*m7), 2*(-m0*m5 + m1*m4 + m2*m7 - m3*m6), 2*(-m0*m6 - m1*m7 + m2*m4 + m3*m5)
 
 
-@inline
+@kernel
 def adjoint_apply(x, v, out):
     """Wrench sandwich from the adjoint: ``out = X w = <M w ~M>_wrench``.
 
@@ -504,7 +504,7 @@ def adjoint_apply(x, v, out):
     out[5] = v3*x53 + v4*x54 + v5*x55
 
 
-@inline
+@kernel
 def adjoint_apply_transpose(x, v, out):
     """Inverse twist sandwich from the adjoint: ``out = Xᵀ v = ~M v M``.
 
@@ -523,7 +523,7 @@ def adjoint_apply_transpose(x, v, out):
     out[5] = v0*x05 + v1*x15 + v2*x25 + v3*x35 + v4*x45 + v5*x55
 
 
-@inline
+@kernel
 def inertia_congruence(x, inertia, out):
     """``out = M * I`` (eq. 16) for a symmetric inertia, from the wrench adjoint X of M.
 
@@ -615,7 +615,7 @@ def inertia_congruence(x, inertia, out):
     out[5, 5] = u02*x53 + u12*x54 + u22*x55
 
 
-@inline
+@kernel
 def inertia_congruence_add(x, inertia, out):
     """``out += M * I`` (eq. 16) for a symmetric inertia, from the wrench adjoint X of
     M: ``inertia_congruence`` that adds into ``out`` (a parent's articulated
@@ -727,7 +727,7 @@ def inertia_congruence_add(x, inertia, out):
     out[5, 5] += o55
 
 
-@inline
+@kernel
 def inertia_congruence_downdate_add(x, inertia, w, g, out):
     """``out += M * (I - w gᵀ)`` (eq. 16) from the wrench adjoint X of M, for
     ``I - w gᵀ`` symmetric (its upper triangle is read): the articulated inertia
