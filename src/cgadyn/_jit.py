@@ -12,8 +12,9 @@ its role:
 - ``parallel``: a batch entry, its samples split over numba's threads with ``prange``;
 - ``native(signature)``: a C-callable entry point (``numba.cfunc``) that ``cgadyn._native``
   calls with raw pointers (see ``docs/architecture.md``);
-- (``kernels.straight.kernel``: a generated straight-line kernel, made an intrinsic that
-  emits its operations into each compiled caller from its own source;)
+- (``kernels.straight.kernel``: a generated straight-line kernel, ``inline``, or with
+  ``CGADYN_KERNELS=straight`` an intrinsic that emits its operations into each compiled
+  caller from its own source;)
 - ``intrinsic``: an operation written in LLVM IR (``numba.extending.intrinsic``), for the
   vector instructions of ``kernels/lanes.py``, which numba's optimiser does not form by
   itself (its superword vectoriser is off by default).

@@ -19,7 +19,8 @@ are the vector instructions ``lanes`` uses (``contract`` flagged, as there), as 
 compiled them from the same source through ``lane_arrays``' operators.
 
 Called from Python, a kernel runs its source as written (and under ``NUMBA_DISABLE_JIT``
-``kernel`` returns the function itself).
+``kernel`` returns the function itself). Not the default yet (``STRAIGHT``): the rnea is
+slower with it.
 
 What a straight-line body may hold (anything else is refused when the kernel is declared):
 ``a, b = x[0], x[1, 2]`` and ``c = expr`` (each name bound once), ``out[i] = expr``,
@@ -38,6 +39,7 @@ from __future__ import annotations
 import ast
 import functools
 import inspect
+import os
 import textwrap
 from collections.abc import Callable
 
@@ -47,6 +49,7 @@ from numba.core import cgutils, types
 from numba.core.extending import _Intrinsic
 from numba.np.arrayobj import load_item, store_item
 
+from .._jit import inline
 from .lane_arrays import LaneArray
 from .lanes import _FLAGS, _VEC, LANES, Lanes, W
 
@@ -353,7 +356,19 @@ class Kernel(_Intrinsic):
         return self.py_func(*args)
 
 
+STRAIGHT = os.environ.get("CGADYN_KERNELS") == "straight"
+"""Whether the generated kernels are emitted from their source (``CGADYN_KERNELS=straight``)
+or inlined by numba (the default, ``_jit.inline``). Emitted, a cold first ``cgadyn.aba``
+compiles in half the time with bitwise the same numbers, but measured against numba's
+inlining (``validation/results/ab_speed.md``) rnea runs 1.26-1.41x slower (its machine code
+has about 45 more indirect calls, cause not found) and anymal's minverse batch 1.17x, above
+the 5 % this project allows; so it waits until that is understood."""
+
+
 def kernel(fn: Callable) -> Callable:
-    """Declare the straight-line kernel ``fn`` (``Kernel``); under ``NUMBA_DISABLE_JIT``,
-    ``fn`` itself."""
-    return fn if numba.config.DISABLE_JIT else Kernel(fn)
+    """Declare the straight-line kernel ``fn``: a ``Kernel`` where ``STRAIGHT``, else
+    inlined by numba into every compiled caller (``_jit.inline``); ``fn`` itself under
+    ``NUMBA_DISABLE_JIT``."""
+    if numba.config.DISABLE_JIT:
+        return fn
+    return Kernel(fn) if STRAIGHT else inline(fn)
