@@ -8,13 +8,14 @@ its role:
   ``CGADYN_INLINE=llvm``) compiled once and inlined by LLVM (``_inlining``);
 - ``core``: the body of an algorithm, one sample; the only liberty taken with IEEE
   arithmetic is fusing a multiply and an add into one FMA instruction (``contract``);
+  it allocates nothing and counts no references;
 - ``serial``: any other compiled function;
 - ``parallel``: a batch entry, its samples split over numba's threads with ``prange``;
 - ``native(signature)``: a C-callable entry point (``numba.cfunc``) that ``cgadyn._native``
   calls with raw pointers (see ``docs/architecture.md``);
-- (``kernels.straight.kernel``: a generated straight-line kernel, ``inline``, or with
-  ``CGADYN_KERNELS=straight`` an intrinsic that emits its operations into each compiled
-  caller from its own source;)
+- (``kernels.straight.kernel``: a generated straight-line kernel, an intrinsic that emits
+  its operations into each compiled caller from its own source, or with
+  ``CGADYN_KERNELS=numba`` an ``inline``;)
 - ``intrinsic``: an operation written in LLVM IR (``numba.extending.intrinsic``), for the
   vector instructions of ``kernels/lanes.py``, which numba's optimiser does not form by
   itself (its superword vectoriser is off by default).
@@ -168,8 +169,20 @@ def inline(fn: Callable):
 
 
 def core(fn: Callable):
-    """One sample of an algorithm, with multiply-adds fused (``fastmath={"contract"}``)."""
-    return _compile(numba.njit, fn, nogil=True, fastmath={"contract"}, error_model="numpy")
+    """One sample of an algorithm, with multiply-adds fused (``fastmath={"contract"}``),
+    compiled without reference counting (``_nrt=False``).
+
+    A core allocates nothing: it reads and writes arrays its caller holds (arguments, and
+    views carved from a workspace the caller passes), so its reference counts could never
+    reach zero and counting them only costs. numba pairs and removes most counts, but
+    not all once LLVM has reshaped a large function (a decrement sunk from two branches
+    into one, on a phi of pointers), and each count left is a call in the recursion's
+    loop that LLVM cannot move loads across. Without reference counting, numba refuses at
+    compile time what would need it (an allocation, an array returned), so a core that
+    breaks the promise does not compile. ``tests/test_no_leaks.py`` checks that every
+    call frees what it allocates."""
+    return _compile(numba.njit, fn, nogil=True, fastmath={"contract"}, error_model="numpy",
+                    _nrt=False)
 
 
 def serial(fn: Callable):

@@ -45,6 +45,37 @@ def _advance(typingctx, pointer, offset):
 
 
 @intrinsic
+def _bare_view(typingctx, pointer, shape):
+    """``numba.carray(pointer, shape)`` as one intrinsic: a C-contiguous array of
+    ``shape`` on ``pointer``'s data, no owner. numba's ``carray`` is an overload compiled
+    as a function returning an array, which a caller compiled without reference counts
+    (``_jit.core``) may not call."""
+    if not (isinstance(pointer, types.CPointer) and isinstance(shape, types.BaseTuple)
+            and all(isinstance(s, types.Integer) for s in shape)):
+        return None
+    array = types.Array(pointer.dtype, len(shape), "C")
+    sig = array(pointer, shape)
+
+    def codegen(context, builder, signature, args):
+        intp = types.intp
+        dims = [context.cast(builder, d, t, intp)
+                for d, t in zip(cgutils.unpack_tuple(builder, args[1]), shape, strict=True)]
+        itemsize = context.get_constant(intp, context.get_abi_sizeof(
+            context.get_data_type(pointer.dtype)))
+        strides, step = [], itemsize
+        for d in reversed(dims):
+            strides.insert(0, step)
+            step = builder.mul(step, d)
+        out = context.make_array(array)(context, builder)
+        context.populate_array(out, data=args[0], shape=cgutils.pack_array(builder, dims),
+                               strides=cgutils.pack_array(builder, strides),
+                               itemsize=itemsize, meminfo=None)
+        return out._getvalue()
+
+    return sig, codegen
+
+
+@intrinsic
 def _data_pointer(typingctx, array):
     sig = types.CPointer(array.dtype)(array)
 
@@ -78,6 +109,10 @@ if numba.config.DISABLE_JIT:
         """Pure Python: the same bytes viewed as int64."""
         return array.view(np.int64)
 
+    def bare_view(pointer: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
+        """Pure Python: the first elements of the flat array, in ``shape``."""
+        return pointer[:int(np.prod(shape))].reshape(shape)
+
 else:
     data_pointer = _data_pointer
     """The data of a C-contiguous array as a pointer for ``carve``; views made from it
@@ -85,6 +120,10 @@ else:
 
     as_int64 = _as_int64
     """The same pointer read as 8-byte integers: for int64 data stored in a float64 buffer."""
+
+    bare_view = _bare_view
+    """A C-contiguous array of ``shape`` on a pointer's data (``numba.carray``), owning
+    nothing: ``bare_view(data_pointer(work), (0, 6))`` is an empty array without an allocation."""
 
     stack_buffer = _stack_array
     """``size`` uninitialised floats on the stack of the compiled function that calls it,
@@ -113,6 +152,6 @@ def _carve(buf, offset, shape):
         size = 1
         for s in shape:
             size *= s
-        return numba.carray(_advance(buf, offset), shape), offset + size
+        return _bare_view(_advance(buf, offset), shape), offset + size
 
     return bare

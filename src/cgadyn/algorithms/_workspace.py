@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import serial
-from .._views import carve, data_pointer, stack_buffer
+from .._views import bare_view, carve, data_pointer, stack_buffer
 
 STACK_FLOATS = 8192
 """The largest workspace (64 KiB) a one-sample call takes from its stack; larger ones (ABA
@@ -26,7 +26,8 @@ MIN_CHUNK = 4
 """The fewest samples a thread is given: a batch of fewer than twice this many runs as one
 chunk, since waking a second thread costs about as much as computing a few samples."""
 
-__all__ = ["MIN_CHUNK", "STACK_FLOATS", "carve", "chunks", "data_pointer", "stack_buffer"]
+__all__ = ["MIN_CHUNK", "STACK_FLOATS", "bare_view", "carve", "chunks", "data_pointer",
+           "stack_buffer"]
 
 
 @serial

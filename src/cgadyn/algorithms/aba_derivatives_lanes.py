@@ -16,8 +16,6 @@ are the samples after the last whole group (``_groups.in_groups``).
 
 from __future__ import annotations
 
-import numpy as np
-
 from .._jit import core, inline
 from ..kernels.lane_arrays import offset_in
 from ..kernels.lanes import W
@@ -52,8 +50,9 @@ def aba_derivatives_group(m, q, v, tau, f, o0, o1, o2, start, stop, work):
     c = offset_in(rnea_derivatives_workspace(ws.data_pointer(samples[0, o:]), m).c,
                   samples[0]) - o  # the group's joint scalars c, s in ``lanes``
     Cl, Snl = lanes[c * W:(c + m.nq) * W], lanes[(c + m.nq) * W:(c + 2 * m.nq) * W]
+    none = ws.bare_view(ws.data_pointer(work), (0, 6))  # no external wrenches
     return in_groups(_group, _single, start, stop,
-                     (m, q, v, tau, f, o0, o1, o2, o, Cl, Snl, k_, np.empty((0, 6))))
+                     (m, q, v, tau, f, o0, o1, o2, o, Cl, Snl, k_, none))
 
 
 @inline

@@ -23,8 +23,6 @@ Results larger than ``_stream.STREAM_FLOATS`` are written past the caches (``_st
 
 from __future__ import annotations
 
-import numpy as np
-
 from .._jit import core, inline
 from ..kernels.lane_arrays import lane_array, lane_matrix, offset_in
 from ..kernels.lanes import W, gather, load, store, store_transposed
@@ -62,9 +60,10 @@ def rnea_derivatives_group(m, q, v, a, f, o0, o1, o2, start, stop, work):
     """``rnea_derivatives`` of the samples ``start .. stop`` of a batch, ``W`` at a time; a
     status (at the sample of the first fault)."""
     streamed = o0.size + o1.size + o2.size > STREAM_FLOATS
+    none = ws.bare_view(ws.data_pointer(work), (0, 6))  # no external wrenches
     return in_groups(_group, _single, start, stop,
                      (m, q, v, a, f, o0, o1, o2, streamed, workspace(ws.data_pointer(work), m),
-                      np.empty((0, 6))))
+                      none))
 
 
 @inline

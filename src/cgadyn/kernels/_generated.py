@@ -8,8 +8,8 @@ Layouts (coefficients in the null basis, e0·e∞ = -1):
     wrench (6,): e23, e13, e12, e01, e02, e03
     inertia (6, 6): inertia[k, j] = coefficient of element I^(e_k) on wrench blade j.
 Each kernel writes into ``out`` (which may alias an input) and allocates nothing, so it can
-be called from other compiled code, where it is inlined (``straight.kernel``: by numba, or
-with ``CGADYN_KERNELS=straight`` emitted from this source): a recursion is then one
+be called from other compiled code, where it is inlined (``straight.kernel``: emitted from this
+source, or with ``CGADYN_KERNELS=numba`` inlined by numba): a recursion is then one
 function without calls.
 """
 

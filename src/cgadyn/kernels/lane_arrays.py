@@ -63,7 +63,8 @@ def _view(ndim):
         def codegen(context, builder, signature, args):
             view = cgutils.create_struct_proxy(signature.return_type)(context, builder)
             view.array = args[0]
-            context.nrt.incref(builder, signature.args[0], args[0])
+            if context.enable_nrt:  # a new reference, where references are counted
+                context.nrt.incref(builder, signature.args[0], args[0])
             view.offset = context.cast(builder, args[1], signature.args[1], types.intp)
             view.s0 = context.cast(builder, args[2], signature.args[2], types.intp)
             view.s1 = context.cast(builder, args[3], signature.args[3], types.intp)

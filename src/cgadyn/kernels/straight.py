@@ -19,8 +19,8 @@ are the vector instructions ``lanes`` uses (``contract`` flagged, as there), as 
 compiled them from the same source through ``lane_arrays``' operators.
 
 Called from Python, a kernel runs its source as written (and under ``NUMBA_DISABLE_JIT``
-``kernel`` returns the function itself). Not the default yet (``STRAIGHT``): the rnea is
-slower with it.
+``kernel`` returns the function itself). The default; ``CGADYN_KERNELS=numba`` asks for
+numba's inlining instead (``STRAIGHT``).
 
 What a straight-line body may hold (anything else is refused when the kernel is declared):
 ``a, b = x[0], x[1, 2]`` and ``c = expr`` (each name bound once), ``out[i] = expr``,
@@ -356,13 +356,12 @@ class Kernel(_Intrinsic):
         return self.py_func(*args)
 
 
-STRAIGHT = os.environ.get("CGADYN_KERNELS") == "straight"
-"""Whether the generated kernels are emitted from their source (``CGADYN_KERNELS=straight``)
-or inlined by numba (the default, ``_jit.inline``). Emitted, a cold first ``cgadyn.aba``
-compiles in half the time with bitwise the same numbers, but measured against numba's
-inlining (``validation/results/ab_speed.md``) rnea runs 1.26-1.41x slower (its machine code
-has about 45 more indirect calls, cause not found) and anymal's minverse batch 1.17x, above
-the 5 % this project allows; so it waits until that is understood."""
+STRAIGHT = os.environ.get("CGADYN_KERNELS", "straight") != "numba"
+"""Whether the generated kernels are emitted from their source (the default) or, with
+``CGADYN_KERNELS=numba``, inlined by numba (``_jit.inline``). Emitted, a cold first
+``cgadyn.aba`` compiles in half the time, with bitwise the same numbers and, the cores
+counting no references (``_jit.core``), the same speed (``validation/results/ab_speed.md``).
+"""
 
 
 def kernel(fn: Callable) -> Callable:
