@@ -11,7 +11,7 @@ temporary directory), in fresh ``NUMBA_CACHE_DIR`` and ``CGADYN_CACHE_DIR`` dire
   the package, then a new process's first ``rnea`` (numba's cache keeps what the edit does
   not reach, so this loads from the cache);
 - ``cold validate`` (with ``--validate``): ``cgadyn validate`` on the default robot, with the
-  time until its first line on stderr.
+  time until its first output on stderr (a progress line begun) and its first whole line.
 
 With ``--breakdown``, also where the cold compilation goes (``compile_breakdown.py``: numba's
 compile events, CPU seconds of the process) for a first ``aba`` and a cold ``validate``, per
@@ -94,18 +94,23 @@ def first_calls(src: Path, cache: Path, *names: str) -> dict[str, float]:
 
 
 def validate(src: Path, cache: Path) -> dict[str, float]:
-    """A cold ``cgadyn validate``: its total time and the time to its first stderr line."""
+    """A cold ``cgadyn validate``: its total time, the time to its first output on stderr
+    (a progress line starts, "cgadyn: compiling ...", when a compilation does) and to its
+    first whole stderr line (when that compilation ends)."""
     start = time.perf_counter()
     proc = subprocess.Popen([sys.executable, "-m", "cgadyn.cli", "validate", "--json"],
                             env=env(src, cache), cwd=cache, stdout=subprocess.DEVNULL,
-                            stderr=subprocess.PIPE, text=True)
-    first = None
-    for _ in proc.stderr:
-        first = first if first is not None else time.perf_counter() - start
+                            stderr=subprocess.PIPE, bufsize=0)
+    first = line = None
+    while byte := proc.stderr.read(1):
+        now = time.perf_counter() - start
+        first = now if first is None else first
+        line = now if line is None and byte == b"\n" else line
     proc.wait()
     total = time.perf_counter() - start
     return {"cold validate": total,
-            "first stderr line": first if first is not None else float("nan"),
+            "first stderr output": first if first is not None else float("nan"),
+            "first stderr line": line if line is not None else float("nan"),
             "validate status": proc.returncode}
 
 
