@@ -66,7 +66,8 @@ def test_every_algorithm_frees_what_it_allocates(robot, batch, alg):
     model = cgadyn.load(robot)
     arrays = _inputs(model, alg, batch, np.random.default_rng(0))
     options = (model.nlinks - 1, 0)[:len(alg.options)]
-    f_ext = np.zeros((batch, model.njoints, 6) if batch else (model.njoints, 6)) if alg.forces else None
+    wrenches = (batch, model.njoints, 6) if batch else (model.njoints, 6)
+    f_ext = np.zeros(wrenches) if alg.forces else None
     _repeat_balanced(lambda: run(alg.name, model, arrays, f_ext=f_ext, options=options))
 
 
