@@ -21,7 +21,8 @@ pytestmark = pytest.mark.skipif(numba.config.DISABLE_JIT, reason="compiled kerne
 
 KERNELS = sorted(name for name, value in vars(_generated).items()
                  if getattr(value, "__module__", "") == _generated.__name__)
-"""The generated kernels, as ``kernel`` declared them (inlined by numba by default)."""
+"""The generated kernels, as ``kernel`` declared them (emitted by default; inlined by numba
+with ``CGADYN_KERNELS=numba``)."""
 
 
 @functools.cache
