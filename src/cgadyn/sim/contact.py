@@ -116,9 +116,9 @@ REPORT = 4
 """The report of the last contact step: ``[iterations (both solvers), primal, dual,
 complementarity]`` (zeros for a step without a contact problem)."""
 KEPT = 3
-"""A kept row's first columns: the contacts' number, the solvers' iterations and the largest
-residual of the step (``_keep_contacts``); the slots' forces follow (3 K), then the joint
-limits' and the friction losses' generalised forces (2 nv, ``joint_torques``)."""
+"""A kept row's columns: the contacts' number, the solvers' iterations and the largest
+residual of the step (``rollout._keep_contacts``, which writes the slots' forces and the
+joint limits' and friction losses' generalised forces into arrays of their own)."""
 
 
 def world_arrays(model, collisions, world, contact, joint_limits: bool = True,

@@ -79,7 +79,7 @@ from ..constraints.work.core import workspace as constraint_workspace
 from ..constraints.work.core import workspace_size as constraint_workspace_size
 from ..multibody.joints import joint_difference, joint_integrate
 from ..multibody.packed import unpack
-from .contact import KEPT, carve_scratch, contact_velocity, factored_dynamics, scratch_size
+from .contact import carve_scratch, contact_velocity, factored_dynamics, scratch_size
 from .pairs import pair_count, pair_scratch_size
 from .work.rollout import workspace, workspace_size
 
@@ -289,24 +289,53 @@ def _world_size(world, n, nq, nv, nl, nr):
 
 
 @serial
-def _keep_contacts(world, row):
-    """``row = [count, iterations, residual, the forces of the slots (K, 3), the limits' and
-    the friction losses' generalised forces (2, nv)]`` of the last contact step
-    (``sim.contact.KEPT``); nothing without a world."""
+def _kept(world):
+    """None without a world, else what ``_keep_contacts`` reads of it: the slots' forces,
+    which slots held a contact (``had``), the contacts' number, the solvers' report and the
+    joint torques of the limits and friction losses (a small tuple, not the world's whole
+    scratch, as ``_factors``)."""
     if world is None:
+        return None
+    return (world.force, world.had, world.count, world.report, world.joint_torques)
+
+
+@serial
+def _keep_contacts(kept, row, CS, CT, r):
+    """``row = [count, iterations, residual]`` of the last contact step
+    (``sim.contact.KEPT``), and into row ``r`` of ``CS`` (K, rows, 3) and ``CT`` (2, nv,
+    rows), the forces of the slots that held a contact and the limits' and friction losses'
+    nonzero generalised forces; nothing without a world. ``CS`` and ``CT`` are slot-major
+    and come in as untouched zero pages (``simulate``): a slot that never holds a contact,
+    a coordinate no limit or friction loss acts on, is never written and costs no memory,
+    and each written stream is contiguous in the steps."""
+    if kept is None:
         return
-    force, count, report, torques = world.force, world.count, world.report, \
-        world.joint_torques
+    force, had, count, report, torques = kept
     row[0] = count[0]
     row[1] = report[0]
     row[2] = max(report[1], report[2], report[3])
     for k in range(force.shape[0]):
-        for i in range(3):
-            row[KEPT + 3 * k + i] = force[k, i]
-    o = KEPT + 3 * force.shape[0]
+        if had[k] != 0.0:
+            for i in range(3):
+                CS[k, r, i] = force[k, i]
     for i in range(2):
         for k in range(torques.shape[1]):
-            row[o + i * torques.shape[1] + k] = torques[i, k]
+            if torques[i, k] != 0.0:
+                CT[i, k, r] = torques[i, k]
+
+
+@serial
+def _unset_contacts(kept, CS, CT, r):
+    """NaN into row ``r`` of ``CS`` and ``CT`` (``_keep_contacts``), a state no step
+    reached or whose contacts could not be computed; nothing without a world."""
+    if kept is None:
+        return
+    for k in range(CS.shape[0]):
+        for i in range(3):
+            CS[k, r, i] = np.nan
+    for i in range(2):
+        for k in range(CT.shape[1]):
+            CT[i, k, r] = np.nan
 
 
 @serial
@@ -409,7 +438,7 @@ def heap_size(n, nq, nv, nl, nr):
 
 @parallel
 def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, settings, world,
-             dt, steps, every, Q, V, A, X, CF, CR, completed, status):
+             dt, steps, every, Q, V, A, X, CF, CS, CT, CR, completed, status):
     """``B = q0.shape[0]`` rollouts of ``steps`` steps, in parallel.
 
     ``q0`` (B, nq), ``v0`` (B, nv); ``u`` the open-loop torques (1 or B, steps or 1, nv),
@@ -422,7 +451,8 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, se
     compiles a loop without contact). Writes the kept states into ``Q``
     (B, rows, nq), ``V``, ``A`` (B, rows, nv), the constraints' record of each (``_record``)
     into ``X`` (B, rows, 3, nr), the contacts of each (``_keep_contacts``) into ``CF`` (B,
-    rows, KEPT + 3 K + 2 nv), a failed contact step's report into ``CR`` (B, REPORT), and
+    rows, KEPT), ``CS`` (B, K, rows, 3) and ``CT`` (B, 2, nv, rows), these two zeros when
+    they come in, a failed contact step's report into ``CR`` (B, REPORT), and
     per rollout the steps ``completed`` and the ``status`` (0, or the fault that stopped it). The
     acceleration at the last state takes the last open-loop torque. The outputs may come in
     unwritten (so that their pages are first touched by the thread that writes them, in
@@ -439,13 +469,14 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, se
         # the buffers are arguments of the call that carves them: alive while it runs; b as
         # int64, the type the loop's first typing gives it (else _rollout compiles twice)
         _rollout(packed, np.int64(b), method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
-                 settings, world, dt, steps, every, Q, V, A, X, CF, CR, completed, status,
-                 np.empty(size), np.empty(csize), np.empty(wsize))
+                 settings, world, dt, steps, every, Q, V, A, X, CF, CS, CT, CR, completed,
+                 status, np.empty(size), np.empty(csize), np.empty(wsize))
 
 
 @serial
 def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, settings,
-             world, dt, steps, every, Q, V, A, X, CF, CR, completed, status, buf, heap, wbuf):
+             world, dt, steps, every, Q, V, A, X, CF, CS, CT, CR, completed, status, buf,
+             heap, wbuf):
     """Rollout ``b`` of ``rollouts``, in the scratch ``buf`` (``workspace``) and the cores'
     workspace ``heap`` (``heap_size``: the shared one, then the constraint core's). Bare
     views (``_views.carve``) are valid only while the array they view lives, and compiled
@@ -460,6 +491,8 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
     con = _bind(cons, settings, cwork)
     wd = _bind_world(world, wbuf, mb.n, mb.nq, mb.nv, mb.nl, nr)
     fac = _factors(wd)
+    kept = _kept(wd)
+    CSb, CTb = CS[b], CT[b]
     sc = workspace(ws.data_pointer(buf), mb, nr)
     for k in range(mb.nv):
         sc.zero[k] = 0.0
@@ -494,7 +527,7 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
         r = kept_row(i, steps, every)
         if r >= 0:
             _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
-            _keep_contacts(wd, CFb[r])
+            _keep_contacts(kept, CFb[r], CSb, CTb, r)
             last = r
         if s != OK:
             _report(wd, CR[b])
@@ -513,17 +546,21 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
             _contact(mb, wd, q, v, a, dt, vn, work, con, sc)  # the constraints' share, C14)
         _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
         if s == OK:
-            _keep_contacts(wd, CFb[r])
+            _keep_contacts(kept, CFb[r], CSb, CTb, r)
         else:
             _unset(CFb[r])
+            _unset_contacts(kept, CSb, CTb, r)
         last = r
     elif kept_row(done, steps, every) < 0:
         last = stop_row(done, every)
         _keep(q, v, a, sc.X, Qb[last], Vb[last], Ab[last], Xb[last])
         _unset(CFb[last])
+        _unset_contacts(kept, CSb, CTb, last)
     for x in (Qb, Vb, Ab, Xb, CFb):  # NaN in the rows no state reached
         for r in range(last + 1, x.shape[0]):
             _unset(x[r])
+    for r in range(last + 1, rows):
+        _unset_contacts(kept, CSb, CTb, r)
     completed[b] = done
     status[b] = s
 

@@ -214,11 +214,16 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     status = np.zeros(B, dtype=np.int64)
     # without rows None: the loop compiled without the constraint core (rollout._dynamics)
     cons, solve = (np.array(p.array, dtype=float), settings) if p.nr else (None, None)
-    CF = np.empty(shape + (KEPT + 3 * K + 2 * model.nv if world is not None else 0,))
+    CF = np.empty(shape + (KEPT if world is not None else 0,))
+    # the slots' forces and the joints' limit and friction torques, slot- and coordinate-
+    # major and zeros: pages no contact writes are never touched (rollout._keep_contacts)
+    CS = np.zeros((B, K if world is not None else 0, rows, 3))
+    CT = np.zeros((B, 2, model.nv if world is not None else 0, rows))
     CR = np.full((B, REPORT), np.nan)
     with PARALLEL_LOCK:
         rollouts(step_model, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, q_ref, v_ref,
-                 cons, solve, arrays, dt, steps, every, Q, V, A, X, CF, CR, completed, status)
+                 cons, solve, arrays, dt, steps, every, Q, V, A, X, CF, CS, CT, CR, completed,
+                 status)
     message = _message(model, status, completed, dt, steps, batch, coords, A, p, CR)
     if message:
         warnings.warn(message, SimulationDiverged, stacklevel=2)
@@ -231,9 +236,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
         count = np.where(np.isnan(CF[..., 0]), -1, CF[..., 0]).astype(np.int64)
         iterations = np.where(np.isnan(CF[..., 1]), -1, CF[..., 1]).astype(np.int64)
         residual = CF[..., 2].copy()
-        forces = CF[..., KEPT:KEPT + 3 * K].reshape(shape + (K, 3))
-        limit = CF[..., KEPT + 3 * K:KEPT + 3 * K + model.nv]
-        friction = CF[..., KEPT + 3 * K + model.nv:]
+        forces = CS.transpose(0, 2, 1, 3)  # (B, rows, K, 3), a view
+        limit, friction = CT[:, 0].transpose(0, 2, 1), CT[:, 1].transpose(0, 2, 1)
     if not batch:
         end = int(last[0]) + 1
         Q, V, A, X, t = Q[0, :end], V[0, :end], A[0, :end], X[0, :end], t[:end].copy()
