@@ -1,6 +1,6 @@
 """Projected Gauss-Seidel on the blocks of ``ncp.py``, the Coulomb cones contact by contact,
-then the one-row intervals (``docs/contact.md``, K18, K19, K29): the second solver, for
-comparison, with ``admm_solve``'s interface and scratch."""
+then the one-row intervals, its iterate polished on its active set (``docs/contact.md``,
+K18, K18a, K19, K29), with ``admm_solve``'s interface and scratch."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import math
 
 from .._jit import inline, serial
 from ..algorithms.status import NONFINITE_INPUT, NONFINITE_RESULT, OK, fault
-from .admm import SIGMA, TMP
+from .admm import SIGMA, TMP, XOLD, ZOLD, X, Y, Z
 from .ncp import (
     ABS_TOL,
     COMPLEMENTARITY,
@@ -25,12 +25,26 @@ from .ncp import (
     residuals,
     velocity,
 )
+from .polish import active_set, newton_step, unsettled
 from .sets import interval_step
 
 GATE = 1e3
 """A sweep is followed by the stopping rule (K19) only where no row's velocity changed by more
 than ``GATE`` times the rule's dual tolerance (``_move``): far from the solution the rule's
 residuals are not worth computing."""
+POLISH = 1e-3
+"""The sweeps' iterate is polished (``_polish``, K18a) once no row's velocity changed by more
+than ``POLISH`` (m/s, rad/s) in a sweep; where the polish does not pass the stopping rule,
+again each time the change has fallen ``POLISH_STEP`` times further, at most ``POLISHES``
+times in a solve."""
+POLISH_STEP = 1e-2
+POLISHES = 3
+NEWTON = 6
+"""The most Newton steps of one polish with a sliding contact (K18a)."""
+SETTLED = 1e-12
+"""A polish with a sliding contact ends where its equations' largest residual (``unsettled``,
+a velocity) is at most ``SETTLED`` times the stopping rule's dual scale, ``max(‖g‖∞, ‖(G +
+R) λ‖∞)``."""
 
 
 @inline
@@ -49,27 +63,25 @@ def _move(G, R, sigma, lam, r, value):
 
 
 @inline
-def _contact_step(G, R, sigma, lam, mu, o):
+def _contact_step(G, R, sigma, lam, mu, o, inv):
     """Contact ``o // 3``'s forces by K18: the normal one ``λ_N ← max(0, λ_N - σ_N /
     A_NN)``, then the tangential one ``λ_T ← λ_T - σ'_T / L_T`` at the velocity ``σ'_T``
     after the normal step, cut to the disc ``‖λ_T‖ <= μ λ_N`` (``L_T`` the largest
-    eigenvalue of the contact's tangential 2 x 2 block); then ``σ`` kept by the three
-    changes at once, one pass over the block's columns of ``G`` (``_move``'s, fused).
-    Returns the largest ``|Δλ_r| A_rr`` of the three rows."""
-    ann = G[o + 2, o + 2] + R[o + 2]
+    eigenvalue of the contact's tangential 2 x 2 block; ``inv[o]`` holds ``1 / L_T`` and
+    ``inv[o + 2]`` ``1 / A_NN``, 0 where not positive: ``_inverses``); then ``σ`` kept by
+    the three changes at once, one pass over the block's columns of ``G`` (``_move``'s,
+    fused). Returns the largest ``|Δλ_r| A_rr`` of the three rows."""
     n = lam[o + 2]
-    if ann > 0.0:  # the normal force
-        n = max(0.0, n - sigma[o + 2] / ann)
+    if inv[o + 2] > 0.0:  # the normal force
+        n = max(0.0, n - sigma[o + 2] * inv[o + 2])
     dn = n - lam[o + 2]
-    s0, s1 = sigma[o] + G[o, o + 2] * dn, sigma[o + 1] + G[o + 1, o + 2] * dn
-    a, b, d = G[o, o] + R[o], G[o, o + 1], G[o + 1, o + 1] + R[o + 1]
-    big = 0.5 * (a + d) + math.sqrt(0.25 * (a - d) ** 2 + b * b)
     x0, x1 = lam[o], lam[o + 1]
-    if big > 0.0:  # the tangential force, cut to the disc
-        t0, t1 = x0 - s0 / big, x1 - s1 / big
-        t = math.sqrt(t0 * t0 + t1 * t1)
+    if inv[o] > 0.0:  # the tangential force, cut to the disc
+        t0 = x0 - (sigma[o] + G[o, o + 2] * dn) * inv[o]
+        t1 = x1 - (sigma[o + 1] + G[o + 1, o + 2] * dn) * inv[o]
         cap = mu * n
-        scale = cap / t if t > cap else 1.0
+        tt = t0 * t0 + t1 * t1
+        scale = cap / math.sqrt(tt) if tt > cap * cap else 1.0
         x0, x1 = scale * t0, scale * t1
     d0, d1 = x0 - lam[o], x1 - lam[o + 1]
     if dn != 0.0 or d0 != 0.0 or d1 != 0.0:
@@ -79,7 +91,25 @@ def _contact_step(G, R, sigma, lam, mu, o):
         sigma[o] += R[o] * d0
         sigma[o + 1] += R[o + 1] * d1
         sigma[o + 2] += R[o + 2] * dn
-    return max(abs(d0) * a, abs(d1) * d, abs(dn) * ann)
+    return max(abs(d0) * (G[o, o] + R[o]), abs(d1) * (G[o + 1, o + 1] + R[o + 1]),
+               abs(dn) * (G[o + 2, o + 2] + R[o + 2]))
+
+
+@inline
+def _inverses(G, R, nc, inv):
+    """``inv``: for each contact ``1 / L_T`` (``L_T`` the largest eigenvalue of its
+    tangential 2 x 2 block of ``A = G + R``) at its first row and ``1 / A_NN`` at its normal
+    row; ``1 / A_rr`` at each interval row; 0 where the pivot is not positive (the row is
+    then left as it is, K18, K29). Once per solve: a sweep then multiplies."""
+    for r in range(inv.shape[0]):
+        a = G[r, r] + R[r]
+        inv[r] = 1.0 / a if a > 0.0 else 0.0
+    for i in range(nc):
+        o = 3 * i
+        a, b, d = G[o, o] + R[o], G[o, o + 1], G[o + 1, o + 1] + R[o + 1]
+        big = 0.5 * (a + d) + math.sqrt(0.25 * (a - d) ** 2 + b * b)
+        inv[o] = 1.0 / big if big > 0.0 else 0.0
+        inv[o + 1] = 0.0
 
 
 @inline
@@ -92,20 +122,51 @@ def _scales(g, sigma, lam):
     return gl, lmax
 
 
+@inline
+def _polish(G, g, mu, bounds, R, settings, lam, sigma, tmp, w, C, gmax):
+    """The iterate polished on its active set (K18a, ``polish.py``): Newton's steps, one
+    where no contact slides, else until the equations' residual is below ``SETTLED`` times
+    the dual scale (at most ``NEWTON``), then the stopping rule (K19) on ``σ`` formed
+    anew. Returns ``(passed, primal, dual, complementarity)``; where it did not pass, ``λ``
+    and ``σ`` are the iterate's again."""
+    m = g.shape[0]
+    save, rows, slides, x = w[ZOLD], w[Y], w[XOLD], w[Z]
+    k, sliding = active_set(mu, bounds, lam, rows, slides)
+    for r in range(m):
+        save[r] = lam[r]
+    gl = lmax = 0.0  # σ is the sweeps' kept one until the first step
+    for n in range(NEWTON + 1 if sliding else 2):
+        if n > 0 and (not sliding or unsettled(mu, lam, sigma, rows, slides, k)
+                      <= SETTLED * max(gmax, gl)):
+            primal, dual, comp = residuals(mu, bounds, lam, sigma, tmp)
+            if passes(settings, primal, dual, comp, gmax, gl, lmax):
+                return True, primal, dual, comp
+            break
+        if n == NEWTON or not newton_step(G, R, mu, lam, sigma, rows, slides, k, C, x) >= 0.0:
+            break
+        _, gl, lmax = velocity(G, R, g, lam, sigma)
+    for r in range(m):
+        lam[r] = save[r]
+    velocity(G, R, g, lam, sigma)
+    return False, 0.0, 0.0, 0.0
+
+
 @serial
 def pgs_solve(G, g, mu, bounds, R, settings, lam, info, C, w):
     """Solve the NCP (K13, K26) by sweeps over the blocks (K18): for contact ``i`` the normal
     force ``λ_N ← max(0, λ_N - σ_N / A_NN)``, then the tangential one ``λ_T ← λ_T - σ_T /
     L_T`` cut to the disc ``‖λ_T‖ <= μ λ_N`` (``A = G + R``, ``L_T`` the largest eigenvalue of
-    the contact's tangential 2 x 2 block); then each interval row of ``bounds`` (K29);
-    ``C`` is unused. ``σ`` is formed once and then kept by each block's change
-    (``_contact_step``, ``_move``), one pass over its columns of ``G``, and formed anew
-    where the stopping rule passes; the rule follows a sweep only where it changed no row's
-    velocity by more than ``GATE`` times its tolerance. A status."""
+    the contact's tangential 2 x 2 block); then each interval row of ``bounds`` (K29).
+    ``σ`` is formed once and then kept by each block's change (``_contact_step``,
+    ``_move``), one pass over its columns of ``G``, and formed anew where the stopping rule
+    passes; the rule follows a sweep only where it changed no row's velocity by more than
+    ``GATE`` times its tolerance. Once the sweeps change little (``POLISH``), the iterate is
+    polished on its active set (K18a, ``_polish``; ``C`` its scratch), which ends the solve
+    where the rule passes on the result. A status."""
     m = g.shape[0]
     nc = mu.shape[0]
     nb = bounds.shape[0]
-    sigma, tmp = w[SIGMA], w[TMP]
+    sigma, tmp, inv = w[SIGMA], w[TMP], w[X][:m]
     gmax = 0.0
     for r in range(m):
         gmax = max(gmax, abs(g[r]))
@@ -118,20 +179,29 @@ def pgs_solve(G, g, mu, bounds, R, settings, lam, info, C, w):
         for r in range(m):
             lam[r] = 0.0
     project_blocks(mu, bounds, lam, lam)
+    _inverses(G, R, nc, inv)
     _, gl, lmax = velocity(G, R, g, lam, sigma)
     primal, dual, comp = residuals(mu, bounds, lam, sigma, tmp)
     ok = passes(settings, primal, dual, comp, gmax, gl, lmax)
     it = 0
     limit = int(settings[MAX_ITER])
+    polish, polishes = POLISH, 0
     while not ok and it < limit:
         it += 1
         change = 0.0
         for i in range(nc):
-            change = max(change, _contact_step(G, R, sigma, lam, mu[i], 3 * i))
+            change = max(change, _contact_step(G, R, sigma, lam, mu[i], 3 * i, inv))
         for b in range(nb):  # each interval row (K29)
             r = 3 * nc + b
             change = max(change, _move(G, R, sigma, lam, r, interval_step(
-                bounds[b, 0], bounds[b, 1], lam[r], sigma[r], G[r, r] + R[r])))
+                bounds[b, 0], bounds[b, 1], lam[r], sigma[r], inv[r])))
+        if change <= polish and polishes < POLISHES:
+            polishes += 1
+            polish *= POLISH_STEP
+            ok, primal, dual, comp = _polish(G, g, mu, bounds, R, settings, lam, sigma, tmp, w,
+                                             C, gmax)
+            if ok:
+                break
         if change > GATE * max(settings[ABS_TOL], settings[REL_TOL] * max(gmax, gl)) \
                 and it < limit:
             continue  # far from the solution (GATE; NaN falls through to the rule)

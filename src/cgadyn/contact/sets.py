@@ -48,9 +48,9 @@ def interval_residuals(lo, hi, lam, sigma):
 
 
 @inline
-def interval_step(lo, hi, lam, sigma, a):
-    """PGS's update of one row (K29): ``P_[lo, hi](λ - σ / A_rr)``, λ unchanged where the
-    row's diagonal ``a = A_rr`` is not positive."""
-    if a > 0.0:
-        return clamp(lo, hi, lam - sigma / a)
+def interval_step(lo, hi, lam, sigma, inv):
+    """PGS's update of one row (K29): ``P_[lo, hi](λ - σ / A_rr)`` with ``inv = 1 / A_rr``,
+    λ unchanged where the row's diagonal ``A_rr`` is not positive (``inv = 0``)."""
+    if inv > 0.0:
+        return clamp(lo, hi, lam - sigma * inv)
     return lam
