@@ -41,7 +41,6 @@ from .._jit import inline, serial
 from ..algorithms import _workspace as ws
 from ..algorithms.aba import aba_core
 from ..algorithms.crba import crba_core
-from ..algorithms.kinematics import link_motor
 from ..algorithms.ltdl import ltdl, ltdl_solve
 from ..algorithms.rnea import rnea_core
 from ..algorithms.status import CONTACT_UNSOLVED, NONFINITE_RESULT, OK, SINGULAR, fault
@@ -64,7 +63,7 @@ from ..contact.limits import (
 from ..contact.problem import gap_term as _gap
 from ..contact.problem import normal_row
 from ..contact.solver import ADMM, PGS, solve_one
-from ..kernels.rigid import motor_matrix
+from ..kernels.rigid import rigid_frame, rigid_rotate
 from .pairs import (
     carve_pairs,
     detect_pairs,
@@ -78,11 +77,13 @@ from .pairs import (
 )
 
 WorldArrays = namedtuple("WorldArrays", (
-    "kinds", "sizes", "vertices", "offsets", "placements", "links", "active", "ground",
+    "kinds", "sizes", "vertices", "offsets", "frames", "joints", "links", "active", "ground",
     "ground_pose", "frame", "params", "limits", "frictions", "compliance", "radii", "pairs",
     "shape_friction"))
 """The world as the loop reads it (``world_arrays``): the shapes' kinds, sizes, vertices
-and offsets, their placements on their links, their links, which touch the ground, the
+and offsets, their placements in the frames of their links' joints (``frames`` (shapes, 3,
+4), the top rows of the homogeneous matrices; in the world's for a link fixed to it) and
+those joints (``joints``, -1: the world), their links, which touch the ground, the
 ground plane ``[n, δ]`` and its pose, the ground's frame ``(t₁, t₂, n)``, ``params``, the
 joint limits (``contact.limits.joint_limits``), the friction losses, each shape's normal
 stiffness and damping on the ground (``CollisionModel.compliance``, K41) and its bounding
@@ -92,7 +93,7 @@ pairs' code)."""
 
 ContactScratch = namedtuple("ContactScratch", (
     "world", "poses", "out", "counts", "cand", "big", "mu", "info", "settings", "prev",
-    "force", "had", "tmp8", "T", "count", "report", "cwork", "lrows", "bounds", "lprev",
+    "force", "had", "count", "report", "cwork", "lrows", "bounds", "lprev",
     "lhad", "twists", "bodies", "factored", "pairs", "joint_torques"))
 """A rollout's contact scratch (``carve_scratch``) beside its ``WorldArrays`` (``world``):
 the shapes' poses, the contacts found (``out``, ``counts``), candidates, the problem's
@@ -144,7 +145,7 @@ def world_arrays(model, collisions, world, contact, joint_limits: bool = True,
     return WorldArrays(
         np.ascontiguousarray(cm.kinds), np.ascontiguousarray(cm.sizes, dtype=float),
         np.ascontiguousarray(cm.vertices, dtype=float), np.ascontiguousarray(cm.offsets),
-        np.ascontiguousarray(cm.placements, dtype=float),
+        *_joint_frames(model, cm),
         np.ascontiguousarray(cm.links, dtype=np.int64), active,
         np.array(world.plane.packed_size, dtype=float), np.eye(4),
         ground_frame(world.ground_normal), params,
@@ -154,6 +155,23 @@ def world_arrays(model, collisions, world, contact, joint_limits: bool = True,
         np.ascontiguousarray(cm.compliance, dtype=float), bounding_radii(cm),
         *pair_world(model, cm, world, model.njoints if robot_joints is None
                     else robot_joints))
+
+
+def _joint_frames(model, cm) -> tuple[np.ndarray, np.ndarray]:
+    """Each shape's placement in the frame of its link's joint, the top three rows of its
+    homogeneous matrix (shapes, 3, 4), and that joint (shapes,), -1 where the link is fixed
+    to the world (the placement then the world's) or the shape is the world's own: the link
+    placement composed once here, so that a step moves each shape by its joint's world
+    motor alone (``_detect``)."""
+    n = len(cm.links)
+    frames, joints = np.empty((n, 3, 4)), np.full(n, -1, dtype=np.int64)
+    for s, link in enumerate(np.asarray(cm.links)):
+        T = np.asarray(cm.placements[s], dtype=float)
+        if link >= 0:
+            T = model.link_placement_matrices[link] @ T
+            joints[s] = model.link_joint[link]
+        frames[s] = T[:3]
+    return frames, joints
 
 
 def slots(shapes: int) -> int:
@@ -172,7 +190,7 @@ def scratch_size(n, nq, nv, nl, shapes, limits, frictions, nr):
     return (shapes * 16 + shapes * C.MAX_CONTACTS * C.OUT + shapes
             + C.CANDIDATES * C.CANDIDATE_COLUMNS + shapes * 12
             + m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6) + K + ncp.INFO
-            + ncp.SETTINGS + 2 * K * 3 + K + 8 + 16 + 1 + REPORT
+            + ncp.SETTINGS + 2 * K * 3 + K + 1 + REPORT
             + L * ROW_COLUMNS + 2 * (L + frictions + nr) + 2 * (L + frictions)
             + constraint_workspace_size(n, nq, nv, nl, m) + n * 12 + 2 + 2 * nv)
 
@@ -198,8 +216,6 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
     prev, o = ws.carve(p, o, (K, 3))
     force, o = ws.carve(p, o, (K, 3))
     had, o = ws.carve(p, o, (K,))
-    tmp8, o = ws.carve(p, o, (8,))
-    T, o = ws.carve(p, o, (4, 4))
     count, o = ws.carve(p, o, (1,))
     report, o = ws.carve(p, o, (REPORT,))
     cwork, o = ws.carve(p, o, (constraint_workspace_size(n, nq, nv, nl, m),))
@@ -222,7 +238,7 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
     count[0] = 0.0
     factored[0], factored[1] = 0.0, 1.0
     return ContactScratch(world, poses, out, counts, cand, big, mu, info, settings, prev,
-                          force, had, tmp8, T, count, report, cwork, lrows, bounds, lprev,
+                          force, had, count, report, cwork, lrows, bounds, lprev,
                           lhad, twists, bodies, factored, ps, joint_torques)
 
 
@@ -392,26 +408,28 @@ def _keep_bilateral(con, lam, r0, dt, sc):
 
 @inline
 def _detect(m, w_, k_, q, v, vn, dt):
-    """The shapes' poses, each its link's frame times its placement (K10); their contacts
+    """The shapes' poses, each its joint's world motor (as R, p) times its placement in that
+    joint's frame (K10, ``_joint_frames``); their contacts
     with the ground and with each other whose gap the step may close (K21, K21a, K22, K37,
     K39) into ``out``, ``counts`` and the pairs' scratch; the joint limits' bounds near which
     the step may go into ``lrows`` (K26). Returns ``(contacts, limit rows)``."""
     wa = w_.world
-    links, T, tmp8, poses = wa.links, w_.T, w_.tmp8, w_.poses
+    links, poses, frames = wa.links, w_.poses, wa.frames
     for s in range(links.shape[0]):
-        if links[s] < 0:
-            for i in range(4):
-                for j in range(4):
-                    T[i, j] = 1.0 if i == j else 0.0
+        j = wa.joints[s]
+        if j < 0:
+            for i in range(3):
+                for c in range(4):
+                    poses[s, i, c] = frames[s, i, c]
         else:
-            link_motor(m, k_.Mw, links[s], tmp8)
-            motor_matrix(tmp8, T)
-        for i in range(4):
-            for j in range(4):
-                acc = 0.0
-                for r in range(4):
-                    acc += T[i, r] * wa.placements[s, r, j]
-                poses[s, i, j] = acc
+            r, p = rigid_frame(k_.Mw[j])
+            for c in range(4):
+                x0, x1, x2 = rigid_rotate(r, frames[s, 0, c], frames[s, 1, c], frames[s, 2, c])
+                poses[s, 0, c] = x0 + p[0] if c == 3 else x0
+                poses[s, 1, c] = x1 + p[1] if c == 3 else x1
+                poses[s, 2, c] = x2 + p[2] if c == 3 else x2
+        for c in range(4):
+            poses[s, 3, c] = 1.0 if c == 3 else 0.0
     _shape_twists(m, k_.Sw, links, v, vn, w_.twists, w_.bodies)
     params = wa.params
     C.shapes_on_plane(wa.kinds, wa.sizes, wa.vertices, wa.offsets, poses, wa.radii,
