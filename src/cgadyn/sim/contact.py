@@ -19,7 +19,8 @@ their slot alike; then a row ``e_k`` per coordinate with a friction loss,
 world (the loop passes None otherwise and numba prunes the call).
 
 The world reaches compiled code as a named tuple (``WorldArrays``, ``world_arrays``): the
-shapes' kinds, sizes, vertices and offsets, their placements on their links, their links,
+shapes' kinds, sizes, vertices and offsets, their placements in their joints' frames and those
+joints (``_joint_frames``), their links,
 which touch the ground, the ground plane ``[n, δ]``, its frame, ``params`` (``PARAMS``, then
 the solver's ``ncp.SETTINGS``), the joint limits enforced (``contact.limits.joint_limits``;
 none where ``joint_limits`` is off), the friction losses
