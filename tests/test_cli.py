@@ -214,6 +214,35 @@ def test_all_reports_a_robot_that_fails_to_run(capsys, monkeypatch):
     assert validate_command.SHORT.keys() == {c.key for c in oracle.CHECKS} | {"constrained"}
 
 
+def test_all_summary_shows_the_mujoco_checks_of_an_mjcf_model():
+    import argparse
+
+    from cgadyn import mujoco_oracle
+
+    def row(rel):
+        return {"max_rel": rel, "pass": True}
+
+    checks = {c.key: row(1e-16) for c in oracle.CHECKS}
+    mjcf = {"robot": "gymnasium:inverted_double_pendulum", "nv": 3, "base": "fixed",
+            "pass": True, "checks": checks | {key: row(3.25e-15 + i * 1e-16)
+                                              for i, key in enumerate(mujoco_oracle.CHECKS)}}
+    urdf = {"robot": "panda", "nv": 9, "base": "fixed", "pass": True, "checks": checks}
+    args = argparse.Namespace(samples=2, seed=0, tolerance=1e-10)
+    lines = validate_command.format_summary([urdf, mjcf], args).splitlines()
+    head = next(line for line in lines if line.startswith("robot"))
+    assert all(title in head for title in validate_command.MUJOCO_SHORT.values())
+    assert validate_command.MUJOCO_SHORT.keys() == mujoco_oracle.CHECKS.keys()
+    mine = next(line for line in lines if line.startswith(mjcf["robot"] + " "))
+    assert [f"{3.25e-15 + i * 1e-16:.2e}" for i in range(5)] == mine.split()[-6:-1]
+    # the name fits its column: each cell ends where its title does
+    assert mine.index("3.25e-15") + 8 == head.index("mj x") + 4
+    assert mine.index(" 3 fixed") + 2 == head.index(" nv") + 3
+    panda = next(line for line in lines if line.startswith("panda "))
+    assert "3.25e-15" not in panda and panda.split()[-1] == "pass"
+    no_mjcf = validate_command.format_summary([urdf], args)
+    assert "mj rnea" not in no_mjcf and "mujoco" not in no_mjcf
+
+
 def test_validate_robot_api_and_leaves():
     import cgadyn
 

@@ -143,6 +143,11 @@ SHORT = {"rnea": "rnea", "aba": "aba", "crba": "crba", "gravity": "g(q)",
          "centroidal": "Ag", "com": "com", "manifold": "q ⊕ v", "constrained": "held"}
 """Column titles of the ``--all`` table, one per check of ``oracle.CHECKS`` and the
 constrained check (``validate.CONSTRAINED``: empty for a robot without constraints)."""
+MUJOCO_SHORT = {"mj_placements": "mj x", "mj_mass_matrix": "mj M", "mj_rnea": "mj rnea",
+                "mj_aba": "mj aba", "mj_passive": "mj pas"}
+"""Column titles of the ``--all`` table for the checks against MuJoCo
+(``mujoco_oracle.CHECKS``): shown when a robot of the run is an MJCF model, empty for the
+others."""
 
 
 def _cell(row: dict) -> str:
@@ -154,24 +159,37 @@ def format_summary(results: list[dict], args: argparse.Namespace) -> str:
     from ..validate import versions
 
     v = versions()
-    keys = [c.key for c in oracle.CHECKS] + ["constrained"]
+    titles = dict(SHORT)
+    mujoco = [k for k in mujoco_oracle.CHECKS
+              if any(k in r.get("checks", {}) for r in results)]
+    titles.update((k, MUJOCO_SHORT[k]) for k in mujoco)
+    keys = [c.key for c in oracle.CHECKS] + ["constrained"] + mujoco
+    width = max([27] + [len(r["robot"]) + 1 for r in results])
     lines = [f"cgadyn validate --all: {len(results)} robots, {args.samples} samples each, seed "
-             f"{args.seed} | cgadyn {v['cgadyn']}, pinocchio {v['pinocchio']}",
+             f"{args.seed} | cgadyn {v['cgadyn']}, pinocchio {v['pinocchio']}"
+             f"{', mujoco ' + _mujoco_version() if mujoco else ''}",
              f"worst relative error per check; {oracle.RELATIVE}; tolerance "
-             f"{args.tolerance:.0e} (× cond(M) for aba, d aba, M⁻¹, held); held: constrained "
-             f"dynamics, a floating robot's feet or an MJCF model's equalities held", ""]
-    head = f"{'robot':<27}{'nv':>4} {'base':<6}" + "".join(f"{SHORT[k]:>9}" for k in keys)
+             f"{args.tolerance:.0e} (× cond(M) for aba, d aba, M⁻¹, held"
+             f"{', mj aba' if mujoco else ''}); held: constrained dynamics, a floating "
+             f"robot's feet or an MJCF model's equalities held"]
+    if mujoco:
+        lines.append("mj: an MJCF model against MuJoCo (rel as above, MuJoCo in place of "
+                     "Pinocchio): x body placements (xpos, xmat), M mj_fullM, rnea "
+                     "mj_inverse, aba mj_forward's qacc, pas qfrc_passive")
+    lines.append("")
+    head = f"{'robot':<{width}}{'nv':>4} {'base':<6}" + "".join(f"{titles[k]:>9}"
+                                                               for k in keys)
     lines += [head + "  result", "-" * (len(head) + 8)]
     for r in results:
         if "checks" not in r:
             status = "refused" if r["pass"] is None else "FAIL"
-            lines.append(f"{r['robot']:<27}{'':>4} {'':<6}  {status}: "
+            lines.append(f"{r['robot']:<{width}}{'':>4} {'':<6}  {status}: "
                          f"{r.get('refused') or r.get('error')}")
             continue
         cells = "".join(f"{_cell(r['checks'][k]) if k in r['checks'] else '':>9}"
                         for k in keys)
         base = "free" if r["base"] == "free flyer" else "fixed"
-        lines.append(f"{r['robot']:<27}{r['nv']:>4} {base:<6}{cells}  "
+        lines.append(f"{r['robot']:<{width}}{r['nv']:>4} {base:<6}{cells}  "
                      f"{'pass' if r['pass'] else 'FAIL'}")
         for key, row in r["checks"].items():
             if "error" in row:
@@ -181,6 +199,12 @@ def format_summary(results: list[dict], args: argparse.Namespace) -> str:
     lines += ["-" * (len(head) + 8),
               f"{passed}/{len(results) - refused} robots pass; {refused} refused"]
     return "\n".join(lines)
+
+
+def _mujoco_version() -> str:
+    import mujoco
+
+    return mujoco.__version__
 
 
 def _progress(done: int, total: int, label: str, width: int = 24) -> None:
