@@ -164,6 +164,9 @@ def test_robots_lists_bases_and_refusals(capsys):
     rows = {line.split()[0]: line for line in out.splitlines()[1:-1]}
     assert rows["talos"].split()[1:5] == ["free", "flyer", "39", "38"]
     assert rows["panda"].split()[1:4] == ["fixed", "9", "9"]
+    # the longest name keeps a space before its base
+    assert rows["gymnasium:inverted_double_pendulum"].split()[1:5] == ["fixed", "3", "3",
+                                                                       "gymnasium"]
     assert "refused" in rows["cassie"] and "loops" in rows["cassie"]
     assert "refused" in rows["romeo_laas_small"]
     code, out, _ = run(capsys, "robots", "--names")

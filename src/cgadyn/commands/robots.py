@@ -1,5 +1,6 @@
-"""``cgadyn robots``: every robot that loads by name, with its base, nq and nv, and the
-robots of example-robot-data that cgadyn refuses, with the reason."""
+"""``cgadyn robots``: every robot that loads by name (example-robot-data's, the project's
+own, Gymnasium's and dm_control's MuJoCo models), with its base, nq and nv, and the robots
+that cgadyn refuses, with the reason."""
 
 from __future__ import annotations
 
@@ -13,7 +14,8 @@ __all__ = ["add_parser", "listing", "run"]
 def add_parser(sub) -> None:
     p = sub.add_parser("robots", help="list the robots that load by name, with base and dof",
                        description="Every robot name `cgadyn.load` accepts (the project's own "
-                       "robots and example-robot-data's), with its natural base, nq and nv, "
+                       "robots, example-robot-data's, Gymnasium's and dm_control's MuJoCo models), "
+                       "with its natural base, nq and nv, "
                        "and the robots cgadyn refuses with the reason. Loads every model "
                        "(cached after the first run).")
     p.add_argument("--names", action="store_true", help="print the names only, one per line")
@@ -49,13 +51,14 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print_json(rows)
         return 0
-    lines = [f"{'robot':<28}{'base':<12}{'nq':>4}{'nv':>4}  source"]
+    width = max([28] + [len(r["name"]) + 1 for r in rows])
+    lines = [f"{'robot':<{width}}{'base':<12}{'nq':>4}{'nv':>4}  source"]
     for r in rows:
         if "refused" in r:
-            lines.append(f"{r['name']:<28}{'refused':<12}{'':>4}{'':>4}  {r['source']}: "
+            lines.append(f"{r['name']:<{width}}{'refused':<12}{'':>4}{'':>4}  {r['source']}: "
                          f"{r['refused']}")
         else:
-            lines.append(f"{r['name']:<28}{r['base']:<12}{r['nq']:>4}{r['nv']:>4}  "
+            lines.append(f"{r['name']:<{width}}{r['base']:<12}{r['nq']:>4}{r['nv']:>4}  "
                          f"{r['source']}")
     loaded = sum("refused" not in r for r in rows)
     lines.append(f"{loaded} robots load by name; {len(rows) - loaded} refused")
