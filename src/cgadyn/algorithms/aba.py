@@ -54,7 +54,7 @@ from __future__ import annotations
 
 import math
 
-from .._jit import core, inline
+from .._jit import core
 from ..kernels import (
     adjoint_apply,
     adjoint_apply_transpose,
@@ -70,7 +70,7 @@ from ..kernels.rigid import rigid_apply, rigid_parameters
 from ..multibody.joints import joint_motors, joint_scalars, joint_twist
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
-from ._dense import spd_inverse
+from .pivots import articulated_inertia, joint_pivot, pivot_gain
 from .status import OK, SINGULAR, fault
 from .work.aba import workspace
 
@@ -169,21 +169,13 @@ def aba_core(m, q, v, tau, f, qdd, work):
                 G[k0, l] = omega * U[k0, l]  # G_j = U_j Ω_j
             ut[k0] = omega * u[k0]  # ũ_j = Ω_j τ̂_j
         else:  # several: D_j⁻¹ of the symmetric positive definite D_j
-            for a in range(k0, k1):
-                for b in range(k0, k1):
-                    D[a - k0, b - k0] = -dot(S[a], U[b])  # D_j = -S_jᵀ · U_j
-                D[a - k0, a - k0] += m.armature[a]  # + the rotors' inertia
-            if not spd_inverse(D, k1 - k0, Dinv):
+            if not joint_pivot(m.armature, S, U, k0, k1, D, Dinv):  # D_j, D_j⁻¹
                 return fault(SINGULAR, j)
+            pivot_gain(Dinv, U, k0, k1, G)  # G_j = U_j D_j⁻¹
             for a in range(k0, k1):
                 ut[a] = 0.0
-                for l in range(6):
-                    G[a, l] = 0.0
                 for b in range(k0, k1):
-                    w = Dinv[a - k0, b - k0]
-                    ut[a] += w * u[b]  # ũ_j = D_j⁻¹ τ̂_j
-                    for l in range(6):
-                        G[a, l] += w * U[b, l]  # G_j = U_j D_j⁻¹
+                    ut[a] += Dinv[a - k0, b - k0] * u[b]  # ũ_j = D_j⁻¹ τ̂_j
         p = m.parents[j]
         if p < 0:
             continue
@@ -194,7 +186,7 @@ def aba_core(m, q, v, tau, f, qdd, work):
                 tmp[k] += Wh[j, k] + U[k0, k] * w
             inertia_congruence_downdate_add(Ad[j], Ih[j], U[k0], G[k0], Ih[p])  # eq. (16)
         else:
-            _articulated(Ih[j], U, G, k0, k1, It)  # Ĩ_j = Î_j - U_j G_jᵀ
+            articulated_inertia(Ih[j], U, G, k0, k1, It)  # Ĩ_j = Î_j - U_j G_jᵀ
             inertia_apply(It, C[j], tmp)
             for k in range(6):  # W̄_j = Ŵ_j + Ĩ_j[c_j] + U_j ũ_j
                 tmp[k] += Wh[j, k]
@@ -223,20 +215,3 @@ def aba_core(m, q, v, tau, f, qdd, work):
                 for k in range(6):
                     V[j, k] += qdd[a] * S[a, k]  # V̇_j = V̄_j + S_j q̈_j
     return check_result(qdd)
-
-
-@inline
-def _articulated(Ih, U, G, k0, k1, It):
-    """``Ĩ = Î - U Gᵀ`` (Algorithm 1, second line), symmetric, for a joint of several
-    coordinates ``k0..k1`` (one-dof joints form it inside the congruence)."""
-    for k in range(6):
-        for l in range(k, 6):
-            It[k, l] = Ih[k, l]
-    for a in range(k0, k1):
-        for k in range(6):
-            w = U[a, k]
-            for l in range(k, 6):
-                It[k, l] -= w * G[a, l]
-    for k in range(6):
-        for l in range(k + 1, 6):
-            It[l, k] = It[k, l]

@@ -39,9 +39,8 @@ from ..kernels.layout import coefficients
 from ..kernels.rigid import rigid_frame, rigid_matrix, rigid_move_inertia, rigid_move_twist
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
-from ._dense import spd_inverse
-from .aba import _articulated
 from .kinematics import frame_motors, free_root, unit_coefficient
+from .pivots import articulated_inertia, joint_pivot, pivot_gain
 from .status import OK, SINGULAR, fault
 from .work.minverse import workspace
 
@@ -134,21 +133,12 @@ def minverse_recursion(m, k_, units, Minv):
                 return j
             omega = 1.0 / d
             Dinv[0, 0] = omega
-        else:
-            for a in range(k0, k1):
-                for b in range(k0, k1):
-                    D[a - k0, b - k0] = -dot(Sw[a], U[b])
-                D[a - k0, a - k0] += m.armature[a]  # + the rotors' inertia
-            if not spd_inverse(D, k1 - k0, Dinv):
-                return j
+        elif not joint_pivot(m.armature, Sw, U, k0, k1, D, Dinv):  # D_j, D_j⁻¹ (M1)
+            return j
+        pivot_gain(Dinv, U, k0, k1, G)  # D_j⁻¹ U_j
         for a in range(k0, k1):
-            for i in range(6):
-                G[a, i] = 0.0
             for b in range(k0, k1):
-                w = Dinv[a - k0, b - k0]
-                Minv[a, b] = w  # M⁻¹[j, j] = D_j⁻¹ (M2), the whole block (M3 reads it)
-                for i in range(6):
-                    G[a, i] += w * U[b, i]  # D_j⁻¹ U_j
+                Minv[a, b] = Dinv[a - k0, b - k0]  # M⁻¹[j, j] = D_j⁻¹ (M2), the whole block
         parent = m.parents[j]
         if k1 - k0 == 1:  # one coordinate: the same with a number for D_j⁻¹
             s_j, u_j = coefficients(Sw[k0]), coefficients(U[k0])  # in registers
@@ -181,7 +171,7 @@ def minverse_recursion(m, k_, units, Minv):
                 for k in range(6):
                     Ih[parent, i, k] += Ih[j, i, k] - w * G[k0, k]
         elif parent >= 0:
-            _articulated(Ih[j], U, G, k0, k1, It)  # Ĩ_j = Î_j - U_j D_j⁻¹ U_jᵀ
+            articulated_inertia(Ih[j], U, G, k0, k1, It)  # Ĩ_j = Î_j - U_j D_j⁻¹ U_jᵀ
             for i in range(6):
                 for k in range(6):
                     Ih[parent, i, k] += It[i, k]  # Î_λ += Ĩ_j, one frame: a sum (M2)
@@ -223,11 +213,7 @@ def _free_root_backward(Ih, Sw, U, D, Dinv, F, Minv, k0, end, units, e, armature
     not positive definite."""
     for k in range(k0, k0 + 6):
         inertia_apply(Ih, Sw[k], U[k])  # U_j = Î_j[S_j] (M1)
-    for a in range(6):
-        for b in range(6):
-            D[a, b] = -dot(Sw[k0 + a], U[k0 + b])  # D_j = ⟨S_j, U_j⟩
-        D[a, a] += armature[k0 + a]  # + the rotors' inertia
-    if not spd_inverse(D, 6, Dinv):
+    if not joint_pivot(armature, Sw, U, k0, k0 + 6, D, Dinv):  # D_j, D_j⁻¹ (M1)
         return False
     for a in range(6):
         for b in range(6):

@@ -35,8 +35,7 @@ coordinate k) per coordinate.
 from __future__ import annotations
 
 from .._jit import inline
-from ..algorithms._dense import spd_inverse
-from ..algorithms.aba import _articulated
+from ..algorithms.pivots import articulated_inertia, joint_pivot, pivot_gain
 from ..kernels import (
     adjoint_apply,
     dot,
@@ -82,20 +81,12 @@ def articulated_inertias(m, k_):
             for i in range(6):
                 Gd[k0, i] = U[k0, i] * w
         else:
-            for a in range(k0, k1):
-                for b in range(k0, k1):
-                    D[a - k0, b - k0] = -dot(Sa[a], U[b])
-                D[a - k0, a - k0] += m.armature[a]
-            if not spd_inverse(D, k1 - k0, Dj):
+            if not joint_pivot(m.armature, Sa, U, k0, k1, D, Dj):  # D_j, D_j⁻¹ (M1)
                 return j
+            pivot_gain(Dj, U, k0, k1, Gd)  # D_j⁻¹ U_j
             for a in range(k0, k1):
-                for i in range(6):
-                    Gd[a, i] = 0.0
                 for b in range(k0, k1):
-                    w = Dj[a - k0, b - k0]
-                    Dinv[a, b - k0] = w
-                    for i in range(6):
-                        Gd[a, i] += w * U[b, i]  # D_j⁻¹ U_j
+                    Dinv[a, b - k0] = Dj[a - k0, b - k0]
         p = m.parents[j]
         if p < 0:
             continue
@@ -107,7 +98,7 @@ def articulated_inertias(m, k_):
                     Ih[p, i, k] = x
                     Ih[p, k, i] = x
         else:
-            _articulated(Ih[j], U, Gd, k0, k1, It)
+            articulated_inertia(Ih[j], U, Gd, k0, k1, It)  # Ĩ_j
             for i in range(6):
                 for k in range(6):
                     Ih[p, i, k] += It[i, k]
