@@ -17,6 +17,24 @@ from numba.core import cgutils
 from numba.extending import intrinsic, overload
 
 
+def _bare_array(context, builder, array, data, dims):
+    """A C-contiguous ``array`` (a numba array type) of the extents ``dims`` (LLVM intp
+    values) on ``data``, owning nothing (no meminfo): the one way these helpers build an
+    array."""
+    intp = types.intp
+    itemsize = context.get_constant(intp, context.get_abi_sizeof(
+        context.get_data_type(array.dtype)))
+    strides, step = [], itemsize
+    for d in reversed(dims):
+        strides.insert(0, step)
+        step = builder.mul(step, d)
+    out = context.make_array(array)(context, builder)
+    context.populate_array(out, data=data, shape=cgutils.pack_array(builder, dims),
+                           strides=cgutils.pack_array(builder, strides),
+                           itemsize=itemsize, meminfo=None)
+    return out._getvalue()
+
+
 @intrinsic
 def _stack_array(typingctx, size):
     array = types.Array(types.float64, 1, "C")
@@ -24,12 +42,7 @@ def _stack_array(typingctx, size):
 
     def codegen(context, builder, signature, args):
         data = builder.alloca(context.get_value_type(types.float64), size=args[0])
-        itemsize = context.get_constant(types.intp, 8)
-        out = context.make_array(array)(context, builder)
-        context.populate_array(out, data=data, shape=cgutils.pack_array(builder, [args[0]]),
-                               strides=cgutils.pack_array(builder, [itemsize]),
-                               itemsize=itemsize, meminfo=None)
-        return out._getvalue()
+        return _bare_array(context, builder, array, data, [args[0]])
 
     return sig, codegen
 
@@ -57,20 +70,9 @@ def _bare_view(typingctx, pointer, shape):
     sig = array(pointer, shape)
 
     def codegen(context, builder, signature, args):
-        intp = types.intp
-        dims = [context.cast(builder, d, t, intp)
+        dims = [context.cast(builder, d, t, types.intp)
                 for d, t in zip(cgutils.unpack_tuple(builder, args[1]), shape, strict=True)]
-        itemsize = context.get_constant(intp, context.get_abi_sizeof(
-            context.get_data_type(pointer.dtype)))
-        strides, step = [], itemsize
-        for d in reversed(dims):
-            strides.insert(0, step)
-            step = builder.mul(step, d)
-        out = context.make_array(array)(context, builder)
-        context.populate_array(out, data=args[0], shape=cgutils.pack_array(builder, dims),
-                               strides=cgutils.pack_array(builder, strides),
-                               itemsize=itemsize, meminfo=None)
-        return out._getvalue()
+        return _bare_array(context, builder, array, args[0], dims)
 
     return sig, codegen
 

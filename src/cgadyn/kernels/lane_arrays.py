@@ -30,7 +30,7 @@ from numba.core import cgutils, datamodel
 from numba.extending import make_attribute_wrapper, overload
 
 from .._jit import inline, intrinsic
-from .lanes import Lanes, W, add, div, load, mul, splat, store, sub
+from .lanes import _VEC, LANES, Lanes, W, add, div, mul, splat, sub
 
 _NUMBER = (types.Float, types.Integer)
 
@@ -112,22 +112,74 @@ def offset_in(typingctx, x, base):
     return types.intp(x, base), codegen
 
 
+def element_pointer(builder, data, offset, s0, s1, index):
+    """The address, as a pointer to ``W`` doubles, of element ``index`` (intp values, one
+    per dimension) of a ``LaneArray`` with the flat array's ``data`` pointer, ``offset``,
+    ``s0`` and ``s1``: element ``(offset + i0 s0 + i1 s1 + i2) W`` of the flat array. The
+    lanes layout's one rule of addressing: ``a[i]``, ``a[i, k]`` and ``a[j, i, k]`` below
+    and the kernels that ``kernels.straight`` emits address elements by it."""
+    at = offset
+    for i, stride in zip(index[:-1], (s0, s1), strict=False):
+        at = builder.add(at, builder.mul(i, stride))
+    at = builder.add(at, index[-1])
+    ptr = builder.gep(data, [builder.mul(at, ir.Constant(at.type, W))])
+    return builder.bitcast(ptr, _VEC.as_pointer())
+
+
+def _element_of(context, builder, view_type, view, index_type, index):
+    """``element_pointer`` of a ``LaneArray`` value at a numba index (an integer or a tuple
+    of integers)."""
+    v = cgutils.create_struct_proxy(view_type)(context, builder, value=view)
+    data = context.make_array(view_type.array)(context, builder, v.array).data
+    if isinstance(index_type, types.BaseTuple):
+        values = [context.cast(builder, x, t, types.intp)
+                  for x, t in zip(cgutils.unpack_tuple(builder, index), index_type, strict=True)]
+    else:
+        values = [context.cast(builder, index, index_type, types.intp)]
+    return element_pointer(builder, data, v.offset, v.s0, v.s1, values)
+
+
+@intrinsic
+def _load_element(typingctx, a, i):
+    def codegen(context, builder, signature, args):
+        ptr = _element_of(context, builder, signature.args[0], args[0], signature.args[1],
+                          args[1])
+        return builder.load(ptr, align=8)
+
+    return LANES(a, i), codegen
+
+
+@intrinsic
+def _store_element(typingctx, a, i, x):
+    def codegen(context, builder, signature, args):
+        ptr = _element_of(context, builder, signature.args[0], args[0], signature.args[1],
+                          args[1])
+        builder.store(args[2], ptr, align=8)
+        return context.get_dummy_value()
+
+    return types.none(a, i, x), codegen
+
+
+def _full_index(a, i) -> bool:
+    """Whether ``i`` names one element of the view ``a`` (one index per dimension)."""
+    if isinstance(i, types.Integer):
+        return a.ndim == 1
+    return (isinstance(i, types.BaseTuple) and len(i) == a.ndim
+            and all(isinstance(t, types.Integer) for t in i))
+
+
 @overload(operator.getitem)
 def _getitem(a, i):
     if not isinstance(a, LaneArray):
         return None
-    if isinstance(i, types.Integer):
-        if a.ndim == 1:
-            return lambda a, i: load(a.array, (a.offset + i) * W)
+    if _full_index(a, i):
+        return lambda a, i: _load_element(a, i)
+    if isinstance(i, types.Integer):  # a row (of a matrix) or a matrix (of a tensor)
         if a.ndim == 2:
             return lambda a, i: _vector(a.array, a.offset + i * a.s0, 0, 0)
         return lambda a, i: _matrix(a.array, a.offset + i * a.s0, a.s1, 0)
-    if isinstance(i, types.BaseTuple) and len(i) == 2 and a.ndim == 2:
-        return lambda a, i: load(a.array, (a.offset + i[0] * a.s0 + i[1]) * W)
     if isinstance(i, types.BaseTuple) and len(i) == 2 and a.ndim == 3:
         return lambda a, i: _vector(a.array, a.offset + i[0] * a.s0 + i[1] * a.s1, 0, 0)
-    if isinstance(i, types.BaseTuple) and len(i) == 3 and a.ndim == 3:
-        return lambda a, i: load(a.array, (a.offset + i[0] * a.s0 + i[1] * a.s1 + i[2]) * W)
     return None
 
 
@@ -137,15 +189,8 @@ def _setitem(a, i, x):
         return None
     if isinstance(x, _NUMBER):
         return lambda a, i, x: _setitem_lanes(a, i, splat(x))
-    if not isinstance(x, Lanes):
-        return None
-    if isinstance(i, types.Integer) and a.ndim == 1:
-        return lambda a, i, x: store(a.array, (a.offset + i) * W, x)
-    if isinstance(i, types.BaseTuple) and len(i) == 2 and a.ndim == 2:
-        return lambda a, i, x: store(a.array, (a.offset + i[0] * a.s0 + i[1]) * W, x)
-    if isinstance(i, types.BaseTuple) and len(i) == 3 and a.ndim == 3:
-        return lambda a, i, x: store(a.array, (a.offset + i[0] * a.s0 + i[1] * a.s1 + i[2]) * W,
-                                     x)
+    if isinstance(x, Lanes) and _full_index(a, i):
+        return lambda a, i, x: _store_element(a, i, x)
     return None
 
 

@@ -50,7 +50,7 @@ from numba.core.extending import _Intrinsic
 from numba.np.arrayobj import load_item, store_item
 
 from .._jit import inline
-from .lane_arrays import LaneArray
+from .lane_arrays import LaneArray, element_pointer
 from .lanes import _FLAGS, _VEC, LANES, Lanes, W
 
 _F64 = ir.DoubleType()
@@ -219,15 +219,11 @@ class _Emitter:
                 self.values[name] = context.cast(builder, value, ty, types.float64)
 
     def _lane_pointer(self, entry, index: tuple[int, ...]) -> ir.Value:
-        """Element ``(offset + i0 s0 + i1 s1 + i2) W`` of the flat array: ``lane_arrays``'
-        indexing of a view of one, two or three dimensions."""
+        """The element at constant ``index`` of a view of one, two or three dimensions, by
+        ``lane_arrays``' own addressing (``element_pointer``)."""
         ty, data, offset, s0, s1 = entry
-        b, intp = self.builder, self.context.get_value_type(types.intp)
-        at = offset
-        for i, stride in zip(index, (s0, s1, None)[:len(index) - 1], strict=False):
-            at = b.add(at, b.mul(intp(i), stride))
-        at = b.add(at, intp(index[-1]))
-        return b.bitcast(b.gep(data, [b.mul(at, intp(W))]), _VEC.as_pointer())
+        intp = self.context.get_value_type(types.intp)
+        return element_pointer(self.builder, data, offset, s0, s1, [intp(i) for i in index])
 
     def load(self, node: ast.Subscript) -> ir.Value:
         entry, index = self.arrays[node.value.id], _index(node.slice, "")
