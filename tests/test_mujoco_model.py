@@ -123,8 +123,13 @@ def test_state_conversions_round_trip_and_free_body_accelerations():
     assert np.allclose(q, s.q, atol=1e-15) and np.allclose(v, s.v, atol=1e-14)
     from cgadyn.multibody.joints import table
 
-    qacc = table.mujoco_acceleration(model, s.q, s.v, s.a)
-    assert np.allclose(table.from_mujoco_acceleration(model, s.q, s.v, qacc), s.a, atol=1e-13)
+    qacc = cgadyn.to_mujoco_acceleration(model, s.q, s.v, s.a)
+    assert np.array_equal(qacc, table.mujoco_acceleration(model, s.q, s.v, s.a))
+    assert np.allclose(cgadyn.from_mujoco_acceleration(model, s.q, s.v, qacc), s.a, atol=1e-13)
+    assert np.allclose(cgadyn.from_mujoco_acceleration(model, s.q[0], s.v[0], qacc[0]), s.a[0],
+                       atol=1e-13)
+    with pytest.raises(ValueError, match=r"qacc must have shape \(\.\.\., 14\), got \(13,\)"):
+        cgadyn.from_mujoco_acceleration(model, s.q[0], s.v[0], qacc[0, :13])
     # MuJoCo's qvel of a free joint: the body origin's velocity in the world
     d = mujoco.MjData(mj)
     d.qpos[:], d.qvel[:] = qpos[0], qvel[0]
@@ -132,6 +137,16 @@ def test_state_conversions_round_trip_and_free_body_accelerations():
     vel = np.zeros(6)
     mujoco.mj_objectVelocity(mj, d, mujoco.mjtObj.mjOBJ_BODY, 1, vel, 0)  # world frame
     assert np.allclose(vel[3:], qvel[0, :3], atol=1e-12)
+    # mj_forward's qacc is cgadyn's aba, once converted
+    smooth = mujoco_oracle.smooth(mj)
+    d = mujoco.MjData(smooth)
+    d.qpos[:], d.qvel[:] = qpos[0], qvel[0]
+    d.qfrc_applied[:] = cgadyn.to_mujoco_state(model, s.q[0], s.tau[0])[1]  # as velocities
+    mujoco.mj_forward(smooth, d)
+    a = cgadyn.aba(model, s.q[0], s.v[0], s.tau[0] + cgadyn.passive_torques(model, s.q[0],
+                                                                             s.v[0]))
+    mine = cgadyn.from_mujoco_acceleration(model, s.q[0], s.v[0], d.qacc)
+    assert np.abs(mine - a).max() <= 1e-9 * np.abs(a).max()
 
 
 def test_what_cgadyn_cannot_model_is_refused_by_name():

@@ -25,6 +25,8 @@ _LAZY = {
     "from_mujoco": "cgadyn.multibody.mujoco_model",
     "from_mujoco_state": "cgadyn.multibody.mujoco_model",
     "to_mujoco_state": "cgadyn.multibody.mujoco_model",
+    "from_mujoco_acceleration": "cgadyn.multibody.mujoco_model",
+    "to_mujoco_acceleration": "cgadyn.multibody.mujoco_model",
     "passive_torques": "cgadyn.algorithms.passive",
     "actuator_torques": "cgadyn.algorithms.actuators",
     "rnea": "cgadyn.algorithms",

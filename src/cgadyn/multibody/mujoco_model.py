@@ -39,11 +39,13 @@ places every body. ``from_mujoco`` reads what it compiled, whole:
 - **Actuators**: the joint motors (``Model.actuators``: gear, control and force ranges);
   other actuators are left out with a warning.
 
-States: ``from_mujoco_state(model, qpos, qvel)`` and ``to_mujoco_state(model, q, v)``;
-the joint records (``multibody.joints``) hold each type's layouts: a free joint's qpos is
-``[x, y, z, qw, qx, qy, qz]`` (cgadyn's and Pinocchio's ``[x, y, z, qx, qy, qz, qw]``) and
-its qvel's linear part is the body origin's velocity in the world frame, where cgadyn's
-base twist is in the body frame (``qvel = (R v, ω)``).
+States: ``from_mujoco_state(model, qpos, qvel)`` and ``to_mujoco_state(model, q, v)``,
+accelerations ``from_mujoco_acceleration(model, q, v, qacc)`` and
+``to_mujoco_acceleration(model, q, v, a)``; the joint records (``multibody.joints``)
+hold each type's layouts: a free joint's qpos is ``[x, y, z, qw, qx, qy, qz]`` (cgadyn's
+and Pinocchio's ``[x, y, z, qx, qy, qz, qw]``) and its qvel's linear part is the body
+origin's velocity in the world frame, where cgadyn's base twist is in the body frame
+(``qvel = (R v, ω)``).
 """
 
 from __future__ import annotations
@@ -384,3 +386,29 @@ def to_mujoco_state(model: Model, q, v) -> tuple[np.ndarray, np.ndarray]:
     """cgadyn's ``(q, v)`` as MuJoCo's ``(qpos, qvel)``, the inverse of
     ``from_mujoco_state``."""
     return table.to_mujoco(model, q), table.mujoco_velocity(model, q, v)
+
+
+def from_mujoco_acceleration(model: Model, q, v, qacc) -> np.ndarray:
+    """MuJoCo's ``qacc`` (..., nv) as cgadyn's ``a`` at the state ``(q, v)`` (cgadyn's, e.g.
+    from ``from_mujoco_state``): a free joint's linear part is ``Rᵀ qacc_lin - ω × v_lin``
+    (MuJoCo's is the body origin's acceleration in the world frame), every other
+    coordinate unchanged. So ``mj_forward``'s ``qacc`` compares with ``cgadyn.aba``."""
+    return table.from_mujoco_acceleration(model, *_checked(model, q, v, qacc, "qacc"))
+
+
+def to_mujoco_acceleration(model: Model, q, v, a) -> np.ndarray:
+    """cgadyn's ``a`` at ``(q, v)`` as MuJoCo's ``qacc`` (a free joint's linear part
+    ``R (v̇ + ω × v)``), the inverse of ``from_mujoco_acceleration``: what ``mj_inverse``
+    reads."""
+    return table.mujoco_acceleration(model, *_checked(model, q, v, a, "a"))
+
+
+def _checked(model: Model, q, v, acc, name: str) -> tuple[np.ndarray, ...]:
+    """``q``, ``v`` and an acceleration as float arrays whose last axes are nq, nv, nv."""
+    out = []
+    for x, label, n in ((q, "q", model.nq), (v, "v", model.nv), (acc, name, model.nv)):
+        x = np.asarray(x, dtype=float)
+        if x.ndim == 0 or x.shape[-1] != n:
+            raise ValueError(f"{label} must have shape (..., {n}), got {x.shape}")
+        out.append(x)
+    return tuple(out)
