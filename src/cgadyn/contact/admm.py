@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 
-from .._jit import inline, serial
+from .._jit import core, inline
 from ..algorithms.status import DELASSUS_SINGULAR, NONFINITE_INPUT, NONFINITE_RESULT, OK, fault
 from ..constraints.core import _factor, _substitute
 from .cone import desaxce
@@ -81,7 +81,7 @@ def _factor_shifted(G, R, shift, C):
     return _factor(C, m, 0.0) < 0
 
 
-@serial
+@core
 def admm_solve(G, g, mu, bounds, R, settings, lam, info, C, w):
     """Solve the NCP (K13, K26) of ``σ = (G + R) λ + g`` by ADMM (K16) from ``λ`` (a warm
     start where ``settings[WARM]``, else zero), the cones of ``mu`` then the intervals of

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 
-from .._jit import inline, serial
+from .._jit import core, inline
 from .distance import plane_distance, rotate, rotate_back, to_world
 from .shapes import BOX, CAPSULE, CYLINDER, MESH, SPHERE
 
@@ -44,7 +44,7 @@ of a face, equal but for rounding, come in the same order step after step (each 
 slot, and so its warm start, stays its own)."""
 
 
-@serial
+@core
 def _candidate(cand, c, x0, x1, x2, n0, n1, n2, delta, r):
     """Row ``c`` of ``cand``: the point ``x - r n`` of a sphere of radius ``r`` centred at
     ``x`` (``r = 0``: the point ``x``) and its distance ``X · π - r`` (K1, K21)."""
@@ -55,7 +55,7 @@ def _candidate(cand, c, x0, x1, x2, n0, n1, n2, delta, r):
     return c + 1
 
 
-@serial
+@core
 def candidates(kind, size, vertices, T, n0, n1, n2, delta, cand, far):
     """The shape's candidate points against the plane ``π = n + δ e∞`` (K21): a sphere's
     lowest point; a capsule's two end spheres' lowest points; a box's eight corners; on
@@ -99,7 +99,7 @@ def candidates(kind, size, vertices, T, n0, n1, n2, delta, cand, far):
     return c
 
 
-@serial
+@core
 def _area2(cand, i, j, k, n0, n1, n2):
     """Twice the signed area of the triangle ``(i, j, k)`` seen along the normal ``n``."""
     a0, a1, a2 = cand[j, 0] - cand[i, 0], cand[j, 1] - cand[i, 1], cand[j, 2] - cand[i, 2]
@@ -107,7 +107,7 @@ def _area2(cand, i, j, k, n0, n1, n2):
     return (a1 * b2 - a2 * b1) * n0 + (a2 * b0 - a0 * b2) * n1 + (a0 * b1 - a1 * b0) * n2
 
 
-@serial
+@core
 def _write(out, m, cand, i):
     for j in range(OUT):
         out[m, j] = cand[i, j]
@@ -151,7 +151,7 @@ def reach_bound(poses, k, radius, V, dt):
     return reach(V, k, poses[k, 0, 3], poses[k, 1, 3], poses[k, 2, 3], radius, dt)
 
 
-@serial
+@core
 def mark_reach(cand, count, margin, V, k, dt, bound):
     """Column ``OUT`` of the ``count`` candidates of shape ``k``: 1 where the gap less the
     way the point may travel in the step (``gap_after``) is below ``margin`` (K21a), else 0;
@@ -165,7 +165,7 @@ def mark_reach(cand, count, margin, V, k, dt, bound):
     return n
 
 
-@serial
+@core
 def mark_within(cand, count, margin):
     """Column ``OUT`` of the ``count`` candidates: 1 where the distance is below ``margin``,
     else 0. Their number."""
@@ -176,7 +176,7 @@ def mark_within(cand, count, margin):
     return k
 
 
-@serial
+@core
 def _apart(cand, i, out, m, patch):
     """Whether candidate ``i`` is farther than ``patch`` (and than 1e-9) from each of the
     ``m`` points kept in ``out`` (K22)."""
@@ -213,7 +213,7 @@ def _in_order(cand, count, out, i0, i1, i2, i3):
     return m
 
 
-@serial
+@core
 def reduce_patch(cand, count, patch, n0, n1, n2, out):
     """At most four of the ``count`` candidates marked in column ``OUT`` (``mark_reach``,
     ``mark_within``), spanning the patch (K22): the deepest; the one farthest from it; the
@@ -266,7 +266,7 @@ def reduce_patch(cand, count, patch, n0, n1, n2, out):
     return _in_order(cand, count, out, first, second, third, fourth)
 
 
-@serial
+@core
 def plane_contacts(kind, size, vertices, T, n0, n1, n2, delta, bound, margin, patch, cand,
                    out, V, k, dt):
     """The contacts of shape ``k``, ``(kind, size, vertices)`` at pose ``T``, with the plane
@@ -281,7 +281,7 @@ def plane_contacts(kind, size, vertices, T, n0, n1, n2, delta, bound, margin, pa
     return reduce_patch(cand, count, patch, n0, n1, n2, out)
 
 
-@serial
+@core
 def shapes_on_plane(kinds, sizes, vertices, offsets, poses, radii, active, sb, Tb, margin,
                     patch, cand, out, counts, twists, dt):
     """``plane_contacts`` of every shape ``k`` with ``active[k]`` against the plane of size

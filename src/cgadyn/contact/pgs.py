@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 
-from .._jit import inline, serial
+from .._jit import core, inline
 from ..algorithms.status import NONFINITE_INPUT, NONFINITE_RESULT, OK, fault
 from .admm import SIGMA, TMP, XOLD, ZOLD, X, Y, Z
 from .ncp import (
@@ -151,7 +151,7 @@ def _polish(G, g, mu, bounds, R, settings, lam, sigma, tmp, w, C, gmax):
     return False, 0.0, 0.0, 0.0
 
 
-@serial
+@core
 def pgs_solve(G, g, mu, bounds, R, settings, lam, info, C, w):
     """Solve the NCP (K13, K26) by sweeps over the blocks (K18): for contact ``i`` the normal
     force ``λ_N ← max(0, λ_N - σ_N / A_NN)``, then the tangential one ``λ_T ← λ_T - σ_T /

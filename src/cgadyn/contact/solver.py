@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from numba import prange
 
-from .._jit import parallel, serial
+from .._jit import core, parallel
 from ..algorithms._workspace import chunks
 from ..algorithms.status import OK, at_sample
 from .admm import SCRATCH_ROWS, admm_solve
@@ -16,7 +16,7 @@ ADMM, PGS = 0, 1
 """The solvers, by code."""
 
 
-@serial
+@core
 def solve_one(solver, G, g, mu, bounds, R, settings, lam, info, C, w):
     """``admm_solve`` or ``pgs_solve`` by code, with the caller's scratch (``C`` m x m, ``w``
     ``SCRATCH_ROWS`` x ``max(m, 6)``); the blocks: the cones of ``mu`` (nc,), then the

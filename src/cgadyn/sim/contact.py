@@ -15,8 +15,11 @@ bounds of the joint limits near which the step may take a coordinate
 K26') after the contacts', with the same gap term and ``λ >= 0`` (K26), warm-started from
 their slot alike; then a row ``e_k`` per coordinate with a friction loss,
 ``|λ| <= f dt`` (K30), warm-started from its impulse in the step before. It is one
-``@serial`` function called from one site of the loop, compiled only for a rollout with a
-world (the loop passes None otherwise and numba prunes the call).
+function called from one site of the loop, compiled only for a rollout with a world (the
+loop passes None otherwise and numba prunes the call), and compiled as a core
+(``_jit.core``: without reference counts, as are the solvers and the detection it calls):
+it allocates nothing, so counting the references of the arrays it hands down at every step
+could never free anything.
 
 The world reaches compiled code as a named tuple (``WorldArrays``, ``world_arrays``): the
 shapes' kinds, sizes, vertices and offsets, their placements in their joints' frames and those
@@ -38,7 +41,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from .._jit import inline, serial
+from .._jit import core, inline, serial
 from ..algorithms import _workspace as ws
 from ..algorithms.aba import aba_core
 from ..algorithms.crba import crba_core
@@ -238,9 +241,37 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
         lhad[k], lprev[k] = 0.0, 0.0
     count[0] = 0.0
     factored[0], factored[1] = 0.0, 1.0
-    return ContactScratch(world, poses, out, counts, cand, big, mu, info, settings, prev,
-                          force, had, count, report, cwork, lrows, bounds, lprev,
-                          lhad, twists, bodies, factored, ps, joint_torques)
+    return ContactScratch(_bare_world(world), poses, out, counts, cand, big, mu, info,
+                          settings, prev, force, had, count, report, cwork, lrows, bounds,
+                          lprev, lhad, twists, bodies, factored, ps, joint_torques)
+
+
+@serial
+def _bare_world(wa):
+    """The ``WorldArrays`` with each array a bare view of it (``_views.carve``: no owner):
+    the loop hands the world down its calls at every step, and each array that owns its
+    memory would have its reference count raised and dropped, an atomic operation, at each
+    call. Valid while ``wa`` lives (the rollout's argument)."""
+    return WorldArrays(
+        _bare(wa.kinds), _bare(wa.sizes), _bare(wa.vertices), _bare(wa.offsets),
+        _bare(wa.frames), _bare(wa.joints), _bare(wa.links), _bare(wa.active),
+        _bare(wa.ground), _bare(wa.ground_pose), _bare(wa.frame), _bare(wa.params),
+        _bare(wa.limits), _bare(wa.frictions), _bare(wa.compliance), _bare(wa.radii),
+        _bare_or_none(wa.pairs), _bare_or_none(wa.shape_friction))
+
+
+@inline
+def _bare(x):
+    """A C-contiguous array as a bare view of its data, of its shape."""
+    return ws.carve(ws.data_pointer(x), 0, x.shape)[0]
+
+
+@serial
+def _bare_or_none(x):
+    """``_bare(x)``, None for None (a world without pairs)."""
+    if x is None:
+        return None
+    return _bare(x)
 
 
 @serial
@@ -275,7 +306,7 @@ def _factor(m, q, H, work):
     return fault(SINGULAR, m.dof_joint[k]) if k >= 0 else OK
 
 
-@serial
+@core
 def factored_dynamics(m, factored, cwork, q, v, tau, f, qdd, zero, work):
     """``qdd = M⁻¹ (τ - h)``: ``h = RNEA(q, v, 0)`` with the wrenches ``f`` (Algorithm 2),
     ``M`` by CRBA into the world's constraint workspace and factored there (``H = Lᵀ D
@@ -303,7 +334,7 @@ def factored_dynamics(m, factored, cwork, q, v, tau, f, qdd, zero, work):
     return OK
 
 
-@serial
+@core
 def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     """``vn``: ``v_free`` in, ``v⁺`` out (the module's docstring; K20-K25); the forces of
     the contacts into the slots of ``force`` (world frame, λ / dt; zero where none), their

@@ -61,7 +61,7 @@ from __future__ import annotations
 import numpy as np
 from numba import prange
 
-from .._jit import inline, parallel, serial
+from .._jit import core, inline, parallel, serial
 from ..algorithms import _workspace as ws
 from ..algorithms._checks import finite
 from ..algorithms._workspace import chunks
@@ -187,7 +187,7 @@ def _dynamics(m, q, v, tau, f, con, fac, qdd, sc, work):
     return _constrained(m, q, v, tau, f, con, qdd, sc, work)
 
 
-@serial
+@core
 def _world_dynamics(m, q, v, tau, f, con, fac, qdd, sc, work):
     """``_dynamics`` with a world: from M's factors without constraints (``con`` None),
     else the constrained dynamics, M left for the contact step to factor (C14)."""
@@ -249,7 +249,7 @@ def _bind(cons, settings, cwork):
     return (cons, settings, cwork)
 
 
-@serial
+@core
 def _contact(m, world, q, v, a, dt, vn, work, con, sc):
     """``vn = v + dt a``, then the contact impulses of ``world`` on it (``sim.contact``);
     nothing without a world (``world`` None: pruned, no contact code compiled)."""
@@ -299,7 +299,7 @@ def _kept(world):
     return (world.force, world.had, world.count, world.report, world.joint_torques)
 
 
-@serial
+@core
 def _keep_contacts(kept, row, CS, CT, r):
     """``row = [count, iterations, residual]`` of the last contact step
     (``sim.contact.KEPT``), and into row ``r`` of ``CS`` (K, rows, 3) and ``CT`` (2, nv,
@@ -492,7 +492,9 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
     wd = _bind_world(world, wbuf, mb.n, mb.nq, mb.nv, mb.nl, nr)
     fac = _factors(wd)
     kept = _kept(wd)
-    CSb, CTb = CS[b], CT[b]
+    # bare views of this rollout's contact outputs (no reference counts at each step)
+    CSb = ws.carve(ws.data_pointer(CS[b]), 0, CS[b].shape)[0]
+    CTb = ws.carve(ws.data_pointer(CT[b]), 0, CT[b].shape)[0]
     sc = workspace(ws.data_pointer(buf), mb, nr)
     for k in range(mb.nv):
         sc.zero[k] = 0.0
