@@ -29,3 +29,25 @@ def random_model(name: str, joints, seed: int) -> pin.Model:
         pm.addBodyFrame(f"b{i}", j, pin.SE3(pin.exp3(rng.normal(size=3)),
                                             rng.normal(size=3) * 0.2), 0)
     return pm
+
+
+def ik_reaches_poses(pm: pin.Model, link: str = "b3"):
+    """Inverse kinematics (Levenberg-Marquardt on the manifold) from the neutral
+    configuration to three reachable poses of ``link`` of ``cgadyn.from_pinocchio(pm)``,
+    each judged by Pinocchio's log6 at the configuration found; returns the model and the
+    result."""
+    import cgadyn
+    from cgadyn import oracle
+    from cgadyn.tasks import inverse_kinematics
+
+    model = cgadyn.from_pinocchio(pm)
+    s = oracle.sample(model, 3, 16)
+    T = cgadyn.link_placements(model, s.q)[:, model.link_index(link)]
+    res = inverse_kinematics(model, link, T)
+    assert res.converged.all() and (res.error <= 1e-10).all()
+    data = pm.createData()
+    for b in range(3):
+        pin.framesForwardKinematics(pm, data, oracle.pin_configuration(model, res.q[b]))
+        M = data.oMf[pm.getFrameId(link, pin.BODY)]
+        assert np.linalg.norm(pin.log6(pin.SE3(T[b]).actInv(M)).vector) <= 1e-9
+    return model, res

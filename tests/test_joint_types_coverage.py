@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
+from joint_cases import ik_reaches_poses
 from test_joint_types import CHAINED
 from test_joint_types import MODELS as JOINT_MODELS
 from test_simulate import pin_rollout
@@ -176,16 +177,4 @@ def test_inverse_kinematics_reaches_poses_through_every_joint_type(name):
     """Levenberg-Marquardt on the manifold: poses of the chain's last body reached from
     the neutral configuration, judged by Pinocchio's log6 (``test_spherical`` does the
     same through spherical joints)."""
-    from cgadyn.tasks import inverse_kinematics
-
-    pm = MODELS[name]()
-    model = cgadyn.from_pinocchio(pm)
-    s = oracle.sample(model, 3, 16)
-    T = cgadyn.link_placements(model, s.q)[:, model.link_index("b3")]
-    res = inverse_kinematics(model, "b3", T)
-    assert res.converged.all() and (res.error <= 1e-10).all()
-    data = pm.createData()
-    for b in range(3):
-        pin.framesForwardKinematics(pm, data, oracle.pin_configuration(model, res.q[b]))
-        M = data.oMf[pm.getFrameId("b3", pin.BODY)]
-        assert np.linalg.norm(pin.log6(pin.SE3(T[b]).actInv(M)).vector) <= 1e-9
+    ik_reaches_poses(MODELS[name]())
