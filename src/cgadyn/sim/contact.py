@@ -250,8 +250,8 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
 def _bare_world(wa):
     """The ``WorldArrays`` with each array a bare view of it (``_views.carve``: no owner):
     the loop hands the world down its calls at every step, and each array that owns its
-    memory would have its reference count raised and dropped, an atomic operation, at each
-    call. Valid while ``wa`` lives (the rollout's argument)."""
+    memory would have its reference count raised and dropped, a call into numba's runtime,
+    at each. Valid while ``wa`` lives (the rollout's argument)."""
     return WorldArrays(
         _bare(wa.kinds), _bare(wa.sizes), _bare(wa.vertices), _bare(wa.offsets),
         _bare(wa.frames), _bare(wa.joints), _bare(wa.links), _bare(wa.active),
