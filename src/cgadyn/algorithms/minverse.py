@@ -35,7 +35,7 @@ from __future__ import annotations
 from .._jit import core, inline
 from ..kernels import dot, inertia_apply
 from ..kernels.lane_arrays import positive
-from ..kernels.layout import coefficients
+from ..kernels.layout import added, coefficients, scaled
 from ..kernels.rigid import rigid_frame, rigid_matrix, rigid_move_inertia, rigid_move_twist
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
@@ -56,7 +56,7 @@ WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py)
     "D": (6, 6),
     "Dinv": (6, 6),
     "It": (6, 6),  # Ĩ_j
-    "t1": (6,),
+    "P": (6, 6),  # the rows of D_j⁻¹ S_jᵀ, one per coordinate of j
     "tmp8": (8,),
     "c": ("nq",),  # the joint motors' scalars (eq. 6)
     "s": ("nq",),
@@ -103,7 +103,7 @@ def minverse_recursion(m, k_, units, Minv):
     D_j is not positive definite. ``k_`` the workspace (``WORKSPACE``), of numbers or its
     lane twin; ``units`` (2, nv) numbers, for a free root's unit twists."""
     Ih, F, Sw, U, G = k_.Ih, k_.F, k_.Sw, k_.U, k_.G
-    D, Dinv, It, t1, e = k_.D, k_.Dinv, k_.It, k_.t1, k_.e
+    D, Dinv, It, P, e = k_.D, k_.Dinv, k_.It, k_.P, k_.e
     nv = m.nv
     for j in range(m.n):  # S_k = s e_i of a free root (M5): i and s, numbers in any case
         if free_root(m.parents[j], m.types[j]):
@@ -150,21 +150,23 @@ def minverse_recursion(m, k_, units, Minv):
                     for i in range(6):
                         F[parent, col, i] += F[j, col, i] + u_j[i] * x
         else:
+            for a in range(k0, k1):  # the rows of D_j⁻¹ S_jᵀ, once per joint
+                p = scaled(Sw[k0], Dinv[a - k0, 0])
+                for b in range(k0 + 1, k1):
+                    p = added(p, Sw[b], Dinv[a - k0, b - k0])
+                for i in range(6):
+                    P[a - k0, i] = p[i]
             for col in range(k1, end):  # M⁻¹[j, c] = -D_j⁻¹ ⟨S_j, F_j[c]⟩ (M2)
-                for b in range(k0, k1):
-                    t1[b - k0] = dot(Sw[b], F[j, col])  # -⟨S_j, F_j[c]⟩
+                f = coefficients(F[j, col])  # in registers
                 for a in range(k0, k1):
-                    x = 0.0
-                    for b in range(k0, k1):
-                        x += Dinv[a - k0, b - k0] * t1[b - k0]
-                    Minv[a, col] = x
+                    Minv[a, col] = dot(P[a - k0], f)  # ⟨(D_j⁻¹ S_jᵀ)_a, F_j[c]⟩
             if parent >= 0:
                 for col in range(k0, end):  # F_λ[c] += F_j[c] + U_j M⁻¹[j, c] (M2)
+                    f = coefficients(F[j, col])
+                    for a in range(k0, k1):
+                        f = added(f, U[a], Minv[a, col])
                     for i in range(6):
-                        x = F[j, col, i]
-                        for a in range(k0, k1):
-                            x += U[a, i] * Minv[a, col]
-                        F[parent, col, i] += x
+                        F[parent, col, i] += f[i]
         if parent >= 0 and k1 - k0 == 1:  # Î_λ += Î_j - U_j D_j⁻¹ U_jᵀ in one pass (M2)
             for i in range(6):
                 w = U[k0, i]
@@ -193,15 +195,18 @@ def minverse_recursion(m, k_, units, Minv):
                 for i in range(6):
                     F[j, col, i] = F[parent, col, i] + s_j[i] * x  # A_λ[c] + S_j M⁻¹[j, c]
             continue
+        start = k0 if parent >= 0 else k0 + 1  # a root's A_λ is zero
         for col in range(k0, nv):
             if parent >= 0:
+                f = coefficients(F[parent, col])  # in registers
                 for a in range(k0, k1):
-                    Minv[a, col] += dot(G[a], F[parent, col])  # -⟨D⁻¹U_j, A_λ[c]⟩ (M3)
+                    Minv[a, col] += dot(G[a], f)  # -⟨D⁻¹U_j, A_λ[c]⟩ (M3)
+            else:
+                f = scaled(Sw[k0], Minv[k0, col])
+            for a in range(start, k1):
+                f = added(f, Sw[a], Minv[a, col])
             for i in range(6):
-                x = F[parent, col, i] if parent >= 0 else 0.0
-                for a in range(k0, k1):
-                    x += Sw[a, i] * Minv[a, col]
-                F[j, col, i] = x  # A_j[c] = A_λ[c] + S_j M⁻¹[j, c]
+                F[j, col, i] = f[i]  # A_j[c] = A_λ[c] + S_j M⁻¹[j, c]
     return -1
 
 

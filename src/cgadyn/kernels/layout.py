@@ -41,6 +41,21 @@ def coefficients(x):
 
 
 @inline
+def scaled(s, y):
+    """The six coefficients of ``y s`` (``s`` a twist or wrench, ``y`` a number), as a
+    tuple kept in registers (``coefficients``)."""
+    return s[0] * y, s[1] * y, s[2] * y, s[3] * y, s[4] * y, s[5] * y
+
+
+@inline
+def added(x, s, y):
+    """The six coefficients of ``x + y s`` (``x`` a tuple of ``coefficients``), as a tuple:
+    a sum over a joint's coordinates accumulated in registers."""
+    return (x[0] + s[0] * y, x[1] + s[1] * y, x[2] + s[2] * y, x[3] + s[3] * y,
+            x[4] + s[4] * y, x[5] + s[5] * y)
+
+
+@inline
 def bivector(a1, a2, a3, b1, b2, b3):
     """The twist or wrench coefficients of physical ``(ω, v)`` or ``(n, f)``, as a tuple."""
     return S0 * a1, S1 * a2, S2 * a3, S3 * b1, S4 * b2, S5 * b3

@@ -13,7 +13,7 @@ from ..._views import carve
 from ...kernels.lane_arrays import lane_array, lane_matrix, lane_tensor
 
 MinverseWorkspace = namedtuple("MinverseWorkspace", ("Mw", "M", "Ih", "par", "F", "Sw", "U", "G",
-                                                     "D", "Dinv", "It", "t1", "tmp8", "c", "s",
+                                                     "D", "Dinv", "It", "P", "tmp8", "c", "s",
                                                      "units", "e"))
 
 
@@ -31,7 +31,7 @@ def workspace_size(n, nq, nv, nl):
         + 6 * 6
         + 6 * 6
         + 6 * 6
-        + 6
+        + 6 * 6
         + 8
         + nq
         + nq
@@ -54,13 +54,13 @@ def workspace(buf, m):
     _D, o = carve(buf, o, (6, 6))
     _Dinv, o = carve(buf, o, (6, 6))
     _It, o = carve(buf, o, (6, 6))
-    _t1, o = carve(buf, o, (6,))
+    _P, o = carve(buf, o, (6, 6))
     _tmp8, o = carve(buf, o, (8,))
     _c, o = carve(buf, o, (m.nq,))
     _s, o = carve(buf, o, (m.nq,))
     _units, o = carve(buf, o, (2, m.nv))
     _e, o = carve(buf, o, (6,))
-    return MinverseWorkspace(_Mw, _M, _Ih, _par, _F, _Sw, _U, _G, _D, _Dinv, _It, _t1, _tmp8, _c,
+    return MinverseWorkspace(_Mw, _M, _Ih, _par, _F, _Sw, _U, _G, _D, _Dinv, _It, _P, _tmp8, _c,
                              _s, _units, _e)
 
 
@@ -91,8 +91,8 @@ def lane_workspace(buf, m):
     o += 6 * 6
     _It = lane_matrix(buf, o, 6)
     o += 6 * 6
-    _t1 = lane_array(buf, o)
-    o += 6
+    _P = lane_matrix(buf, o, 6)
+    o += 6 * 6
     _tmp8 = lane_array(buf, o)
     o += 8
     _c = lane_array(buf, o)
@@ -103,5 +103,5 @@ def lane_workspace(buf, m):
     o += 2 * m.nv
     _e = lane_array(buf, o)
     o += 6
-    return MinverseWorkspace(_Mw, _M, _Ih, _par, _F, _Sw, _U, _G, _D, _Dinv, _It, _t1, _tmp8, _c,
+    return MinverseWorkspace(_Mw, _M, _Ih, _par, _F, _Sw, _U, _G, _D, _Dinv, _It, _P, _tmp8, _c,
                              _s, _units, _e)
