@@ -217,10 +217,13 @@ def test_inertias_must_be_rigid():
 
 
 def test_unit_axes():
-    """A one-dof joint's column ±e_i gives i, any other column and a free flyer's -1."""
+    """A column ±e_i gives i where every column of its joint is one (a free flyer's: its
+    unit twists), -1 for every coordinate of a joint with any other column."""
     S = np.array([[0, 0, -1.0, 0, 0, 0], [0, 0, 0, 0, 1.0, 0], [0, 0.6, 0.8, 0, 0, 0],
                   [0, 0, 2.0, 0, 0, 0]] + [list(r) for r in np.eye(6)])
     types = np.array([REVOLUTE, PRISMATIC, REVOLUTE, REVOLUTE, FREE_FLYER])
+    assert unit_axes(S, types).tolist() == [2, 4, -1, -1] + list(range(6))
+    S[5, 1] = 0.5  # one column of the free flyer no longer a unit twist
     assert unit_axes(S, types).tolist() == [2, 4, -1, -1] + [-1] * 6
     m = load("prismatic_tree")
     k = np.arange(m.nv)

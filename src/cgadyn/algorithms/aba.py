@@ -27,10 +27,11 @@ Second forward pass (j = 1..n), with V̇_0 = -g::
     q̈_j  = ũ_j + G_jᵀ · V̄_j                      = Ω_j (τ̂_j + V̄_j · W_Bj) for one dof
     V̇_j  = V̄_j + S_j q̈_j
 
-A one-dof joint whose S_j is ±e_i (an axis along one of its frame's axes, as URDFs mostly
-write them: the packed model's ``unit_axis``, from ``joints.unit_axes``) takes U_j, τ̂_j
-and D_j from coefficient i of Î_j and Ŵ_j, and adds S_j q̈_j to coefficient i of V̇_j: the
-same numbers without the products.
+A joint whose columns S_k are each ±e_i (an axis along one of its frame's axes, as URDFs
+mostly write them, and every column of a spherical, planar, translation or free-flyer
+joint: the packed model's ``unit_axis``, from ``joints.unit_axes``) takes U_j, τ̂_j (and
+D_j of one dof) from coefficient i of Î_j and Ŵ_j, and adds S_j q̈_j to coefficient i of
+V̇_j: the same numbers without the products.
 
 A one-dof joint never forms Ĩ_j (a 6x6 matrix stored per joint and loaded back, work that
 the parent's update can skip):
@@ -150,11 +151,13 @@ def aba_core(m, q, v, tau, f, qdd, work):
         k0, k1 = m.iv[j], m.iv[j + 1]
         axis = m.unit_axis[k0]
         if axis >= 0:  # S_j = ±e_i: the products below read coefficient i (``dot`` is -Σ)
-            sign = S[k0, axis]
-            for l in range(6):
-                U[k0, l] = sign * Ih[j, l, axis]  # U_j = Î_j[S_j]
-            u[k0] = tau[k0] - sign * Wh[j, axis]  # τ̂_j = τ_j + S_jᵀ · Ŵ_j (· is -Σ)
-            d = sign * U[k0, axis]
+            for k in range(k0, k1):  # each column of a joint of several alike
+                i = m.unit_axis[k]
+                sign = S[k, i]
+                for l in range(6):
+                    U[k, l] = sign * Ih[j, l, i]  # U_j = Î_j[S_j]
+                u[k] = tau[k] - sign * Wh[j, i]  # τ̂_j = τ_j + S_jᵀ · Ŵ_j (· is -Σ)
+            d = S[k0, axis] * U[k0, axis]
         else:
             for k in range(k0, k1):
                 inertia_apply(Ih[j], S[k], U[k])  # U_j = Î_j[S_j]
@@ -207,9 +210,10 @@ def aba_core(m, q, v, tau, f, qdd, work):
             qdd[a] = ut[a] + dot(tmp, G[a])  # q̈_j = ũ_j + G_jᵀ · V̄_j
         for k in range(6):
             V[j, k] = tmp[k]
-        axis = m.unit_axis[k0]
-        if axis >= 0:  # S_j = ±e_i
-            V[j, axis] += qdd[k0] * S[k0, axis]  # V̇_j = V̄_j + S_j q̈_j
+        if m.unit_axis[k0] >= 0:  # S_j = ±e_i
+            for a in range(k0, k1):
+                i = m.unit_axis[a]
+                V[j, i] += qdd[a] * S[a, i]  # V̇_j = V̄_j + S_j q̈_j
         else:
             for a in range(k0, k1):
                 for k in range(6):

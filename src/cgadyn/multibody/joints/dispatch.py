@@ -230,16 +230,24 @@ def quaternion_error(m, q):
 
 
 def unit_axes(S: np.ndarray, joint_types: np.ndarray) -> np.ndarray:
-    """int64 (nv,): for each velocity coordinate of a one-dof joint whose motion subspace
-    column ``S[k]`` is ``±e_i`` (one coefficient ±1, the others 0: an axis along a
-    coordinate axis of its frame, as URDFs mostly write them), ``i``; -1 for any other
-    (and for the coordinates of a joint of several). Products with such a column read one
-    coefficient, exactly; the packed model stores these so that compiled code need not
-    look for them on every call."""
-    one_dof = np.repeat([NV[t] == 1 for t in joint_types], [NV[t] for t in joint_types])
+    """int64 (nv,): for each velocity coordinate of a joint whose motion subspace columns
+    ``S[k]`` are each ``±e_i`` (one coefficient ±1, the others 0: an axis along a
+    coordinate axis of its frame, as URDFs mostly write them; every column of a spherical,
+    translation, planar or free-flyer joint), ``i``; -1 for every coordinate of any other
+    joint. Products with such a column read one coefficient, exactly; the packed model
+    stores these so that compiled code need not look for them on every call, and reads
+    the first coordinate's to know the joint's."""
+    S = np.asarray(S, dtype=np.float64)
     out = np.full(len(S), -1, dtype=np.int64)
-    for k, column in enumerate(np.asarray(S, dtype=np.float64)):
-        nonzero = np.flatnonzero(column)
-        if one_dof[k] and len(nonzero) == 1 and abs(column[nonzero[0]]) == 1.0:
-            out[k] = nonzero[0]
+    k0 = 0
+    for t in joint_types:
+        k1 = k0 + NV[t]
+        axes = []
+        for column in S[k0:k1]:
+            nonzero = np.flatnonzero(column)
+            if len(nonzero) == 1 and abs(column[nonzero[0]]) == 1.0:
+                axes.append(nonzero[0])
+        if len(axes) == k1 - k0:
+            out[k0:k1] = axes
+        k0 = k1
     return out
