@@ -2,13 +2,21 @@
 
 One-dof joints add and subtract their coordinates; a free flyer moves its motor by the
 exponential of its body twist and takes the logarithm of the relative motor, as Pinocchio's
-``integrate`` and ``difference`` do on SE(3).
+``integrate`` and ``difference`` do on SE(3). An Euler step across it takes a free flyer's
+(or planar joint's) linear velocity in the frame it starts from and moves the result into
+the frame it ends in (``free_velocity``, ``transport``; docs/contact.md, K24).
 """
 
 from __future__ import annotations
 
-from .._jit import core
-from ..multibody.joints import joint_difference, joint_integrate
+from .._jit import core, inline, serial
+from ..multibody.joints import (
+    joint_difference,
+    joint_frame_rate,
+    joint_integrate,
+    joint_transport,
+)
+from ..multibody.packed import unpack
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
 from .status import OK
@@ -45,3 +53,38 @@ def difference_core(m, q0, q1, out, work):
     for j in range(m.n):
         joint_difference(m, j, q0, q1, tmp, out)
     return check_result(out)
+
+
+@inline
+def free_velocity(m, v, a, h, out):
+    """``out = v + h q̈`` (``a``) with, on a joint whose velocity holds a linear part in a
+    frame the joint turns (a free flyer, a planar joint), that part's rate in the frame the
+    step starts from, ``h ω × v`` (``joint_frame_rate``): an Euler step's velocity, in the
+    frames of ``q`` (K24)."""
+    for k in range(m.nv):
+        out[k] = v[k] + h * a[k]
+    if not m.flat:
+        for j in range(m.n):
+            joint_frame_rate(m, j, v, h, out)
+
+
+@inline
+def transport(m, w, h, x):
+    """``x``, a velocity in the frames of ``q``, moved into those of ``q ⊕ h w``
+    (``joint_transport``: ``exp(-h ω̂)`` on a free flyer's or planar joint's linear part;
+    nothing where every joint adds, K24)."""
+    if not m.flat:
+        for j in range(m.n):
+            joint_transport(m, j, w, h, x)
+
+
+@serial
+def euler_velocity(packed, v, a, h, out):
+    """``free_velocity`` of the model packed in ``packed``, for Python (``contact_step``)."""
+    free_velocity(unpack(packed), v, a, h, out)
+
+
+@serial
+def euler_transport(packed, w, h, x):
+    """``transport`` of the model packed in ``packed``, for Python (``contact_step``)."""
+    transport(unpack(packed), w, h, x)

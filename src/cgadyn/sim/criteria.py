@@ -5,10 +5,12 @@ criteria of a step", K31-K34).
 The compiled loop keeps, for the step taken from each state ``(q_k, v_k)``, the world-frame
 force of each contact slot (slot ``4 s + i``: the ``i``-th patch point of shape ``s`` on
 the ground; ``4 (K + p) + i``: of the ``p``-th pair of shapes that may touch, K37) and
-the free acceleration ``a_k`` (``v_free = v_k + dt a_k``, K20). From them this module finds
+the free acceleration ``a_k`` (``v_free = v_k + dt a_k``, K20, with a free flyer's
+``dt ω × v``, K24: ``free_velocity``). From them this module finds
 the step's contacts again at ``q_k`` (``world_contacts`` as the step finds them: each
 point's gap at the end of the step at ``v_k`` and ``v_free`` below the margin, K21a, K22,
-K37-K39, with ``ContactSettings.patch``), and with the next state's velocity ``v_{k+1} = v⁺`` (K24)
+K37-K39, with ``ContactSettings.patch``), and with the next state's velocity ``v_{k+1}``,
+which is ``v⁺`` moved into the frames of ``q_{k+1}`` (K24: ``velocity_before`` moves it back),
 their velocities after the step ``σ = J(q_k) v⁺`` plus the gap's term (K23), which is all
 ``contact.criteria.step_criteria`` needs.
 
@@ -144,7 +146,8 @@ def _found(scene: ContactScene, dt: float, q, v, a):
     robot = scene.model.njoints if scene.robot_joints is None else scene.robot_joints
     pairs = candidate_pairs(cm, robot, scene.world.self_collision)
     contacts = world_contacts(scene.model, cm, q, scene.world, settings.margin, pairs, v,
-                              v + dt * a, dt, settings.patch)  # v_free (K20), K21a
+                              free_velocity(scene.model, v, a, dt), dt,
+                              settings.patch)  # v_free (K20, K24), K21a
     index = {(int(x), int(y)): p for p, (x, y) in enumerate(pairs)}
     slots = np.empty(len(contacts), dtype=np.int64)
     for i, (s, o) in enumerate(zip(contacts.collision, contacts.other, strict=True)):
@@ -152,6 +155,30 @@ def _found(scene: ContactScene, dt: float, q, v, a):
         first = s if o < 0 else len(cm) + index[(int(s), int(o))]
         slots[i] = MAX_CONTACTS * first + before
     return contacts, slots
+
+
+def free_velocity(model, v, a, dt: float) -> np.ndarray:
+    """The step's free velocity from ``(v_k, a_k)`` in the frames of ``q_k``: ``v + dt a``
+    with a free flyer's linear part's ``dt ω × v`` (``algorithms.manifold.free_velocity``,
+    K20, K24)."""
+    from ..algorithms.manifold import euler_velocity
+
+    out = np.empty(model.nv)
+    euler_velocity(model.packed, np.asarray(v, dtype=float), np.asarray(a, dtype=float),
+                   float(dt), out)
+    return out
+
+
+def velocity_before(model, v_next, dt: float) -> np.ndarray:
+    """``v⁺`` in the frames of ``q_k`` from the next state's ``v_{k+1}``, kept in those of
+    ``q_{k+1}``: K24's ``exp(-dt ω̂⁺)`` undone on a free flyer's linear part
+    (``exp(dt ω̂⁺)``, ω⁺ unchanged by it)."""
+    from ..algorithms.manifold import euler_transport
+
+    v_next = np.asarray(v_next, dtype=float)
+    out = v_next.copy()
+    euler_transport(model.packed, v_next, -float(dt), out)
+    return out
 
 
 def _momentum_free(model) -> np.ndarray:
@@ -183,7 +210,7 @@ def _match(scene, dt, q, v, a, v_next, contacts, slots, forces, J) -> tuple[np.n
     M = np.asarray(crba(scene.model, q))
     if scene.step_inertia is not None:  # the step's mass matrix (K40)
         M = M + np.diag(scene.step_inertia)
-    target = (M @ (v_next - v - dt * a))[free]
+    target = (M @ (v_next - free_velocity(scene.model, v, a, dt)))[free]
     residual = target - push.sum(axis=0)
     tie = 1e-9 * (np.linalg.norm(target) + 1e-12)
     if np.linalg.norm(residual) <= tie:  # the order found satisfies it: no other needed
@@ -242,7 +269,8 @@ def trajectory_contacts(traj, k: int, rollout: int | None = None) -> list[Contac
         from ..contact.problem import contact_jacobian
 
         J = contact_jacobian(scene.model, q[k], contacts, _frames(contacts))
-        slots, _ = _match(scene, traj.dt, q[k], v[k], a[k], v[k + 1], contacts, slots,
+        slots, _ = _match(scene, traj.dt, q[k], v[k], a[k],
+                          velocity_before(scene.model, v[k + 1], traj.dt), contacts, slots,
                           forces[k], J)
     model, cm = scene.model, scene.collisions
     return [ContactPoint(model.link_names[contacts.link[i]], cm[contacts.collision[i]].name,
@@ -291,10 +319,11 @@ def trajectory_criteria(traj, rollout: int | None = None, slip: float = SLIP
         unmatched += int(nc != count[k])
         frames = _frames(contacts)
         J = contact_jacobian(scene.model, q[k], contacts, frames)
-        slots, moved = _match(scene, dt, q[k], v[k], a[k], v[k + 1], contacts, slots,
+        v_plus = velocity_before(scene.model, v[k + 1], dt)  # v⁺ in the frames of q_k
+        slots, moved = _match(scene, dt, q[k], v[k], a[k], v_plus, contacts, slots,
                               forces[k], J)
         reordered += int(moved)
-        sigma = (J @ v[k + 1]).reshape(nc, 3)  # σ = J v⁺ (K20, K24)
+        sigma = (J @ v_plus).reshape(nc, 3)  # σ = J v⁺ (K20, K24)
         soft = contact_compliance(scene.collisions, contacts)
         sigma[:, 2] += gap_velocity(contacts.distance, beta, dt, soft)[0]  # K23, K41
         crit = step_criteria(contact_frame_forces(forces[k, slots], frames), sigma,

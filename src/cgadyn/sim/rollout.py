@@ -13,6 +13,17 @@ for one-dof joints, ``M exp(V / 2)`` for a free flyer). With ``h = dt``:
 
 - ``EULER``: ``q' = q ⊕ h v``, ``v' = v + h q̈(q, v)``;
 - ``SEMI_IMPLICIT_EULER`` (symplectic Euler): ``v' = v + h q̈(q, v)``, ``q' = q ⊕ h v'``;
+
+  on a free flyer (and a planar joint), whose linear velocity v is in the body's own
+  turning frame, both take that part in the frame the step starts from and move the result
+  into the frame of q' (``algorithms.manifold.free_velocity``, ``transport``;
+  docs/contact.md, K24)::
+
+      v' = exp(-h ω̂') (v + h (v̇ + ω × v)),   ω̂' the rotation q ⊕ h · turns by
+
+  so that a body that nothing pushes keeps its velocity in the world (read in the turning
+  frame, ``v + h v̇`` grows it by ``h² |ω × v|²`` a step: the energy of a spinning body
+  would rise);
 - ``RK4``: the classical Runge-Kutta stages, each taken from q in the chart ``q ⊕ ·``::
 
       k_1 = (v, q̈(q, v))
@@ -67,6 +78,7 @@ from ..algorithms._checks import finite
 from ..algorithms._workspace import chunks
 from ..algorithms.aba import aba_core
 from ..algorithms.energy import energy_core
+from ..algorithms.manifold import free_velocity, transport
 from ..algorithms.rnea import rnea_core
 from ..algorithms.status import CONSTRAINTS_CONFLICT, DIVERGED, NONFINITE_RESULT, OK, fault
 from ..algorithms.work.aba import workspace_size as aba_workspace
@@ -250,13 +262,12 @@ def _bind(cons, settings, cwork):
 
 
 @core
-def _contact(m, world, q, v, a, dt, vn, work, con, sc):
-    """``vn = v + dt a``, then the contact impulses of ``world`` on it (``sim.contact``);
-    nothing without a world (``world`` None: pruned, no contact code compiled)."""
+def _contact(m, world, q, v, dt, vn, work, con, sc):
+    """The contact impulses of ``world`` on the free velocity ``vn`` (``free_velocity``,
+    ``sim.contact``); nothing without a world (``world`` None: pruned, no contact code
+    compiled)."""
     if world is None:
         return OK
-    for k in range(m.nv):
-        vn[k] = v[k] + dt * a[k]
     return contact_velocity(m, world, q, v, vn, dt, work, con, sc)
 
 
@@ -392,11 +403,10 @@ def step(m, method, q, v, u, f, ctrl, con, world, fac, dt, qn, vn, a, sc, work):
     if method == EULER:
         for k in range(m.nv):
             tau[k] = v[k]
-            vn[k] = v[k] + dt * a[k]
+        free_velocity(m, v, a, dt, vn)
     elif method == SEMI_IMPLICIT_EULER:
-        for k in range(m.nv):
-            vn[k] = v[k] + dt * a[k]
-        status = _contact(m, world, q, v, a, dt, vn, work, con, sc)
+        free_velocity(m, v, a, dt, vn)
+        status = _contact(m, world, q, v, dt, vn, work, con, sc)
         if status != OK:
             return status
         for k in range(m.nv):
@@ -407,6 +417,8 @@ def step(m, method, q, v, u, f, ctrl, con, world, fac, dt, qn, vn, a, sc, work):
             tau[k] = K[0, k] + 2.0 * K[1, k] + 2.0 * K[2, k] + K[3, k]
             vn[k] = v[k] + w * (Ka[0, k] + 2.0 * Ka[1, k] + 2.0 * Ka[2, k] + Ka[3, k])
     _advance(m, q, tau, w, tmp, dq, qn)  # q ⊕ dt v, q ⊕ dt v⁺ or RK4's weighted sum
+    if method != RK4:
+        transport(m, tau, dt, vn)  # v' in the frames of q' (K24)
     if not (finite(qn) and finite(vn)):
         return fault(NONFINITE_RESULT, -1)
     return _within_bounds(m, vn, ctrl[1])
@@ -545,7 +557,8 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
         _record(mb, con, s, sc)
         r = kept_row(steps, steps, every)
         if s == OK:  # the contacts at the last state: those of one more step from it (and
-            _contact(mb, wd, q, v, a, dt, vn, work, con, sc)  # the constraints' share, C14)
+            free_velocity(mb, v, a, dt, vn)  # the constraints' share, C14)
+            _contact(mb, wd, q, v, dt, vn, work, con, sc)
         _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
         if s == OK:
             _keep_contacts(kept, CFb[r], CSb, CTb, r)

@@ -31,13 +31,22 @@ from ...kernels.halfangle import LIBM_BEYOND, half_angle_sincos
 from .free_flyer import (
     FREE_FLYER,
     free_flyer_difference,
+    free_flyer_frame_rate,
     free_flyer_integrate,
     free_flyer_motor,
+    free_flyer_transport,
     quaternion_difference,
     quaternion_integrate,
 )
 from .helical import HELICAL, helical_motor
-from .planar import PLANAR, planar_difference, planar_integrate, planar_motor
+from .planar import (
+    PLANAR,
+    planar_difference,
+    planar_frame_rate,
+    planar_integrate,
+    planar_motor,
+    planar_transport,
+)
 from .prismatic import PRISMATIC, prismatic_motor
 from .revolute import REVOLUTE_UNBOUNDED, revolute_motor
 from .spherical import SPHERICAL, spherical_motor
@@ -190,6 +199,34 @@ def joint_difference(m, j, q0, q1, tmp, out):
     else:
         for c in range(m.iv[j + 1] - k):
             out[k + c] = q1[i + c] - q0[i + c]
+
+
+@inline
+def joint_frame_rate(m, j, v, h, out):
+    """``out_j += h ω × v_j`` where joint j's velocity ``v_j`` holds a linear velocity in a
+    frame that the joint itself turns (a free flyer's ``[v, ω]``, a planar joint's ``(vx,
+    vy, ω)``); nothing for another joint. With ``joint_transport`` after the position
+    moves, an Euler step integrates that velocity in the frame it started from, where a
+    body that nothing pushes keeps it (K24); read in the turning frame, ``v + h v̇`` would
+    grow it by ``h² |ω × v|²`` a step."""
+    t, k = m.types[j], m.iv[j]
+    if t == FREE_FLYER:
+        free_flyer_frame_rate(v, k, h, out)
+    elif t == PLANAR:
+        planar_frame_rate(v, k, h, out)
+
+
+@inline
+def joint_transport(m, j, w, h, x):
+    """``x_j``'s linear velocity moved from the joint's frame at the start of a step into
+    its frame after the turn ``exp(h ω̂)`` of the step's velocity ``w`` (ω of ``w_j``):
+    ``exp(-h ω̂) v`` (``joint_frame_rate``'s other half, K24); nothing for a joint whose
+    velocity holds no linear part in a turning frame."""
+    t, k = m.types[j], m.iv[j]
+    if t == FREE_FLYER:
+        free_flyer_transport(w, k, h, x)
+    elif t == PLANAR:
+        planar_transport(w, k, h, x)
 
 
 @inline

@@ -11,6 +11,8 @@ linear velocity in the parent (world) frame: ``qvel = (R v, ω)``.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..._jit import inline
@@ -121,6 +123,37 @@ def free_flyer_difference(q0, q1, i, k, tmp, out):
     """``out[k:k+6] = q1 ⊖ q0`` (``quaternion_difference``), as ``[v, ω]``. ``tmp``:
     (3, 8)."""
     quaternion_difference(q0, q1, i, 3, k, tmp, out)
+
+
+@inline
+def free_flyer_frame_rate(v, k, h, out):
+    """``out[k:k+3] += h ω × v`` of ``v[k:k+6] = [v, ω]``: the rate at which the body's own
+    turning changes the linear velocity it expresses in its frame (``d(R v)/dt = R (v̇ + ω
+    × v)``, R the body's rotation), for a step that integrates the velocity of the body's
+    origin in the frame it started from (``rollout``'s Euler methods, K24)."""
+    v1, v2, v3, w1, w2, w3 = v[k], v[k + 1], v[k + 2], v[k + 3], v[k + 4], v[k + 5]
+    out[k] += h * (w2 * v3 - w3 * v2)
+    out[k + 1] += h * (w3 * v1 - w1 * v3)
+    out[k + 2] += h * (w1 * v2 - w2 * v1)
+
+
+@inline
+def free_flyer_transport(w, k, h, x):
+    """``x[k:k+3] ← exp(-h ω̂) x[k:k+3]``, ω = ``w[k+3:k+6]`` (Rodrigues' formula): a
+    linear velocity expressed in the body's frame at the start of a step moved into its
+    frame after the step's rotation ``exp(h ω̂)``, so that its world vector ``R v`` is
+    unchanged (K24); the angular velocity, about which the body turned, stays."""
+    p1, p2, p3 = -h * w[k + 3], -h * w[k + 4], -h * w[k + 5]  # φ = -h ω
+    t2 = p1 * p1 + p2 * p2 + p3 * p3
+    if t2 < 1e-8:  # sin θ / θ and (1 - cos θ) / θ² by their series, exact to rounding
+        a, b = 1.0 - t2 / 6.0, 0.5 - t2 / 24.0
+    else:
+        t = math.sqrt(t2)
+        a, b = math.sin(t) / t, (1.0 - math.cos(t)) / t2
+    x1, x2, x3 = x[k], x[k + 1], x[k + 2]
+    c1, c2, c3 = p2 * x3 - p3 * x2, p3 * x1 - p1 * x3, p1 * x2 - p2 * x1  # φ × x
+    d1, d2, d3 = p2 * c3 - p3 * c2, p3 * c1 - p1 * c3, p1 * c2 - p2 * c1  # φ × (φ × x)
+    x[k], x[k + 1], x[k + 2] = x1 + a * c1 + b * d1, x2 + a * c2 + b * d2, x3 + a * c3 + b * d3
 
 
 def _every_twist(B: np.ndarray) -> np.ndarray:

@@ -13,6 +13,8 @@ SE(2)'s (Pinocchio's ``SpecialEuclideanOperationTpl<2>``). MuJoCo has no planar 
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..._jit import inline
@@ -97,6 +99,24 @@ def planar_difference(q0, q1, i, k, tmp, out):
     motor_log(tmp[0], tmp[1])
     _, _, w3, v1, v2, _ = physical(tmp[1])
     out[k], out[k + 1], out[k + 2] = v1, v2, w3
+
+
+@inline
+def planar_frame_rate(v, k, h, out):
+    """``out[k:k+2] += h ω × (vx, vy)`` of ``v[k:k+3] = (vx, vy, ω)``: the turning frame's
+    share of the change of the planar velocity it expresses (``free_flyer_frame_rate`` in
+    the plane, K24)."""
+    out[k] -= h * v[k + 2] * v[k + 1]
+    out[k + 1] += h * v[k + 2] * v[k]
+
+
+@inline
+def planar_transport(w, k, h, x):
+    """``(x[k], x[k+1])`` turned by ``-h ω``, ω = ``w[k+2]``: a planar velocity moved into
+    the frame after the step's turn (``free_flyer_transport`` in the plane, K24)."""
+    c, s = math.cos(h * w[k + 2]), math.sin(h * w[k + 2])
+    x0, x1 = x[k], x[k + 1]
+    x[k], x[k + 1] = c * x0 + s * x1, c * x1 - s * x0
 
 
 def _plane(B: np.ndarray) -> np.ndarray:
