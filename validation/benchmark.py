@@ -136,6 +136,7 @@ def _spherical_humanoid_run(args) -> int:
                "|---|---:|---:|---:|---:|---:|---:|---|"]
     for pm in (spherical_humanoid(), sample):
         model = from_pinocchio(pm)
+        numba.set_num_threads(threads)  # _benchmark leaves one thread, for its compute rows
         res = _benchmark(model, pm, [1, 64, 4096], threads, args.repeats, False)
         results[pm.name] = res
         write_report(res, args.output, stem=f"benchmark_{pm.name}")
