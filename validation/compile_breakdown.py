@@ -10,9 +10,12 @@ CPU time of the process, not wall time, so that other jobs on the machine change
 numbers little. Workloads:
 
 - ``aba``: a first ``cgadyn.aba`` on the panda;
-- ``validate``: ``cgadyn.validate.validate_robot("panda")``, what ``cgadyn validate`` does.
+- ``validate``: ``cgadyn.validate.validate_robot("panda")``, what ``cgadyn validate`` does;
+- ``simulate``: three semi-implicit Euler steps of solo12 (a rollout without a world);
+- ``contact``: the same with ``World()`` and solo12's collision model (a rollout with
+  contact).
 
-    python validation/compile_breakdown.py aba|validate
+    python validation/compile_breakdown.py aba|validate|simulate|contact
 """
 
 from __future__ import annotations
@@ -80,8 +83,19 @@ def main(workload: str) -> int:
         from cgadyn.validate import validate_robot
 
         validate_robot("panda")
+    elif workload == "simulate":
+        m = cgadyn.load("solo12")
+        cgadyn.simulate(m, cgadyn.neutral(m), np.zeros(m.nv), 1e-3, 3,
+                        integrator="semi_implicit_euler")
+    elif workload == "contact":
+        m = cgadyn.load("solo12")
+        q = cgadyn.neutral(m)
+        q[2] = 0.3
+        cgadyn.simulate(m, q, np.zeros(m.nv), 1e-3, 3, integrator="semi_implicit_euler",
+                        world=cgadyn.World(), collisions=cgadyn.collision_model(m))
     else:
-        raise SystemExit(f"unknown workload {workload!r}: expected aba or validate")
+        raise SystemExit(f"unknown workload {workload!r}: expected aba, validate, simulate "
+                         "or contact")
     print(json.dumps({"workload": workload, "cpu": cpu() - start, "records": records}))
     return 0
 

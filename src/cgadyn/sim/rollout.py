@@ -164,8 +164,7 @@ def _closed_loop(m, q, v, u, f, ctrl, con, fac, qdd, sc, work):
         for k in range(m.nv):
             tau[k] += coords[ACTUATED, k] * g[k]  # the actuated coordinates' share of g(q)
     if flags & PD:
-        for j in range(m.n):
-            joint_difference(m, j, q, q_ref, tmp, dq)  # q_ref ⊖ q
+        _differences(m, q, q_ref, tmp, dq)  # q_ref ⊖ q
         for k in range(m.nv):  # K_p, K_d zero where not actuated
             tau[k] += coords[KP, k] * dq[k] + coords[KD, k] * (v_ref[k] - v[k])
     if flags & PASSIVE:  # τ_passive = -d v - k (q - q_spring), springs on additive joints
@@ -366,10 +365,26 @@ def _advance(m, q, v, h, tmp, dq, out):
             dq[k] = h * v[k]
             out[k] = q[k] + dq[k]
         return
+    _advance_joints(m, q, v, h, tmp, dq, out)
+
+
+@core
+def _advance_joints(m, q, v, h, tmp, dq, out):
+    """``_advance`` joint by joint (``joint_integrate``), compiled once and called: the
+    rollout's two sites and every rollout's specialisation share it instead of each
+    carrying every joint type's exponential."""
     for k in range(m.nv):
         dq[k] = h * v[k]
     for j in range(m.n):
         joint_integrate(m, j, q, dq, tmp, out)
+
+
+@core
+def _differences(m, q, q_ref, tmp, dq):
+    """``dq = q_ref ⊖ q`` joint by joint (``joint_difference``), compiled once and called
+    (as ``_advance_joints``)."""
+    for j in range(m.n):
+        joint_difference(m, j, q, q_ref, tmp, dq)
 
 
 @inline
