@@ -256,14 +256,23 @@ def test_bad_gains(gains, match):
 
 
 
-def _free_body(lever):
-    """One free-flying body with an asymmetric inertia, its centre of mass at ``lever``."""
+def _one_body(joint, lever):
+    """One body on ``joint`` (a Pinocchio joint model) with an asymmetric inertia, its
+    centre of mass at ``lever``."""
     pm = pin.Model()
-    j = pm.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "base")
-    pm.appendBodyToJoint(j, pin.Inertia(2.0, np.array(lever), np.diag([0.1, 0.2, 0.3])),
+    j = pm.addJoint(0, joint, pin.SE3.Identity(), "base")
+    pm.appendBodyToJoint(j, pin.Inertia(1.5, np.array(lever), np.diag([0.1, 0.2, 0.3])),
                          pin.SE3.Identity())
     pm.addBodyFrame("body", j, pin.SE3.Identity(), 0)
     return cgadyn.from_pinocchio(pm), pm
+
+
+def _free_body(lever):
+    return _one_body(pin.JointModelFreeFlyer(), lever)
+
+
+def _planar_body(lever):
+    return _one_body(pin.JointModelPlanar(), lever)
 
 
 @pytest.mark.parametrize("method", ["semi_implicit_euler", "euler"])
@@ -298,15 +307,6 @@ def test_euler_steps_keep_a_free_bodys_linear_velocity_in_the_world(method):
     assert np.max(np.abs(e - e[0])) <= 1e-12 * e[0]
     world = [pin.XYZQUATToSE3(x).rotation @ u[:3] for x, u in zip(still.q, still.v, strict=True)]
     assert np.max(np.abs(np.array(world) - v0[:3])) <= 1e-12
-
-
-def _planar_body(lever):
-    pm = pin.Model()
-    j = pm.addJoint(0, pin.JointModelPlanar(), pin.SE3.Identity(), "plane")
-    pm.appendBodyToJoint(j, pin.Inertia(1.5, np.array(lever), np.diag([0.1, 0.2, 0.3])),
-                         pin.SE3.Identity())
-    pm.addBodyFrame("body", j, pin.SE3.Identity(), 0)
-    return cgadyn.from_pinocchio(pm), pm
 
 
 @pytest.mark.parametrize("method", ["semi_implicit_euler", "euler"])
