@@ -9,6 +9,8 @@ the frame it ends in (``free_velocity``, ``transport``; docs/contact.md, K24).
 
 from __future__ import annotations
 
+import numpy as np
+
 from .._jit import core, inline, serial
 from ..multibody.joints import (
     joint_difference,
@@ -88,3 +90,22 @@ def euler_velocity(packed, v, a, h, out):
 def euler_transport(packed, w, h, x):
     """``transport`` of the model packed in ``packed``, for Python (``contact_step``)."""
     transport(unpack(packed), w, h, x)
+
+
+def step_free_velocity(model, v, a, dt: float) -> np.ndarray:
+    """``free_velocity`` from Python, a new array: an Euler step's velocity from ``(v, q̈ =
+    a)`` in the frames of ``q`` (``contact_step``, the criteria of a trajectory, K24)."""
+    out = np.empty(model.nv)
+    euler_velocity(model.packed, np.asarray(v, dtype=float), np.asarray(a, dtype=float),
+                   float(dt), out)
+    return out
+
+
+def step_moved_velocity(model, v, dt: float) -> np.ndarray:
+    """``transport`` from Python, a new array: ``v`` (in the frames of ``q``) moved into
+    those of ``q ⊕ dt v``; ``-dt`` moves a velocity of the step's end back into the frames
+    of its start (ω, about which the step turned, is unchanged by it, K24)."""
+    v = np.asarray(v, dtype=float)
+    out = v.copy()
+    euler_transport(model.packed, v, float(dt), out)
+    return out

@@ -113,7 +113,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     ``accept`` (naming the residuals) or for bad input.
     """
     from ..algorithms import aba, crba, integrate
-    from ..algorithms.manifold import euler_velocity
+    from ..algorithms.manifold import step_free_velocity, step_moved_velocity
     from ..algorithms.passive import passive_torques
     from .inputs import checked_collisions, checked_settings, checked_world
     from .limits import (
@@ -158,8 +158,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         if not isinstance(flag, bool):
             raise ValueError(f"{name} must be True or False, got {flag!r}")
     torque = tau + passive_torques(model, q, v) if passive else tau
-    v_free = np.empty(model.nv)  # K20, a free flyer's linear part in the frame at q (K24)
-    euler_velocity(model.packed, v, aba(model, q, v, torque), step, v_free)
+    v_free = step_free_velocity(model, v, aba(model, q, v, torque), step)  # K20, K24
     # a gap that the step may close is a contact (K21a)
     pairs = candidate_pairs(cm, robot_joints, world.self_collision)  # K38
     contacts = world_contacts(model, cm, q, world, margin, pairs, v, v_free, step,
@@ -170,8 +169,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     frictions = joint_frictions(model) if friction_loss else np.zeros((0, 2))
     nc, nf = len(contacts), len(frictions)
     if nc + nl + nf == 0:
-        return ContactStep(integrate(model, q, step * v_free), _moved(model, v_free, step),
-                           contacts,
+        return ContactStep(integrate(model, q, step * v_free),
+                           step_moved_velocity(model, v_free, step), contacts,
                            np.zeros((0, 3)), np.zeros(model.nv), np.zeros(model.nv),
                            velocities=np.zeros((0, 3)))
     frames = np.array([ground_frame(n) for n in contacts.normal]).reshape(nc, 3, 3)  # K37
@@ -214,15 +213,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     limit_torques = J[3 * nc:n1].T @ lam[3 * nc:n1] / step
     friction_torques = J[n1:].T @ lam[n1:] / step
     sigma = (G[:3 * nc] @ lam + g[:3 * nc]).reshape(nc, 3)  # σ = G λ + g (K11)
-    return ContactStep(integrate(model, q, step * v_next), _moved(model, v_next, step),
-                       contacts, forces, limit_torques, friction_torques, info, used, sigma)
+    return ContactStep(integrate(model, q, step * v_next),
+                       step_moved_velocity(model, v_next, step), contacts, forces,
+                       limit_torques, friction_torques, info, used, sigma)
 
-
-def _moved(model, v, step: float) -> np.ndarray:
-    """``v`` (in the frames of q) moved into the frames of ``q ⊕ step v``: ``exp(-dt ω̂)``
-    on a free flyer's or planar joint's linear part (K24)."""
-    from ..algorithms.manifold import euler_transport
-
-    out = np.array(v, dtype=float)
-    euler_transport(model.packed, v, step, out)
-    return out

@@ -6,11 +6,12 @@ The compiled loop keeps, for the step taken from each state ``(q_k, v_k)``, the 
 force of each contact slot (slot ``4 s + i``: the ``i``-th patch point of shape ``s`` on
 the ground; ``4 (K + p) + i``: of the ``p``-th pair of shapes that may touch, K37) and
 the free acceleration ``a_k`` (``v_free = v_k + dt a_k``, K20, with a free flyer's
-``dt ω × v``, K24: ``free_velocity``). From them this module finds
+``dt ω × v``, K24: ``algorithms.manifold.step_free_velocity``). From them this module finds
 the step's contacts again at ``q_k`` (``world_contacts`` as the step finds them: each
 point's gap at the end of the step at ``v_k`` and ``v_free`` below the margin, K21a, K22,
 K37-K39, with ``ContactSettings.patch``), and with the next state's velocity ``v_{k+1}``,
-which is ``v⁺`` moved into the frames of ``q_{k+1}`` (K24: ``velocity_before`` moves it back),
+which is ``v⁺`` moved into the frames of ``q_{k+1}`` (K24: ``step_moved_velocity`` at
+``-dt`` moves it back),
 their velocities after the step ``σ = J(q_k) v⁺`` plus the gap's term (K23), which is all
 ``contact.criteria.step_criteria`` needs.
 
@@ -30,6 +31,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..algorithms.manifold import step_free_velocity, step_moved_velocity
 from ..contact.criteria import CRITERIA, SLIP, contact_frame_forces, step_criteria
 
 __all__ = ["ContactPoint", "ContactScene", "CriteriaHistory", "trajectory_contacts",
@@ -146,7 +148,7 @@ def _found(scene: ContactScene, dt: float, q, v, a):
     robot = scene.model.njoints if scene.robot_joints is None else scene.robot_joints
     pairs = candidate_pairs(cm, robot, scene.world.self_collision)
     contacts = world_contacts(scene.model, cm, q, scene.world, settings.margin, pairs, v,
-                              free_velocity(scene.model, v, a, dt), dt,
+                              step_free_velocity(scene.model, v, a, dt), dt,
                               settings.patch)  # v_free (K20, K24), K21a
     index = {(int(x), int(y)): p for p, (x, y) in enumerate(pairs)}
     slots = np.empty(len(contacts), dtype=np.int64)
@@ -155,30 +157,6 @@ def _found(scene: ContactScene, dt: float, q, v, a):
         first = s if o < 0 else len(cm) + index[(int(s), int(o))]
         slots[i] = MAX_CONTACTS * first + before
     return contacts, slots
-
-
-def free_velocity(model, v, a, dt: float) -> np.ndarray:
-    """The step's free velocity from ``(v_k, a_k)`` in the frames of ``q_k``: ``v + dt a``
-    with a free flyer's linear part's ``dt ω × v`` (``algorithms.manifold.free_velocity``,
-    K20, K24)."""
-    from ..algorithms.manifold import euler_velocity
-
-    out = np.empty(model.nv)
-    euler_velocity(model.packed, np.asarray(v, dtype=float), np.asarray(a, dtype=float),
-                   float(dt), out)
-    return out
-
-
-def velocity_before(model, v_next, dt: float) -> np.ndarray:
-    """``v⁺`` in the frames of ``q_k`` from the next state's ``v_{k+1}``, kept in those of
-    ``q_{k+1}``: K24's ``exp(-dt ω̂⁺)`` undone on a free flyer's linear part
-    (``exp(dt ω̂⁺)``, ω⁺ unchanged by it)."""
-    from ..algorithms.manifold import euler_transport
-
-    v_next = np.asarray(v_next, dtype=float)
-    out = v_next.copy()
-    euler_transport(model.packed, v_next, -float(dt), out)
-    return out
 
 
 def _momentum_free(model) -> np.ndarray:
@@ -210,7 +188,7 @@ def _match(scene, dt, q, v, a, v_next, contacts, slots, forces, J) -> tuple[np.n
     M = np.asarray(crba(scene.model, q))
     if scene.step_inertia is not None:  # the step's mass matrix (K40)
         M = M + np.diag(scene.step_inertia)
-    target = (M @ (v_next - free_velocity(scene.model, v, a, dt)))[free]
+    target = (M @ (v_next - step_free_velocity(scene.model, v, a, dt)))[free]
     residual = target - push.sum(axis=0)
     tie = 1e-9 * (np.linalg.norm(target) + 1e-12)
     if np.linalg.norm(residual) <= tie:  # the order found satisfies it: no other needed
@@ -270,7 +248,7 @@ def trajectory_contacts(traj, k: int, rollout: int | None = None) -> list[Contac
 
         J = contact_jacobian(scene.model, q[k], contacts, _frames(contacts))
         slots, _ = _match(scene, traj.dt, q[k], v[k], a[k],
-                          velocity_before(scene.model, v[k + 1], traj.dt), contacts, slots,
+                          step_moved_velocity(scene.model, v[k + 1], -traj.dt), contacts, slots,
                           forces[k], J)
     model, cm = scene.model, scene.collisions
     return [ContactPoint(model.link_names[contacts.link[i]], cm[contacts.collision[i]].name,
@@ -319,7 +297,7 @@ def trajectory_criteria(traj, rollout: int | None = None, slip: float = SLIP
         unmatched += int(nc != count[k])
         frames = _frames(contacts)
         J = contact_jacobian(scene.model, q[k], contacts, frames)
-        v_plus = velocity_before(scene.model, v[k + 1], dt)  # v⁺ in the frames of q_k
+        v_plus = step_moved_velocity(scene.model, v[k + 1], -dt)  # v⁺ in the frames of q_k
         slots, moved = _match(scene, dt, q[k], v[k], a[k], v_plus, contacts, slots,
                               forces[k], J)
         reordered += int(moved)
