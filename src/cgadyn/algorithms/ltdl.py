@@ -26,7 +26,14 @@ the tree's order), the second from those supporting k:
     W[i] = X[i] - Σ_{k below i} L[k, i] W[k]                     for i = nv-1..0     (L5)
     Y[k] = s D_k⁻¹ W[k] - Σ_{i supports k} L[k, i] Y[i]          for k = 0..nv-1     (L6)
 
-at ``2 Σ_k d_k + nv`` row operations, against nv² for the product with M⁻¹.
+at ``2 Σ_k d_k + nv`` row operations, against nv² for the product with M⁻¹. A
+congruence ``Xᵀ M⁻¹ X`` (the Delassus operator of the rows ``Xᵀ = J``) takes the first
+sweep alone:
+
+    Xᵀ M⁻¹ X = Wᵀ D⁻¹ W = Σ_k W[k]ᵀ W[k] / D_k,   W = L⁻ᵀ X by (L5)                  (L7)
+
+a sum of one symmetric rank-one term per coordinate, nonzero only on the columns of X that
+the coordinate supports.
 """
 
 from __future__ import annotations
@@ -37,7 +44,8 @@ from .._jit import inline
 from . import _workspace as ws
 from ._dense import rows_subtract1, rows_subtract2, rows_subtract4
 
-__all__ = ["ltdl", "ltdl_inverse", "ltdl_solve", "ltdl_solve_rows", "supports"]
+__all__ = ["ltdl", "ltdl_inverse", "ltdl_lower_rows", "ltdl_solve", "ltdl_solve_rows",
+           "supports"]
 
 
 @inline
@@ -115,10 +123,9 @@ def supports(m):
 
 
 @inline
-def ltdl_solve_rows(m, H, X, scale):
-    """``X = scale M⁻¹ X`` for right-hand sides X (nv, w), with ``H = Lᵀ D L`` (L5, L6):
-    each sweep over a row of X takes up to four other rows at once, in loops of w that the
-    compiler vectorises."""
+def ltdl_lower_rows(m, H, X):
+    """``X = L⁻ᵀ X`` for right-hand sides X (nv, w), with ``H = Lᵀ D L``: the first sweep
+    (L5) alone, which a Delassus operator ``J M⁻¹ Jᵀ = Wᵀ D⁻¹ W`` needs (L7)."""
     for i in range(m.nv - 1, -1, -1):  # W[i] = X[i] - Σ_{k below i} L[k, i] W[k] (L5)
         k, e = i + 1, m.subtree_end[m.dof_joint[i]]
         while k + 4 <= e:
@@ -130,6 +137,14 @@ def ltdl_solve_rows(m, H, X, scale):
             k += 2
         if k < e:
             rows_subtract1(X[i], H[k, i], X[k])
+
+
+@inline
+def ltdl_solve_rows(m, H, X, scale):
+    """``X = scale M⁻¹ X`` for right-hand sides X (nv, w), with ``H = Lᵀ D L`` (L5, L6):
+    each sweep over a row of X takes up to four other rows at once, in loops of w that the
+    compiler vectorises."""
+    ltdl_lower_rows(m, H, X)
     par = m.dof_parent
     for k in range(m.nv):  # Y[k] = s D_k⁻¹ W[k] - Σ_{i supports k} L[k, i] Y[i] (L6)
         r, d = X[k], scale / H[k, k]

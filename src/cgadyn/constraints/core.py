@@ -30,7 +30,7 @@ from ..algorithms._checks import check_configuration
 from ..algorithms._pointers import SIGNATURE, packed_array
 from ..algorithms._workspace import STACK_FLOATS, chunks, stack_buffer
 from ..algorithms.kinematics import world_motors
-from ..algorithms.ltdl import ltdl_solve_rows
+from ..algorithms.ltdl import ltdl_lower_rows
 from ..algorithms.minverse import move_axes_inertias
 from ..algorithms.status import DELASSUS_SINGULAR, NONFINITE_RESULT, OK, SINGULAR, at_sample, fault
 from ..kernels import motor_mul, motor_reverse, twist_sandwich
@@ -97,14 +97,13 @@ WORKSPACE = {  # one sample's arrays, in order (tools/generate_workspaces.py); n
     "H": ("nv", "nv"),  # M, then its factors Lᵀ D L (before the rows': where nr may change)
     "J": ("nr", "nv"),
     "g": ("nr",),
-    "MJt": ("nv", "nr"),  # M⁻¹ Jᵀ
+    "LJt": ("nv", "nr"),  # L⁻ᵀ Jᵀ (L5), for the Delassus operator Wᵀ D⁻¹ W (L7)
     "C": ("nr", "nr"),  # the Cholesky factor
     "b": ("nr",),
     "y": ("nr",),
     "d": ("nr",),
     "af": ("nv",),  # the free acceleration
     "h": ("nv",),  # the bias forces h = C(q, v) v + g(q)
-    "cols": ("nv",),  # the coordinates that move a constraint
     "e": ("nr",),  # the position error of each row (C5): p₁ - p₂, or -log(~M₁ M₂)
     "W": (2, "nr", 6),  # each row's wrench on the body of each end (C12)
     "rb": (2, "nr"),  # those bodies, -1 the world
@@ -380,29 +379,28 @@ def constraint_system(m, cons, q, v, drift, J, g, k_):
 
 @inline
 def _delassus(m, J, k_, G):
-    """``M⁻¹ Jᵀ`` by the two sweeps of M's factors along the tree (L5, L6; ``H = Lᵀ D L``)
-    and ``G = J M⁻¹ Jᵀ`` (C7) over the coordinates that move a constraint."""
+    """``G = J M⁻¹ Jᵀ`` (C7) from M's factors ``H = Lᵀ D L`` as ``Wᵀ D⁻¹ W``, ``W = L⁻ᵀ
+    Jᵀ`` by the first of the two sweeps alone (L5, L7): a rank-one term per coordinate over
+    the rows whose column of W it reaches (W keeps Jᵀ's pattern along the tree, nonzero
+    on the coordinates that support a row's bodies). ``M⁻¹ Jᵀ`` itself is never formed: a
+    caller that needs ``M⁻¹ Jᵀ λ`` solves for the one column ``Jᵀ λ`` (L5, L6)."""
     nr, nv = J.shape[0], m.nv
-    MJt, cols = k_.MJt, k_.cols
-    nk = 0
+    W, H = k_.LJt, k_.H
     for k in range(nv):
         for r in range(nr):
-            MJt[k, r] = J[r, k]
-        for r in range(nr):
-            if J[r, k] != 0.0:
-                cols[nk] = k
-                nk += 1
-                break
-    ltdl_solve_rows(m, k_.H, MJt, 1.0)  # M⁻¹ Jᵀ (L5, L6)
-    for r in range(nr):  # G = J (M⁻¹ Jᵀ): row r from J's nonzeros, in loops over G's row
+            W[k, r] = J[r, k]
+    ltdl_lower_rows(m, H, W)  # W = L⁻ᵀ Jᵀ (L5)
+    for r in range(nr):
         for s in range(r + 1):
             G[r, s] = 0.0
-        for c in range(nk):
-            k = int(cols[c])
-            x = J[r, k]
+    for k in range(nv):  # G += W[k]ᵀ W[k] / D_k, its lower triangle (L7)
+        w, d = W[k], 1.0 / H[k, k]
+        for r in range(nr):
+            x = w[r] * d
             if x != 0.0:
                 for s in range(r + 1):
-                    G[r, s] += x * MJt[k, s]
+                    G[r, s] += x * w[s]
+    for r in range(nr):
         for s in range(r):
             G[s, r] = G[r, s]
 

@@ -56,8 +56,10 @@ def inner(a, b):
 @serial
 def plane_distance(x0, x1, x2, n0, n1, n2, delta):
     """The signed distance ``X · π = n · x - δ`` of the point ``x`` to the plane
-    ``π = n + δ e∞`` (K1)."""
-    return inner(up(x0, x1, x2), (0.0, n0, n1, n2, delta))
+    ``π = n + δ e∞`` (K1): the conformal inner product of ``X = up(x)`` with ``π``, whose
+    e0 coefficient is zero, so that the ``½ x²`` of X drops out (``tests/test_shapes``
+    checks it against ``inner(up(x), π)``), written out for the hulls' vertex loops."""
+    return n0 * x0 + n1 * x1 + n2 * x2 - delta
 
 
 @serial

@@ -141,8 +141,9 @@ def newton_step(G, R, mu, lam, sigma, rows, slides, k, M, x):
             for b in range(k):
                 M[c, b], M[p, b] = M[p, b], M[c, b]
             x[c], x[p] = x[p], x[c]
+        inv = 1.0 / M[c, c]
         for a in range(c + 1, k):
-            f = M[a, c] / M[c, c]
+            f = M[a, c] * inv
             if f != 0.0:
                 for b in range(c, k):
                     M[a, b] -= f * M[c, b]
@@ -152,7 +153,7 @@ def newton_step(G, R, mu, lam, sigma, rows, slides, k, M, x):
         acc = x[c]
         for b in range(c + 1, k):
             acc -= M[c, b] * x[b]
-        x[c] = acc / M[c, c]
+        x[c] = acc * (1.0 / M[c, c])
         step = max(step, abs(x[c]))
     for j in range(k):
         lam[int(rows[j])] += x[j]

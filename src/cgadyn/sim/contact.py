@@ -311,12 +311,12 @@ def factored_dynamics(m, factored, cwork, q, v, tau, f, qdd, zero, work):
     """``qdd = M⁻¹ (τ - h)``: ``h = RNEA(q, v, 0)`` with the wrenches ``f`` (Algorithm 2),
     ``M`` by CRBA into the world's constraint workspace and factored there (``H = Lᵀ D
     L``, L1-L2; ``cwork``, flags in ``factored``), where ``contact_velocity`` finds it
-    for ``M⁻¹ Jᵀ`` at the same ``q``: one factorisation of M serves the free velocity
-    (K20) and the Delassus operator (K23), where ABA and then CRBA computed the same
-    inertias twice. Where the step before had no contact, limit or friction row (a robot
-    in the air), ABA alone, cheaper than RNEA, CRBA and the factors, which the contact
-    step then forms only if it needs them. ``zero`` (nv) holds zeros. A status:
-    ``SINGULAR`` at the joint of a pivot that is not positive."""
+    at the same ``q``: one factorisation of M serves the free velocity (K20), the Delassus
+    operator (K23, L7) and the impulses' velocity change (K24), where ABA and then CRBA
+    computed the same inertias twice. Where the step before had no contact, limit or
+    friction row (a robot in the air), ABA alone, cheaper than RNEA, CRBA and the factors,
+    which the contact step then forms only if it needs them. ``zero`` (nv) holds zeros. A
+    status: ``SINGULAR`` at the joint of a pivot that is not positive."""
     factored[0] = 0.0
     if factored[1] == 0.0:
         return aba_core(m, q, v, tau, f, qdd, work)
@@ -350,9 +350,10 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     _world_columns(m, q, v, False, k_)  # the joints' world motors and Jacobian columns
     nc, nl = _detect(m, w_, k_, q, v, vn, dt)
     nf = w_.world.frictions.shape[0]
-    for k in range(w_.force.shape[0]):
-        for i in range(3):
-            w_.force[k, i] = 0.0
+    for k in range(w_.force.shape[0]):  # the slots read (``had``): zero unless _keep writes
+        if w_.had[k] != 0.0:
+            for i in range(3):
+                w_.force[k, i] = 0.0
     w_.count[0] = nc
     for i in range(REPORT):
         w_.report[i] = 0.0
@@ -385,7 +386,7 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
         status = _factor(m, q, k_.H, work)
         if status != OK:
             return status
-    _delassus(m, J, k_, G)  # M⁻¹ Jᵀ in k_.MJt, G = J M⁻¹ Jᵀ
+    _delassus(m, J, k_, G)  # G = J M⁻¹ Jᵀ from M's factors (L7)
     _free_term(m, w_, nc, nl, J, g, R, vn, dt)
     for r in range(mc - nb, mc):
         g[r] = 0.0  # J v⁺ = J v_free on the bilateral rows (C14)
@@ -393,7 +394,7 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     if status != OK:
         return status
     _keep_bilateral(con, lam, mc - nb, dt, sc)
-    return _keep(m, w_, k_, nc, nl, nf, lam, vn, dt)
+    return _keep(m, w_, k_, nc, nl, nf, J, lam, vn, dt)
 
 
 @serial
@@ -588,17 +589,21 @@ def _solve(w_, nc, ni, warm, G, g, lam, R, Cs, w):
 
 
 @inline
-def _keep(m, w_, k_, nc, nl, nf, lam, vn, dt):
+def _keep(m, w_, k_, nc, nl, nf, J, lam, vn, dt):
     """``v⁺ = v_free + M⁻¹ Jᵀ λ`` into ``vn`` (K24); each row's λ kept in its slot for the
     next step's warm start (K25), the contacts' forces in ``force``. A status:
     ``NONFINITE_RESULT`` where v⁺ is not finite."""
     wa = w_.world
     had, lhad, lprev, lrows = w_.had, w_.lhad, w_.lprev, w_.lrows
-    for i in range(m.nv):
+    dv = k_.dq
+    for i in range(m.nv):  # Jᵀ λ, then M⁻¹ Jᵀ λ from M's factors (L5, L6)
         acc = 0.0
         for r in range(lam.shape[0]):
-            acc += k_.MJt[i, r] * lam[r]
-        vn[i] += acc
+            acc += J[r, i] * lam[r]
+        dv[i] = acc
+    ltdl_solve(m, k_.H, dv)
+    for i in range(m.nv):
+        vn[i] += dv[i]
     for k in range(had.shape[0]):
         had[k] = 0.0
     c = 0

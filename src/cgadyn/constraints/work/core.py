@@ -15,9 +15,9 @@ from ...kernels.lane_arrays import lane_array, lane_matrix, lane_tensor
 CoreWorkspace = namedtuple("CoreWorkspace", ("M", "Mw", "tmp8", "c", "s", "Sw", "Vb", "Ab", "E",
                                              "T", "tw", "x", "Sa", "Ih", "par", "U", "Gd", "Dinv",
                                              "Dm", "Dj", "It", "fr", "Es", "ys", "dq", "Vw", "Cw",
-                                             "Aw", "Eb", "H", "J", "g", "MJt", "C", "b", "y", "d",
-                                             "af", "h", "cols", "e", "W", "rb", "blocks", "act",
-                                             "Ec", "Z", "Y", "Yt", "live"))
+                                             "Aw", "Eb", "H", "J", "g", "LJt", "C", "b", "y", "d",
+                                             "af", "h", "e", "W", "rb", "blocks", "act", "Ec",
+                                             "Z", "Y", "Yt", "live"))
 
 
 @inline
@@ -60,7 +60,6 @@ def workspace_size(n, nq, nv, nl, nr):
         + nr
         + nr
         + nr
-        + nv
         + nv
         + nv
         + nr
@@ -111,14 +110,13 @@ def workspace(buf, m, nr):
     _H, o = carve(buf, o, (m.nv, m.nv))
     _J, o = carve(buf, o, (nr, m.nv))
     _g, o = carve(buf, o, (nr,))
-    _MJt, o = carve(buf, o, (m.nv, nr))
+    _LJt, o = carve(buf, o, (m.nv, nr))
     _C, o = carve(buf, o, (nr, nr))
     _b, o = carve(buf, o, (nr,))
     _y, o = carve(buf, o, (nr,))
     _d, o = carve(buf, o, (nr,))
     _af, o = carve(buf, o, (m.nv,))
     _h, o = carve(buf, o, (m.nv,))
-    _cols, o = carve(buf, o, (m.nv,))
     _e, o = carve(buf, o, (nr,))
     _W, o = carve(buf, o, (2, nr, 6))
     _rb, o = carve(buf, o, (2, nr))
@@ -131,8 +129,8 @@ def workspace(buf, m, nr):
     _live, o = carve(buf, o, (nr,))
     return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _Sa, _Ih, _par,
                          _U, _Gd, _Dinv, _Dm, _Dj, _It, _fr, _Es, _ys, _dq, _Vw, _Cw, _Aw, _Eb, _H,
-                         _J, _g, _MJt, _C, _b, _y, _d, _af, _h, _cols, _e, _W, _rb, _blocks, _act,
-                         _Ec, _Z, _Y, _Yt, _live)
+                         _J, _g, _LJt, _C, _b, _y, _d, _af, _h, _e, _W, _rb, _blocks, _act, _Ec,
+                         _Z, _Y, _Yt, _live)
 
 
 @inline
@@ -204,7 +202,7 @@ def lane_workspace(buf, m, nr):
     o += nr * m.nv
     _g = lane_array(buf, o)
     o += nr
-    _MJt = lane_matrix(buf, o, nr)
+    _LJt = lane_matrix(buf, o, nr)
     o += m.nv * nr
     _C = lane_matrix(buf, o, nr)
     o += nr * nr
@@ -217,8 +215,6 @@ def lane_workspace(buf, m, nr):
     _af = lane_array(buf, o)
     o += m.nv
     _h = lane_array(buf, o)
-    o += m.nv
-    _cols = lane_array(buf, o)
     o += m.nv
     _e = lane_array(buf, o)
     o += nr
@@ -242,5 +238,5 @@ def lane_workspace(buf, m, nr):
     o += nr
     return CoreWorkspace(_M, _Mw, _tmp8, _c, _s, _Sw, _Vb, _Ab, _E, _T, _tw, _x, _Sa, _Ih, _par,
                          _U, _Gd, _Dinv, _Dm, _Dj, _It, _fr, _Es, _ys, _dq, _Vw, _Cw, _Aw, _Eb, _H,
-                         _J, _g, _MJt, _C, _b, _y, _d, _af, _h, _cols, _e, _W, _rb, _blocks, _act,
-                         _Ec, _Z, _Y, _Yt, _live)
+                         _J, _g, _LJt, _C, _b, _y, _d, _af, _h, _e, _W, _rb, _blocks, _act, _Ec,
+                         _Z, _Y, _Yt, _live)
