@@ -33,6 +33,11 @@ joint: the packed model's ``unit_axis``, from ``joints.unit_axes``) takes U_j, �
 D_j of one dof) from coefficient i of Î_j and Ŵ_j, and adds S_j q̈_j to coefficient i of
 V̇_j: the same numbers without the products.
 
+At a joint of three such columns without rotor inertia (spherical, planar, translation),
+Ĩ_j is zero on the joint's own coefficients and is formed, applied and moved to the parent
+on the other three alone (``pivots.outside``, ``schur_block``,
+``outside_congruence_add``).
+
 A one-dof joint never forms Ĩ_j (a 6x6 matrix stored per joint and loaded back, work that
 the parent's update can skip):
 ``inertia_congruence_downdate_add`` moves ``Î_j - U_j G_jᵀ`` into the parent's inertia,
@@ -71,7 +76,14 @@ from ..kernels.rigid import rigid_apply, rigid_parameters
 from ..multibody.joints import joint_motors, joint_scalars, joint_twist
 from . import _workspace as ws
 from ._checks import check_configuration, check_result
-from .pivots import articulated_inertia, joint_pivot, pivot_gain
+from .pivots import (
+    articulated_inertia,
+    joint_pivot,
+    outside,
+    outside_congruence_add,
+    pivot_gain,
+    schur_block,
+)
 from .status import OK, SINGULAR, fault
 from .work.aba import workspace
 
@@ -189,14 +201,26 @@ def aba_core(m, q, v, tau, f, qdd, work):
                 tmp[k] += Wh[j, k] + U[k0, k] * w
             inertia_congruence_downdate_add(Ad[j], Ih[j], U[k0], G[k0], Ih[p])  # eq. (16)
         else:
-            articulated_inertia(Ih[j], U, G, k0, k1, It)  # Ĩ_j = Î_j - U_j G_jᵀ
-            inertia_apply(It, C[j], tmp)
+            three, o0, o1, o2 = outside(m.unit_axis, m.armature, k0, k1)
+            if three:  # Ĩ_j on the three other coefficients alone (``pivots``)
+                schur_block(Ih[j], U, G, k0, k1, o0, o1, o2, It)  # Ĩ_oo = Î_oo - U_o G_oᵀ
+                for k in range(6):
+                    tmp[k] = 0.0
+                for a in range(3):  # Ĩ_j[c_j]
+                    k = o0 if a == 0 else o1 if a == 1 else o2
+                    tmp[k] = It[k, o0] * C[j, o0] + It[k, o1] * C[j, o1] + It[k, o2] * C[j, o2]
+            else:
+                articulated_inertia(Ih[j], U, G, k0, k1, It)  # Ĩ_j = Î_j - U_j G_jᵀ
+                inertia_apply(It, C[j], tmp)
             for k in range(6):  # W̄_j = Ŵ_j + Ĩ_j[c_j] + U_j ũ_j
                 tmp[k] += Wh[j, k]
             for a in range(k0, k1):
                 for k in range(6):
                     tmp[k] += U[a, k] * ut[a]
-            inertia_congruence_add(Ad[j], It, Ih[p])  # Î_λ += M_j * Ĩ_j, eq. (16)
+            if three:  # Î_λ += M_j * Ĩ_j, eq. (16)
+                outside_congruence_add(Ad[j], It, o0, o1, o2, D, Ih[p])
+            else:
+                inertia_congruence_add(Ad[j], It, Ih[p])
         adjoint_apply(Ad[j], tmp, tmp2)  # M_j W̄_j ~M_j
         for k in range(6):
             Wh[p, k] += tmp2[k]

@@ -6,6 +6,15 @@ M⁻¹ (M1, M2) and the Delassus recursion (C12, C13) share at a joint of severa
     G_j = U_j D_j⁻¹                                             Algorithm 1; M2
     Ĩ_j = Î_j - U_j G_jᵀ                                        Algorithm 1, second line
 
+At a joint of three coordinates whose columns are each ±e_i (a spherical, planar or
+translation joint: ``unit_axis``) and without rotor inertia, D_j is Î_j's block on those
+three coefficients (up to signs that cancel) and Ĩ_j its Schur complement there, zero in
+their rows and columns: Ĩ_j lives on the other three coefficients ``o`` (``outside``),
+
+    Ĩ_oo = Î_oo - U_o G_oᵀ,   M_j * Ĩ_j = X_o Ĩ_oo X_oᵀ   (X the wrench adjoint, eq. 16)
+
+``schur_block`` and ``outside_congruence_add``, a third of the products of the full forms.
+
 ``S`` and ``U`` hold one row per coordinate (``S[k]``, ``U[k]``, k in ``k0 .. k1``);
 ``D`` and ``Dinv`` are (6, 6) of which the leading (k1 - k0) block is used. Only
 arithmetic and ``positive``: each runs on one sample's numbers or on ``W`` samples at once
@@ -58,3 +67,66 @@ def articulated_inertia(Ih, U, G, k0, k1, It):
     for k in range(6):
         for l in range(k + 1, 6):
             It[l, k] = It[k, l]
+
+
+@inline
+def outside(unit_axis, armature, k0, k1):
+    """``(True, o0, o1, o2)``: the three coefficients outside the joint's own where its
+    three columns are each ±e_i and it carries no rotor inertia (the module's docstring);
+    ``(False, 0, 0, 0)`` for any other joint."""
+    mask = 0
+    if k1 - k0 != 3:
+        return False, 0, 0, 0
+    for k in range(k0, k1):
+        if unit_axis[k] < 0 or armature[k] != 0.0:
+            return False, 0, 0, 0
+        mask |= 1 << unit_axis[k]
+    o0 = o1 = o2 = -1
+    n = 0
+    for i in range(6):
+        if not (mask >> i) & 1:
+            n += 1
+            if n == 1:
+                o0 = i
+            elif n == 2:
+                o1 = i
+            else:
+                o2 = i
+    return n == 3, o0, o1, o2
+
+
+@inline
+def schur_block(Ih, U, G, k0, k1, o0, o1, o2, It):
+    """``It[o, o]`` = Ĩ_oo = Î_oo - U_o G_oᵀ on the coefficients ``o`` (``outside``), the
+    only block of Ĩ_j that is not zero; the rest of ``It`` is left as it was."""
+    for a in range(3):
+        k = o0 if a == 0 else o1 if a == 1 else o2
+        for b in range(a, 3):
+            l = o0 if b == 0 else o1 if b == 1 else o2
+            acc = Ih[k, l]
+            for c in range(k0, k1):
+                acc -= U[c, k] * G[c, l]
+            It[k, l] = acc
+            It[l, k] = acc
+
+
+@inline
+def outside_congruence_add(X, It, o0, o1, o2, T, out):
+    """``out += X Ĩ Xᵀ`` (M_j * Ĩ_j, eq. 16, as ``kernels.inertia_congruence_add``) for
+    Ĩ zero outside its block on the coefficients ``o`` (``schur_block``): ``T = X_o
+    Ĩ_oo`` (6 x 3, into the first three columns of ``T``), then ``T X_oᵀ``, its upper
+    half formed and mirrored."""
+    a00, a01, a02 = It[o0, o0], It[o0, o1], It[o0, o2]
+    a11, a12, a22 = It[o1, o1], It[o1, o2], It[o2, o2]
+    for k in range(6):
+        x0, x1, x2 = X[k, o0], X[k, o1], X[k, o2]
+        T[k, 0] = x0 * a00 + x1 * a01 + x2 * a02
+        T[k, 1] = x0 * a01 + x1 * a11 + x2 * a12
+        T[k, 2] = x0 * a02 + x1 * a12 + x2 * a22
+    for k in range(6):
+        t0, t1, t2 = T[k, 0], T[k, 1], T[k, 2]
+        for l in range(k, 6):
+            acc = t0 * X[l, o0] + t1 * X[l, o1] + t2 * X[l, o2]
+            out[k, l] += acc
+            if l != k:
+                out[l, k] += acc
