@@ -33,10 +33,10 @@ from ..algorithms.kinematics import world_motors
 from ..algorithms.ltdl import ltdl_lower_rows
 from ..algorithms.minverse import move_axes_inertias
 from ..algorithms.status import DELASSUS_SINGULAR, NONFINITE_RESULT, OK, SINGULAR, at_sample, fault
-from ..kernels import motor_mul, motor_reverse, twist_sandwich
+from ..kernels import motor_mul, motor_reverse
 from ..kernels.layout import physical
 from ..kernels.motors import motor_log, motor_normalize
-from ..kernels.rigid import motor_matrix
+from ..kernels.rigid import motor_matrix, rigid_frame, rigid_motion
 from ..multibody.packed import unpack
 from .articulated import (
     articulated_inertias,
@@ -125,10 +125,11 @@ def _world_columns(m, q, v, drift, k_):
     Sw, Vb, Ab, tw = k_.Sw, k_.Vb, k_.Ab, k_.tw
     world_motors(m, q, k_.c, k_.s, k_.tmp8, k_.M, k_.Mw)
     for j in range(m.n):
+        rot, pos = rigid_frame(k_.Mw[j])  # R and p of M^w_j, once per joint
         for k in range(m.iv[j], m.iv[j + 1]):
-            twist_sandwich(k_.Mw[j], m.S[k], tw)  # M^w_j S_k ~M^w_j (eq. 4)
-            w1, w2, w3, v1, v2, v3 = physical(tw)
-            Sw[k, 0], Sw[k, 1], Sw[k, 2], Sw[k, 3], Sw[k, 4], Sw[k, 5] = v1, v2, v3, w1, w2, w3
+            w0, w1, w2, v0, v1, v2 = physical(m.S[k])
+            w0, w1, w2, v0, v1, v2 = rigid_motion(rot, pos, w0, w1, w2, v0, v1, v2)
+            Sw[k, 0], Sw[k, 1], Sw[k, 2], Sw[k, 3], Sw[k, 4], Sw[k, 5] = v0, v1, v2, w0, w1, w2
     if not drift:
         return
     for j in range(m.n):

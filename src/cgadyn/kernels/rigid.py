@@ -134,20 +134,29 @@ def rigid_rotate(r, x, y, z):
 
 
 @inline
-def rigid_move_twist(r, p, x, out):
-    """``out = M X ~M`` (eq. 4) for a twist X, from M's R and p (``rigid_frame``): on physical
-    components the motion transform ``ω' = R ω``, ``v' = R v + p × ω'``, 24 multiplications
-    where the general sandwich takes 72."""
+def rigid_motion(r, p, w0, w1, w2, v0, v1, v2):
+    """The physical components ``(ω', v')`` of ``M X ~M`` (eq. 4) for the twist X of
+    physical components ``(ω, v)``, from M's R and p (``rigid_frame``): the motion
+    transform ``ω' = R ω``, ``v' = R v + p × ω'``, 24 multiplications where the general
+    sandwich takes 72."""
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = r
     p0, p1, p2 = p
-    w0, w1, w2, v0, v1, v2 = physical(x)  # ω and v of X
     u0 = r00 * w0 + r01 * w1 + r02 * w2  # ω' = R ω
     u1 = r10 * w0 + r11 * w1 + r12 * w2
     u2 = r20 * w0 + r21 * w1 + r22 * w2
-    store_bivector(u0, u1, u2,  # v' = R v + p × ω'
-                   r00 * v0 + r01 * v1 + r02 * v2 + p1 * u2 - p2 * u1,
-                   r10 * v0 + r11 * v1 + r12 * v2 + p2 * u0 - p0 * u2,
-                   r20 * v0 + r21 * v1 + r22 * v2 + p0 * u1 - p1 * u0, out)
+    return (u0, u1, u2,  # v' = R v + p × ω'
+            r00 * v0 + r01 * v1 + r02 * v2 + p1 * u2 - p2 * u1,
+            r10 * v0 + r11 * v1 + r12 * v2 + p2 * u0 - p0 * u2,
+            r20 * v0 + r21 * v1 + r22 * v2 + p0 * u1 - p1 * u0)
+
+
+@inline
+def rigid_move_twist(r, p, x, out):
+    """``out = M X ~M`` (eq. 4) for a twist X, from M's R and p (``rigid_frame``):
+    ``rigid_motion`` on X's physical components."""
+    w0, w1, w2, v0, v1, v2 = physical(x)  # ω and v of X
+    u0, u1, u2, y0, y1, y2 = rigid_motion(r, p, w0, w1, w2, v0, v1, v2)
+    store_bivector(u0, u1, u2, y0, y1, y2, out)
 
 
 @inline
