@@ -81,8 +81,10 @@ def _contact_step(G, R, sigma, lam, mu, o, inv):
         t1 = x1 - (sigma[o + 1] + G[o + 1, o + 2] * dn) * inv[o]
         cap = mu * n
         tt = t0 * t0 + t1 * t1
-        scale = cap / math.sqrt(tt) if tt > cap * cap else 1.0
-        x0, x1 = scale * t0, scale * t1
+        x0, x1 = t0, t1
+        if tt > cap * cap:  # outside the disc: its root only then (a sticking contact has none)
+            scale = cap / math.sqrt(tt)
+            x0, x1 = scale * t0, scale * t1
     d0, d1 = x0 - lam[o], x1 - lam[o + 1]
     if dn != 0.0 or d0 != 0.0 or d1 != 0.0:
         lam[o], lam[o + 1], lam[o + 2] = x0, x1, n

@@ -89,12 +89,12 @@ def _equation(G, R, mu, lam, sigma, rows, slides, k, a, M, x):
     s = math.sqrt(sigma[o] * sigma[o] + sigma[o + 1] * sigma[o + 1])
     n = lam[o + 2]
     x[a] = -(lam[r] * s + mu[i] * n * sigma[r])
+    ls = lam[r] / s if s > 0.0 else 0.0  # λ_r / ‖σ_T‖, once for the row
     for b in range(k):
         c = int(rows[b])
         v = mu[i] * n * _entry(G, R, r, c)
         if s > 0.0:
-            v += lam[r] * (sigma[o] * _entry(G, R, o, c)
-                           + sigma[o + 1] * _entry(G, R, o + 1, c)) / s
+            v += ls * (sigma[o] * _entry(G, R, o, c) + sigma[o + 1] * _entry(G, R, o + 1, c))
         if c == r:
             v += s
         if c == o + 2:
