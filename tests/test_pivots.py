@@ -41,6 +41,9 @@ def test_the_block_forms_equal_the_full_ones(own):
     U = np.array([s * Ih[:, i] for s, i in zip(signs, own, strict=True)])  # U_j = Î_j[S_j]
     D, Dinv, G = np.empty((6, 6)), np.empty((6, 6)), np.empty((3, 6))
     assert P.joint_pivot(np.zeros(3), S, U, 0, 3, D, Dinv)
+    D2, Dinv2 = np.empty((6, 6)), np.empty((6, 6))
+    assert P.unit_pivot(np.zeros(3), unit_axis, S, U, 0, 3, D2, Dinv2)
+    np.testing.assert_allclose(Dinv2[:3, :3], Dinv[:3, :3], rtol=1e-12)
     P.pivot_gain(Dinv, U, 0, 3, G)
     full = np.empty((6, 6))
     P.articulated_inertia(Ih, U, G, 0, 3, full)

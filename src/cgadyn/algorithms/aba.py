@@ -83,6 +83,7 @@ from .pivots import (
     outside_congruence_add,
     pivot_gain,
     schur_block,
+    unit_pivot,
 )
 from .status import OK, SINGULAR, fault
 from .work.aba import workspace
@@ -184,7 +185,8 @@ def aba_core(m, q, v, tau, f, qdd, work):
                 G[k0, l] = omega * U[k0, l]  # G_j = U_j Ω_j
             ut[k0] = omega * u[k0]  # ũ_j = Ω_j τ̂_j
         else:  # several: D_j⁻¹ of the symmetric positive definite D_j
-            if not joint_pivot(m.armature, S, U, k0, k1, D, Dinv):  # D_j, D_j⁻¹
+            if not (unit_pivot(m.armature, m.unit_axis, S, U, k0, k1, D, Dinv) if axis >= 0
+                    else joint_pivot(m.armature, S, U, k0, k1, D, Dinv)):  # D_j, D_j⁻¹
                 return fault(SINGULAR, j)
             pivot_gain(Dinv, U, k0, k1, G)  # G_j = U_j D_j⁻¹
             for a in range(k0, k1):

@@ -41,6 +41,18 @@ def joint_pivot(armature, S, U, k0, k1, D, Dinv):
 
 
 @inline
+def unit_pivot(armature, unit_axis, S, U, k0, k1, D, Dinv):
+    """``joint_pivot`` at a joint whose columns are each ±e_i (``unit_axis[k] = i``): the
+    pairing ``-S_aᵀ · U_b`` reads coefficient ``i_a`` of U_b alone."""
+    for a in range(k0, k1):
+        i = unit_axis[a]
+        for b in range(k0, k1):
+            D[a - k0, b - k0] = S[a, i] * U[b, i]  # D_j = -S_jᵀ · U_j (· is -Σ)
+        D[a - k0, a - k0] += armature[a]  # + the rotors' inertia
+    return spd_inverse(D, k1 - k0, Dinv)
+
+
+@inline
 def pivot_gain(Dinv, U, k0, k1, G):
     """``G[k]`` for k in ``k0 .. k1``: G_j = U_j D_j⁻¹, one wrench per coordinate."""
     for a in range(k0, k1):
