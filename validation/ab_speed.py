@@ -22,7 +22,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import subprocess
 import sys
 import tempfile
@@ -30,7 +29,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from startup import OUT, ROOT, source_tree  # noqa: E402
+from startup import OUT, ROOT, machine_cpu, source_tree  # noqa: E402
 
 ROBOTS = ("panda", "ur5", "anymal", "solo12", "talos")
 
@@ -39,6 +38,7 @@ import json, sys, time
 import numba
 import numpy as np
 import cgadyn
+from cgadyn.bench.measure import cpu_model
 
 numba.set_num_threads(1)
 robot = sys.argv[1]
@@ -125,7 +125,7 @@ def main() -> int:
              f"--robots {' '.join(args.robots)} --repeats {args.repeats}"
              f"{' --output ' + args.output if args.output != 'ab_speed' else ''}` on "
              f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}"
-             f", {platform.machine()}, {os.cpu_count()} cores. µs per call (single) or per "
+             f", {machine_cpu()}, {os.cpu_count()} cores. µs per call (single) or per "
              f"sample (batches of 4096 on one thread); medians of {args.repeats} alternating "
              f"runs, each the best of five loops. Ratio: {what.lower()}'s time over the "
              f"baseline's.", ""]

@@ -26,6 +26,7 @@ import numpy as np
 
 import cgadyn
 from cgadyn import oracle
+from cgadyn.bench.measure import cpu_model
 
 OUT = Path(__file__).parent / "results"
 CASES = {"solo12": ("point", ("FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT")),
@@ -141,7 +142,7 @@ def main() -> int:
         "soles; both in the `local` frame. Ratio: cgadyn's time over Pinocchio's (below 1: "
         "cgadyn is faster).",
         "",
-        f"Machine: {platform.processor() or platform.machine()}, {platform.system()}; "
+        f"Machine: {cpu_model()}, {platform.system()}; "
         f"commit {commit}; cgadyn's C extension: "
         f"{cgadyn.algorithms.calls.NATIVE_STATUS}.",
         "",

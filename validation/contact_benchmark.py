@@ -45,7 +45,6 @@ import argparse
 import datetime
 import json
 import os
-import platform
 import re
 import subprocess
 import time
@@ -57,6 +56,7 @@ import numba
 import numpy as np
 
 import cgadyn
+from cgadyn.bench.measure import cpu_model
 from cgadyn.multibody import registry
 
 RESULTS = Path(__file__).resolve().parent / "results"
@@ -463,7 +463,7 @@ def main() -> None:
                                    if (Bs, Hs) != (B, H) else [])),
             "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
             "commit": git_commit(), "mujoco": mujoco.__version__,
-            "machine": platform.processor() or platform.machine(), "cores": os.cpu_count(),
+            "machine": cpu_model(), "cores": os.cpu_count(),
             "threads": threads, "load": load, "repeat": args.repeat,
             "check": args.check_rollouts}
     write(results, meta, args.name)

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import platform
 import time
 from pathlib import Path
 
@@ -32,6 +31,7 @@ import pinocchio as pin
 import cgadyn
 from cgadyn import oracle
 from cgadyn.algorithms._workspace import chunks
+from cgadyn.bench.measure import cpu_model
 from cgadyn.tasks.ik import middle_configuration
 
 OUT = Path(__file__).parent / "results" / "ik_panda.md"
@@ -130,7 +130,7 @@ def main() -> None:
         "# Inverse kinematics, panda (`panda_hand`): cgadyn against the Pinocchio loop",
         "",
         f"`validation/ik_benchmark.py`, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
-        f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores, numba "
+        f"{cpu_model()}, {os.cpu_count()} cores, numba "
         f"threads {threads}, Pinocchio {pin.__version__}. One run "
         f"(cgadyn's timings: best of {REPEATS}, interleaved): every ratio below compares "
         "timings of the same run (a shared machine: absolute times vary with its load).",

@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import platform
 import re
 import time
 from pathlib import Path
@@ -37,6 +36,7 @@ import pinocchio as pin
 
 import cgadyn
 from cgadyn import oracle
+from cgadyn.bench.measure import cpu_model
 from cgadyn.multibody import registry
 
 RESULTS = Path(__file__).resolve().parent / "results"
@@ -223,7 +223,7 @@ def write(rows, dask_rows, agree, load, B, H, P, version, repeat) -> None:
         f"{H} steps, random open-loop torques; {B} rollouts for cgadyn and MuJoCo, {P} for "
         f"the Python loop over `pin.aba` (too slow for more; compared per rollout-step). "
         f"Best of {repeat} rounds, every case once per round. Machine: "
-        f"{platform.processor() or platform.machine()}, "
+        f"{cpu_model()}, "
         f"{os.cpu_count()} cores, shared with other jobs: load average {load[0]:.2f} "
         f"before, {load[1]:.2f} after.",
         "",

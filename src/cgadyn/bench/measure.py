@@ -309,7 +309,7 @@ def machine_info(threads: int) -> dict[str, Any]:
     import cgadyn
 
     return {
-        "cpu": _cpu_model(), "cores": os.cpu_count(), "threads": threads,
+        "cpu": cpu_model(), "cores": os.cpu_count(), "threads": threads,
         "python": platform.python_version(), "numpy": np.__version__,
         "numba": numba.__version__, "pinocchio": pin.__version__,
         "pygafro": _dist_version("pygafro"), "cgadyn": _dist_version("cgadyn"),
@@ -327,14 +327,22 @@ def _load_average() -> str:
         return "unknown"
 
 
-def _cpu_model() -> str:
+def cpu_model() -> str:
+    """The CPU's model name with its family and model numbers where the kernel gives them
+    (a VM's name alone, "AMD EPYC", does not tell one generation from the next, and
+    ratios between libraries move with it); the platform's processor string elsewhere."""
     try:
+        info = {}
         for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
+            key, _, value = line.partition(":")
+            info.setdefault(key.strip(), value.strip())
+        if "model name" in info:
+            numbers = ", ".join(f"{k} {info[k]}" for k in ("cpu family", "model")
+                                if k in info)
+            return f"{info['model name']} ({numbers})" if numbers else info["model name"]
     except OSError:
         pass
-    return platform.processor() or "unknown"
+    return platform.processor() or platform.machine() or "unknown"
 
 
 def _git_commit(where: Path) -> str:
