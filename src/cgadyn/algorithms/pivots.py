@@ -84,8 +84,8 @@ def articulated_inertia(Ih, U, G, k0, k1, It):
 @inline
 def outside(unit_axis, armature, k0, k1):
     """``(True, o0, o1, o2)``: the three coefficients outside the joint's own where its
-    three columns are each ±e_i and it carries no rotor inertia (the module's docstring);
-    ``(False, 0, 0, 0)`` for any other joint."""
+    three columns are each ±e_i, on three different axes, and it carries no rotor inertia
+    (the module's docstring); False first for any other joint."""
     mask = 0
     if k1 - k0 != 3:
         return False, 0, 0, 0
