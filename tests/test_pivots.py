@@ -1,7 +1,7 @@
 """The pivot of a joint of three unit columns (``algorithms.pivots``): Ĩ_j, the Schur
 complement of Î_j on the joint's own coefficients, is zero in their rows and columns, and
-the block forms (``schur_block``, ``outside_congruence_add``) equal the full ones
-(``articulated_inertia``, ``kernels.inertia_congruence_add``)."""
+the block forms (``schur_block``, ``schur_apply``, ``outside_congruence_add``) equal the
+full ones (``articulated_inertia``, ``Ĩ @ x``, ``kernels.inertia_congruence_add``)."""
 
 from __future__ import annotations
 
@@ -56,6 +56,11 @@ def test_the_block_forms_equal_the_full_ones(own):
     P.schur_block(Ih, U, G, 0, 3, o0, o1, o2, block)
     o = [o0, o1, o2]
     np.testing.assert_allclose(block[np.ix_(o, o)], full[np.ix_(o, o)], rtol=0, atol=1e-12)
+
+    c = rng.normal(size=6)
+    applied = np.full(6, np.nan)
+    P.schur_apply(block, c, o0, o1, o2, applied)
+    np.testing.assert_allclose(applied, full @ c, rtol=0, atol=1e-12 * np.abs(Ih).max())
 
     want, got = Ih.copy(), Ih.copy()
     K.inertia_congruence_add(X, full, want)

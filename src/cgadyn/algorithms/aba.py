@@ -35,7 +35,7 @@ V̇_j: the same numbers without the products.
 
 At a joint of three such columns without rotor inertia (spherical, planar, translation),
 Ĩ_j is zero on the joint's own coefficients and is formed, applied and moved to the parent
-on the other three alone (``pivots.outside``, ``schur_block``,
+on the other three alone (``pivots.outside``, ``schur_block``, ``schur_apply``,
 ``outside_congruence_add``).
 
 A one-dof joint never forms Ĩ_j (a 6x6 matrix stored per joint and loaded back, work that
@@ -82,6 +82,7 @@ from .pivots import (
     outside,
     outside_congruence_add,
     pivot_gain,
+    schur_apply,
     schur_block,
     unit_pivot,
 )
@@ -206,11 +207,7 @@ def aba_core(m, q, v, tau, f, qdd, work):
             three, o0, o1, o2 = outside(m.unit_axis, m.armature, k0, k1)
             if three:  # Ĩ_j on the three other coefficients alone (``pivots``)
                 schur_block(Ih[j], U, G, k0, k1, o0, o1, o2, It)  # Ĩ_oo = Î_oo - U_o G_oᵀ
-                for k in range(6):
-                    tmp[k] = 0.0
-                for a in range(3):  # Ĩ_j[c_j]
-                    k = o0 if a == 0 else o1 if a == 1 else o2
-                    tmp[k] = It[k, o0] * C[j, o0] + It[k, o1] * C[j, o1] + It[k, o2] * C[j, o2]
+                schur_apply(It, C[j], o0, o1, o2, tmp)  # Ĩ_j[c_j]
             else:
                 articulated_inertia(Ih[j], U, G, k0, k1, It)  # Ĩ_j = Î_j - U_j G_jᵀ
                 inertia_apply(It, C[j], tmp)

@@ -13,7 +13,8 @@ their rows and columns: Ĩ_j lives on the other three coefficients ``o`` (``outs
 
     Ĩ_oo = Î_oo - U_o G_oᵀ,   M_j * Ĩ_j = X_o Ĩ_oo X_oᵀ   (X the wrench adjoint, eq. 16)
 
-``schur_block`` and ``outside_congruence_add``, a third of the products of the full forms.
+``schur_block``, ``schur_apply`` and ``outside_congruence_add``, a third of the products
+of the full forms.
 
 ``S`` and ``U`` hold one row per coordinate (``S[k]``, ``U[k]``, k in ``k0 .. k1``);
 ``D`` and ``Dinv`` are (6, 6) of which the leading (k1 - k0) block is used. Only
@@ -120,6 +121,17 @@ def schur_block(Ih, U, G, k0, k1, o0, o1, o2, It):
                 acc -= U[c, k] * G[c, l]
             It[k, l] = acc
             It[l, k] = acc
+
+
+@inline
+def schur_apply(It, x, o0, o1, o2, out):
+    """``out = Ĩ x`` (``kernels.inertia_apply``) for Ĩ zero outside its block on the
+    coefficients ``o`` (``schur_block``): zero on the joint's own coefficients."""
+    for k in range(6):
+        out[k] = 0.0
+    for a in range(3):
+        k = o0 if a == 0 else o1 if a == 1 else o2
+        out[k] = It[k, o0] * x[o0] + It[k, o1] * x[o1] + It[k, o2] * x[o2]
 
 
 @inline
