@@ -162,8 +162,7 @@ def aba_derivatives_core(m, q, v, tau, f, dq, dv, dtau, work):
     x, rest = w.x, w.rest
     for k in range(m.nv):
         x[k] = 0.0
-    rnea_derivatives_forward(m, q, v, x, f, rnea_derivatives_workspace(ws.data_pointer(rest),
-                                                                       m))  # at q̈ = 0
+    rnea_derivatives_forward(m, q, v, x, f, rest)  # at q̈ = 0
     return from_forward(m, tau, dq, dv, dtau, work)
 
 
@@ -183,7 +182,7 @@ def from_forward(m, tau, dq, dv, dtau, work):
     ltdl_solve(m, dtau, x)  # q̈ = M⁻¹ (τ - τ(q, v, 0)) (D13)
     accelerate(m, k_, x, Aq)  # the forward pass at q̈
     nv = m.nv
-    rnea_derivatives_backward(m, k_, X[:, :nv], X[:, nv:], X[:0])  # ∂τ/∂q, ∂τ/∂v at q̈ (M known)
+    rnea_derivatives_backward(m, w.rest, X[:, :nv], X[:, nv:], X[:0])  # ∂τ/∂q, ∂τ/∂v at q̈ (M known)
     if solve_by_factors(m):  # a small branched tree: solve by M's factors (D15)
         ltdl_solve_rows(m, dtau, X, -1.0)  # -M⁻¹ ∂τ/∂q, -M⁻¹ ∂τ/∂v (D12, L5, L6)
         for i in range(nv):
@@ -220,7 +219,7 @@ def from_inverse(m, tau, dq, dv, Minv, work):
             y += Minv[i, k] * acc[k]
         x[i] = y
     accelerate(m, k_, x, Aq)  # the forward pass at q̈
-    rnea_derivatives_backward(m, k_, X[:, :nv], X[:, nv:], X[:0])  # ∂τ/∂q, ∂τ/∂v at q̈
+    rnea_derivatives_backward(m, w.rest, X[:, :nv], X[:, nv:], X[:0])  # ∂τ/∂q, ∂τ/∂v at q̈
     times_minus_minv(m, Minv, X, dq, dv, acc)  # -M⁻¹ ∂τ/∂q, -M⁻¹ ∂τ/∂v (D12)
     status = check_result(dq)
     if status == OK:

@@ -85,10 +85,14 @@ def _set_column(t, X, k):
 
 
 @core
-def rnea_derivatives_forward(m, q, v, a, f, k_):
+def rnea_derivatives_forward(m, q, v, a, f, work):
     """The forward pass: motors, axes, inertias and their rates, twists, accelerations,
     momenta and body wrenches, and the per-coordinate twists u, ψ, w; into the workspace
-    arrays of ``k_`` (``WORKSPACE``). In the world frame, or a free-flyer root's (D14)."""
+    ``work`` (``WORKSPACE``). In the world frame, or a free-flyer root's (D14). A shared
+    pass takes its workspace as the flat buffer and carves it here: the arrays' fixed
+    widths (6, 8, 10) are then constants of its code, which they are not in arrays
+    passed to it."""
+    k_ = workspace(ws.data_pointer(work), m)
     joint_scalars(q, k_.c, k_.s)  # the scalars c, s of the revolute joint motors (eq. 6)
     forward_from_scalars(m, q, v, a, f, f.shape[0] > 0, k_)
 
@@ -152,14 +156,15 @@ def forward_from_scalars(m, q, v, a, f, forces, k_):
 
 
 @core
-def rnea_derivatives_backward(m, k_, dq, dv, da):
+def rnea_derivatives_backward(m, work, dq, dv, da):
     """The backward pass: composites and P, Q, G, H (D7, D11), then the entries (D8-D10);
     ``da`` (0, nv) when M is not wanted. P, Q, G, H are kept by coefficient, as six rows
     over the coordinates (column k is coordinate k's), so that the entries of a
     coordinate l with the contiguous range of coordinates at or below its joint are loops
-    over columns, which the compiler vectorises; l's own twists are six numbers each."""
-    composites(m, k_)
-    entries(m, k_, dq, dv, da)
+    over columns, which the compiler vectorises; l's own twists are six numbers each.
+    ``work`` the flat workspace, as in ``rnea_derivatives_forward``."""
+    composites(m, workspace(ws.data_pointer(work), m))
+    entries(m, work, dq, dv, da)
 
 
 @inline
@@ -195,9 +200,10 @@ def composites(m, k_):
 
 
 @core
-def entries(m, k_, dq, dv, da):
+def entries(m, work, dq, dv, da):
     """The backward pass's second half: the entries (D8-D10) from P, Q, G, H and the
-    per-coordinate twists S, u, ψ, w."""
+    per-coordinate twists S, u, ψ, w of the flat workspace ``work``."""
+    k_ = workspace(ws.data_pointer(work), m)
     Sw, U, Psi, Wv, P, Q, G, H = k_.Sw, k_.U, k_.Psi, k_.Wv, k_.P, k_.Q, k_.G, k_.H
     nv = m.nv
     mass = da.shape[0] > 0
@@ -256,9 +262,8 @@ def rnea_derivatives_core(m, q, v, a, f, dq, dv, da, work):
     status = check_configuration(m, q)
     if status != OK:
         return status
-    k_ = workspace(ws.data_pointer(work), m)
-    rnea_derivatives_forward(m, q, v, a, f, k_)
-    rnea_derivatives_backward(m, k_, dq, dv, da)
+    rnea_derivatives_forward(m, q, v, a, f, work)
+    rnea_derivatives_backward(m, work, dq, dv, da)
     status = check_result(dq)
     if status == OK:
         status = check_result(dv)

@@ -88,7 +88,7 @@ def _group(b, args):
         return False
     for l in range(W):
         t0, t1, t2 = (r0, r1, r2) if streamed else (o0[b + l], o1[b + l], o2[b + l])
-        entries(m, scalar_workspace(ws.data_pointer(samples[l]), m), t0, t1, t2)
+        entries(m, samples[l], t0, t1, t2)
         if check_result(t0) != OK or check_result(t1) != OK:
             return False
         if streamed:
