@@ -200,12 +200,14 @@ def from_forward(m, tau, dq, dv, dtau, work):
     return status
 
 
-@core
+@inline
 def from_inverse(m, tau, dq, dv, Minv, work):
     """``from_forward`` with M⁻¹ already in ``Minv`` (a batch has it from the
     articulated-body recursion on a group of samples, ``minverse_lanes``): q̈ = M⁻¹ (τ -
     τ(q, v, 0)) as the product (D13) instead of by M's factors, which are not formed; a
-    status."""
+    status. Inlined into its one caller, the batch's loop over a group's samples
+    (``aba_derivatives_lanes._group``): there ``Minv``, ``dq`` and ``dv`` are rows of the
+    results whose shapes the loop knows, where a called pass reads them at every index."""
     w = workspace(ws.data_pointer(work), m)
     x, b, X, acc, Fc, Aq = w.x, w.b, w.X, w.acc, w.Fc, w.Aq
     k_ = rnea_derivatives_workspace(ws.data_pointer(w.rest), m)

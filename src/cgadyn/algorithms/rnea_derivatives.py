@@ -199,10 +199,13 @@ def composites(m, k_):
                 F[parent, i] += F[j, i]
 
 
-@core
+@inline
 def entries(m, work, dq, dv, da):
     """The backward pass's second half: the entries (D8-D10) from P, Q, G, H and the
-    per-coordinate twists S, u, ψ, w of the flat workspace ``work``."""
+    per-coordinate twists S, u, ψ, w of the flat workspace ``work``. Inlined into its two
+    callers, ``rnea_derivatives_backward`` and the batch's loop over a group's samples
+    (``rnea_derivatives_lanes._group``), which both write the results into arrays whose
+    shapes they know (a called pass reads them at every index)."""
     k_ = workspace(ws.data_pointer(work), m)
     Sw, U, Psi, Wv, P, Q, G, H = k_.Sw, k_.U, k_.Psi, k_.Wv, k_.P, k_.Q, k_.G, k_.H
     nv = m.nv
