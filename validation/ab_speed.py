@@ -38,7 +38,6 @@ import json, sys, time
 import numba
 import numpy as np
 import cgadyn
-from cgadyn.bench.measure import cpu_model
 
 numba.set_num_threads(1)
 robot = sys.argv[1]
@@ -85,7 +84,10 @@ def run(src: Path, cache: Path, robot: str) -> dict[str, float]:
            "CGADYN_CACHE_DIR": str(cache / "models"), "PYTHONDONTWRITEBYTECODE": "1",
            "CGADYN_PROGRESS": "0"}
     proc = subprocess.run([sys.executable, "-c", WORKER, robot], env=env, cwd=cache,
-                          capture_output=True, text=True, check=True)
+                          capture_output=True, text=True)
+    if proc.returncode != 0:  # the worker's own error, not only its exit status
+        raise SystemExit(f"ab_speed: the worker for {robot} on {src} failed "
+                         f"(exit status {proc.returncode}):\n{proc.stderr.strip()}")
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
