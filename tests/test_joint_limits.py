@@ -67,6 +67,33 @@ def test_cones_and_intervals_together_agree_between_solvers():
         assert max(ia.dual, ia.complementarity) < 1e-9
 
 
+@pytest.mark.parametrize("c", [1.0, -1.0, 2.5])
+@pytest.mark.parametrize(("w_free", "gap", "friction", "stop"), [
+    (-1.0, -2e-7, 1e-3, True),  # pressed into the stop: it holds, friction opposes the exit
+    (0.5, 0.05, 1.0, False),  # leaving an open stop: friction holds the joint
+    (0.5, 0.05, 0.05, False)])  # leaving it faster than friction can hold
+def test_a_limit_and_a_friction_loss_on_one_coordinate_are_solved_together(
+        c, w_free, gap, friction, stop):
+    """A limit row ``J_r = e`` (``λ_r >= 0``, ``σ_r = w + gap``) and a friction loss row
+    ``J_s = c e`` (``|λ_s| <= f``) on one coordinate of velocity ``w = w_free + a (λ_r + c
+    λ_s)``: ``G`` is singular and PGS row by row moves the two impulses against each other
+    by the gap's term a sweep; solved together (K29a) it ends in one sweep on the solution
+    built here."""
+    a = 2.0
+    G = a * np.array([[1.0, c], [c, c * c]])
+    g = np.array([w_free + gap, c * w_free])
+    if stop:  # the stop holds: w = -gap, friction at the bound opposing w > 0
+        lam_s = -np.sign(c) * friction
+        lam_r = (-gap - w_free) / a - c * lam_s
+    else:  # the stop is open: friction alone, λ_s = P(-w_free / (a c)) (a c² on its row)
+        lam_r = 0.0
+        lam_s = float(np.clip(-w_free / (a * c), -friction, friction))
+    bounds = [[0.0, np.inf], [-friction, friction]]
+    lam, info = cgadyn.solve_contacts(G, g, np.zeros(0), solver="pgs", bounds=bounds)
+    assert info.converged and info.iterations <= 3
+    assert np.abs(lam - [lam_r, lam_s]).max() < 1e-12
+
+
 def _steps(model, q, v, steps, **kw):
     out = [(q, v, None, None)]
     for _ in range(steps):

@@ -1,6 +1,7 @@
 """Projected Gauss-Seidel on the blocks of ``ncp.py``, the Coulomb cones contact by contact,
-then the one-row intervals, its iterate polished on its active set (``docs/contact.md``,
-K18, K18a, K19, K29), with ``admm_solve``'s interface and scratch."""
+then the one-row intervals (two collinear ones together), its iterate polished on its active
+set (``docs/contact.md``, K18, K18a, K19, K29, K29a), with ``admm_solve``'s interface and
+scratch."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import math
 
 from .._jit import core, inline
 from ..algorithms.status import NONFINITE_INPUT, NONFINITE_RESULT, OK, fault
-from .admm import SIGMA, TMP, XOLD, ZOLD, X, Y, Z
+from .admm import RHS, SIGMA, TMP, XOLD, ZOLD, X, Y, Z
 from .ncp import (
     ABS_TOL,
     COMPLEMENTARITY,
@@ -26,7 +27,7 @@ from .ncp import (
     velocity,
 )
 from .polish import active_set, newton_step, unsettled
-from .sets import interval_step
+from .sets import interval_step, pair_step
 
 GATE = 1e3
 """A sweep is followed by the stopping rule (K19) only where no row's velocity changed by more
@@ -39,8 +40,17 @@ again each time the change has fallen ``POLISH_STEP`` times further, at most ``P
 times in a solve."""
 POLISH_STEP = 1e-2
 POLISHES = 3
+STALL = 100
+"""Sweeps that still change a velocity by more than ``POLISH`` after ``STALL``, ``2 STALL``,
+``4 STALL``, ... sweeps are polished there too: on a stiff problem (a joint at its stop
+behind a contact near its cone's edge) they crawl for thousands of sweeps towards a guess
+that one Newton step settles."""
 NEWTON = 6
 """The most Newton steps of one polish with a sliding contact (K18a)."""
+COLLINEAR = 1e-9
+"""Two interval rows ``r``, ``s`` are one direction (K29a) where ``A_rs² >= (1 -
+COLLINEAR) A_rr A_ss``: a joint's limit row and its friction loss row, ``±e_k`` and ``e_k``,
+whose ``A`` rows agree but for rounding."""
 SETTLED = 1e-12
 """A polish with a sliding contact ends where its equations' largest residual (``unsettled``,
 a velocity) is at most ``SETTLED`` times the stopping rule's dual scale, ``max(‖g‖∞, ‖(G +
@@ -115,6 +125,46 @@ def _inverses(G, R, nc, inv):
 
 
 @inline
+def _partners(G, R, nc, nb, pair):
+    """``pair[b]``: the interval row after ``b`` whose Jacobian row is collinear with ``b``'s
+    (``COLLINEAR``), -1 for none, -2 for a row that its partner's step moves (K29a). Once per
+    solve."""
+    for b in range(nb):
+        pair[b] = -1.0
+    for b in range(nb):
+        r = 3 * nc + b
+        if pair[b] != -1.0 or R[r] != 0.0 or not G[r, r] > 0.0:
+            continue
+        for e in range(b + 1, nb):
+            s = 3 * nc + e
+            if pair[e] == -1.0 and R[s] == 0.0 and G[s, s] > 0.0 and \
+                    G[r, s] * G[r, s] >= (1.0 - COLLINEAR) * G[r, r] * G[s, s]:
+                pair[b], pair[e] = float(e), -2.0
+                break
+
+
+@inline
+def _interval_sweep(G, R, sigma, lam, bounds, nc, inv, pair):
+    """One sweep over the interval rows (K29), a collinear pair's two rows in one step
+    (K29a, ``sets.pair_step``). Returns the largest ``|Δλ_r| A_rr``."""
+    change = 0.0
+    for b in range(bounds.shape[0]):
+        e = int(pair[b])
+        if e == -2:
+            continue
+        r = 3 * nc + b
+        if e < 0:
+            change = max(change, _move(G, R, sigma, lam, r, interval_step(
+                bounds[b, 0], bounds[b, 1], lam[r], sigma[r], inv[r])))
+            continue
+        s = 3 * nc + e
+        yr, ys = pair_step(bounds[b, 0], bounds[b, 1], bounds[e, 0], bounds[e, 1], lam[r],
+                           lam[s], sigma[r], sigma[s], G[r, r], G[r, s] / G[r, r])
+        change = max(change, _move(G, R, sigma, lam, r, yr), _move(G, R, sigma, lam, s, ys))
+    return change
+
+
+@inline
 def _scales(g, sigma, lam):
     """``(‖(G + R) λ‖∞, ‖λ‖∞)`` from ``σ - g``: the stopping rule's scales (K19)."""
     gl = lmax = 0.0
@@ -125,28 +175,49 @@ def _scales(g, sigma, lam):
 
 
 @inline
-def _polish(G, g, mu, bounds, R, settings, lam, sigma, tmp, w, C, gmax):
-    """The iterate polished on its active set (K18a, ``polish.py``): Newton's steps, one
-    where no contact slides, else until the equations' residual is below ``SETTLED`` times
-    the dual scale (at most ``NEWTON``), then the stopping rule (K19) on ``σ`` formed
-    anew. Returns ``(passed, primal, dual, complementarity)``; where it did not pass, ``λ``
-    and ``σ`` are the iterate's again."""
-    m = g.shape[0]
-    save, rows, slides, x = w[ZOLD], w[Y], w[XOLD], w[Z]
-    k, sliding = active_set(mu, bounds, lam, rows, slides)
-    for r in range(m):
-        save[r] = lam[r]
+def _newton(G, g, mu, bounds, R, settings, lam, sigma, tmp, C, x, rows, slides, k, sliding,
+            gmax):
+    """Newton's steps on the guess ``rows``/``slides`` (K18a): one where no contact slides,
+    else until the equations' residual is below ``SETTLED`` times the dual scale (at most
+    ``NEWTON``), then the stopping rule (K19) on ``σ`` formed anew. Returns ``(passed,
+    primal, dual, complementarity)``; ``λ`` and ``σ`` are left where the steps ended."""
     gl = lmax = 0.0  # σ is the sweeps' kept one until the first step
     for n in range(NEWTON + 1 if sliding else 2):
         if n > 0 and (not sliding or unsettled(mu, lam, sigma, rows, slides, k)
                       <= SETTLED * max(gmax, gl)):
             primal, dual, comp = residuals(mu, bounds, lam, sigma, tmp)
-            if passes(settings, primal, dual, comp, gmax, gl, lmax):
-                return True, primal, dual, comp
-            break
+            return passes(settings, primal, dual, comp, gmax, gl, lmax), primal, dual, comp
         if n == NEWTON or not newton_step(G, R, mu, lam, sigma, rows, slides, k, C, x) >= 0.0:
             break
         _, gl, lmax = velocity(G, R, g, lam, sigma)
+    return False, 0.0, 0.0, 0.0
+
+
+@inline
+def _polish(G, g, mu, bounds, R, settings, lam, sigma, tmp, w, C, gmax):
+    """The iterate polished on its active set (K18a, ``polish.py``): Newton's steps on the
+    guess read off it (``_newton``); where that guess has a sliding contact and does not
+    pass, once more with every contact in contact sticking (the sweeps' iterate may slide
+    on the cone's edge, on its way to forces just inside it). Returns ``(passed, primal,
+    dual, complementarity)``; where neither passed, ``λ`` and ``σ`` are the iterate's
+    again."""
+    m = g.shape[0]
+    save, rows, slides, x = w[ZOLD], w[Y], w[XOLD], w[Z]
+    k, sliding = active_set(mu, bounds, lam, rows, slides)
+    for r in range(m):
+        save[r] = lam[r]
+    for attempt in range(2 if sliding else 1):
+        if attempt == 1:  # the same rows, every contact sticking
+            for r in range(m):
+                lam[r] = save[r]
+            velocity(G, R, g, lam, sigma)
+            for a in range(k):
+                slides[a] = 0.0
+            sliding = 0
+        ok, primal, dual, comp = _newton(G, g, mu, bounds, R, settings, lam, sigma, tmp, C, x,
+                                         rows, slides, k, sliding, gmax)
+        if ok:
+            return True, primal, dual, comp
     for r in range(m):
         lam[r] = save[r]
     velocity(G, R, g, lam, sigma)
@@ -158,17 +229,19 @@ def pgs_solve(G, g, mu, bounds, R, settings, lam, info, C, w):
     """Solve the NCP (K13, K26) by sweeps over the blocks (K18): for contact ``i`` the normal
     force ``λ_N ← max(0, λ_N - σ_N / A_NN)``, then the tangential one ``λ_T ← λ_T - σ_T /
     L_T`` cut to the disc ``‖λ_T‖ <= μ λ_N`` (``A = G + R``, ``L_T`` the largest eigenvalue of
-    the contact's tangential 2 x 2 block); then each interval row of ``bounds`` (K29).
+    the contact's tangential 2 x 2 block); then each interval row of ``bounds`` (K29), two
+    collinear ones in one step (K29a).
     ``σ`` is formed once and then kept by each block's change (``_contact_step``,
     ``_move``), one pass over its columns of ``G``, and formed anew where the stopping rule
     passes; the rule follows a sweep only where it changed no row's velocity by more than
-    ``GATE`` times its tolerance. Once the sweeps change little (``POLISH``), the iterate is
-    polished on its active set (K18a, ``_polish``; ``C`` its scratch), which ends the solve
-    where the rule passes on the result. A status."""
+    ``GATE`` times its tolerance. Once the sweeps change little (``POLISH``), or at sweeps
+    ``STALL``, ``2 STALL``, ... where they do not, the iterate is polished on its active set
+    (K18a, ``_polish``; ``C`` its scratch), which ends the solve where the rule passes on
+    the result. A status."""
     m = g.shape[0]
     nc = mu.shape[0]
     nb = bounds.shape[0]
-    sigma, tmp, inv = w[SIGMA], w[TMP], w[X][:m]
+    sigma, tmp, inv, pair = w[SIGMA], w[TMP], w[X][:m], w[RHS]
     gmax = 0.0
     for r in range(m):
         gmax = max(gmax, abs(g[r]))
@@ -182,24 +255,25 @@ def pgs_solve(G, g, mu, bounds, R, settings, lam, info, C, w):
             lam[r] = 0.0
     project_blocks(mu, bounds, lam, lam)
     _inverses(G, R, nc, inv)
+    _partners(G, R, nc, nb, pair)
     _, gl, lmax = velocity(G, R, g, lam, sigma)
     primal, dual, comp = residuals(mu, bounds, lam, sigma, tmp)
     ok = passes(settings, primal, dual, comp, gmax, gl, lmax)
     it = 0
     limit = int(settings[MAX_ITER])
-    polish, polishes = POLISH, 0
+    polish, polishes, stall = POLISH, 0, STALL
     while not ok and it < limit:
         it += 1
         change = 0.0
         for i in range(nc):
             change = max(change, _contact_step(G, R, sigma, lam, mu[i], 3 * i, inv))
-        for b in range(nb):  # each interval row (K29)
-            r = 3 * nc + b
-            change = max(change, _move(G, R, sigma, lam, r, interval_step(
-                bounds[b, 0], bounds[b, 1], lam[r], sigma[r], inv[r])))
-        if change <= polish and polishes < POLISHES:
-            polishes += 1
-            polish *= POLISH_STEP
+        change = max(change, _interval_sweep(G, R, sigma, lam, bounds, nc, inv, pair))
+        if (change <= polish and polishes < POLISHES) or it == stall:
+            if it == stall:
+                stall *= 2
+            else:
+                polishes += 1
+                polish *= POLISH_STEP
             ok, primal, dual, comp = _polish(G, g, mu, bounds, R, settings, lam, sigma, tmp, w,
                                              C, gmax)
             if ok:

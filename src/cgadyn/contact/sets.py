@@ -15,7 +15,7 @@ import math
 
 from .._jit import inline
 
-__all__ = ["clamp", "interval_residuals", "interval_step"]
+__all__ = ["clamp", "interval_residuals", "interval_step", "pair_step"]
 
 
 @inline
@@ -54,3 +54,60 @@ def interval_step(lo, hi, lam, sigma, inv):
     if inv > 0.0:
         return clamp(lo, hi, lam - sigma * inv)
     return lam
+
+
+@inline
+def _allows(state, sigma, tol):
+    """Whether a row held at its lower bound (``state`` 0), its upper one (1) or inside
+    them (2) allows the velocity ``σ`` (K26): ``σ >= 0``, ``σ <= 0``, any (to ``tol``)."""
+    if state == 0:
+        return sigma >= -tol
+    if state == 1:
+        return sigma <= tol
+    return True
+
+
+@inline
+def pair_step(lo_r, hi_r, lo_s, hi_s, lam_r, lam_s, sig_r, sig_s, a, c):
+    """PGS's update of two interval rows ``r`` and ``s`` whose Jacobian rows are collinear,
+    ``J_s = c J_r`` (K29a: a joint's limit row and its friction loss row, both on one
+    coordinate), solved together: their impulses move the one velocity ``w = σ_r`` by
+    ``a (Λ' - Λ)``, ``Λ = λ_r + c λ_s``, ``a = A_rr``, and ``σ_s = σ_s + c (w' - σ_r)``.
+    Each row is at its lower bound (then its ``σ >= 0``), at its upper one (``σ <= 0``) or
+    inside (``σ = 0``); the laws are monotone in ``w``, so exactly one ``w'`` meets both,
+    found by trying each pair of states. Returns ``(λ_r', λ_s')``; where no state fits (by
+    rounding), each row's own step (K29) in turn, as for unpaired rows."""
+    big = 1.0 + abs(lam_r) + abs(c * lam_s)
+    tol_l, tol_v = 1e-12 * big, 1e-12 * (abs(sig_r) + abs(sig_s) + a * big)
+    L = lam_r + c * lam_s
+    for kr in range(3):
+        for ks in range(3):
+            if kr == 2 and ks == 2:
+                continue  # both inside: only where σ_s = c σ_r, below
+            yr = lo_r if kr == 0 else hi_r
+            ys = lo_s if ks == 0 else hi_s
+            if kr == 2:  # r inside: w' = 0
+                w = 0.0
+                yr = L - sig_r / a - c * ys
+                if not (lo_r - tol_l <= yr <= hi_r + tol_l):
+                    continue
+                yr = clamp(lo_r, hi_r, yr)
+            elif ks == 2:  # s inside: σ_s' = 0
+                w = sig_r - sig_s / c
+                ys = (L + (w - sig_r) / a - yr) / c
+                if not (lo_s - tol_l <= ys <= hi_s + tol_l):
+                    continue
+                ys = clamp(lo_s, hi_s, ys)
+            else:
+                w = sig_r + a * (yr + c * ys - L)
+            if not (math.isfinite(yr) and math.isfinite(ys)):
+                continue
+            if _allows(kr, w, tol_v) and _allows(ks, sig_s + c * (w - sig_r), tol_v):
+                return yr, ys
+    if abs(sig_s - c * sig_r) <= tol_v:  # both inside: Λ' fixed, its split kept near λ
+        target = L - sig_r / a
+        ys = clamp(lo_s, hi_s, lam_s)
+        yr = clamp(lo_r, hi_r, target - c * ys)
+        return yr, clamp(lo_s, hi_s, (target - yr) / c)
+    yr = interval_step(lo_r, hi_r, lam_r, sig_r, 1.0 / a)
+    return yr, interval_step(lo_s, hi_s, lam_s, sig_s + c * a * (yr - lam_r), 1.0 / (c * c * a))
