@@ -9,7 +9,7 @@ import dataclasses
 import numpy as np
 import pytest
 from contact_cases import solo12_on_the_ground
-from test_contact_step import BOX, G, _free
+from test_contact_step import BOX, G, _body, _free
 
 import cgadyn
 from cgadyn.contact.step import contact_step
@@ -124,3 +124,41 @@ def test_bad_compliance_is_named():
         cm.compliant(1.0, links=["foot"])
     assert np.all(cm.compliant(3.0, 4.0).compliance == [3.0, 4.0])
     assert np.all(cm.compliant(3.0).compliant(0.0).compliance == 0.0)
+
+
+def _uneven_sole(k: float, c: float):
+    """A 2 kg plate whose sole is the convex hull of a 5 x 3 grid of points a fraction of a
+    millimetre apart in height (a mesh foot's), compliant, resting level on the ground."""
+    model = cgadyn.load(_body("plate", "", 2.0, [0.002, 0.007, 0.008]).replace(
+        "<collision><geometry></geometry></collision>", ""), floating_base=True)
+    rise = np.array([[0.0, 0.21, 0.05, 0.3, 0.12], [0.17, 0.02, 0.26, 0.08, 0.23],
+                     [0.09, 0.28, 0.14, 0.01, 0.19]]) * 1e-3
+    xs, ys = np.linspace(-0.1, 0.1, 5), np.linspace(-0.05, 0.05, 3)
+    bottom = [[x, y, rise[j, i]] for j, y in enumerate(ys) for i, x in enumerate(xs)]
+    top = [[x, y, 0.02] for x in (-0.1, 0.1) for y in (-0.05, 0.05)]
+    sole = cgadyn.Collision("sole", cgadyn.ConvexMesh(np.array(bottom + top)), 0, np.eye(4))
+    cm = cgadyn.CollisionModel([sole], model).compliant(k, c)
+    q = cgadyn.neutral(model)
+    q[2] -= cgadyn.ground_contacts(model, cm, q, margin=1.0).distance.min()
+    return model, cm, q
+
+
+def test_an_uneven_compliant_sole_is_solved_every_step_and_rests():
+    """A plate on a compliant sole uneven by 0.3 mm (K41), pushed sideways for a moment,
+    then left: every step's contact problem meets the tolerance (PGS in tens of sweeps:
+    held on the plane, K42, the sole's self-balanced friction is no nearly-null direction
+    of ``G + R``), the patch's points stay the same from step to step (K22'), and the plate
+    comes to rest on the ground, which carries its weight to 1e-6."""
+    k = 2e4
+    model, cm, q = _uneven_sole(k, 2.0 * np.sqrt(k * 2.0))
+    tau = np.zeros((2000, 6))
+    tau[:200, 0] = 5.0  # 5 N along x for 0.2 s: less than friction's 19.6 N
+    tr = _sim(model, cm, q, np.zeros(6), 2000, tau=tau)
+    assert not tr.diverged, tr.message
+    assert np.all(tr.contact_residual <= 1e-10)
+    assert np.mean(tr.contact_iterations) < 50
+    assert np.all(tr.contact_count[1000:] == tr.contact_count[-1]) and tr.contact_count[-1] >= 3
+    ends = [cgadyn.ground_contacts(model, cm, x, margin=1e-3).point for x in tr.q[-500:]]
+    assert all(p.shape == ends[-1].shape and np.abs(p - ends[-1]).max() < 1e-6 for p in ends)
+    assert np.abs(tr.v[-1]).max() < 1e-6
+    assert tr.contact_forces[-1, :, 2].sum() == pytest.approx(2.0 * G, rel=1e-6)

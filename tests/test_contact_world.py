@@ -40,7 +40,8 @@ def _contacts(shape, T, world=None, margin=1.0):
     counts = np.zeros(1, dtype=np.int64)
     C.shapes_on_plane(np.array([shape.kind]), np.array([shape.packed_size], dtype=float),
                       vertices, np.array([0, len(vertices)]), T[None].copy(),
-                      np.array([radius]), np.array([True]), world.plane.packed_size,
+                      np.array([radius]), np.array([True]), np.zeros((1, 2)),
+                      world.plane.packed_size,
                       np.eye(4), margin, 0.0, cand, out[None], counts, np.zeros((1, 2, 6)),
                       0.0)
     return out[:counts[0]]

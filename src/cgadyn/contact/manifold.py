@@ -189,9 +189,13 @@ def _apart(cand, i, out, m, patch):
 
 
 @inline
-def _rise(cand, i, first):
+def _rise(cand, i, first, soft):
     """Candidate ``i``'s height above the deepest, ``first``, less ``LEVEL``, over ``TILT``
-    (0 within ``LEVEL``): the spread it gives up in K22's choice (``reduce_patch``)."""
+    (0 within ``LEVEL``): the spread it gives up in K22's choice (``reduce_patch``). On a
+    compliant shape (``soft``, K41) 0 for a candidate below the plane: each such point
+    presses with its own spring, and the patch is where they are (K22')."""
+    if soft and cand[i, 3] < 0.0:
+        return 0.0
     return max(0.0, cand[i, 3] - cand[first, 3] - LEVEL) / TILT
 
 
@@ -214,15 +218,16 @@ def _in_order(cand, count, out, i0, i1, i2, i3):
 
 
 @core
-def reduce_patch(cand, count, patch, n0, n1, n2, out):
+def reduce_patch(cand, count, patch, n0, n1, n2, out, soft):
     """At most four of the ``count`` candidates marked in column ``OUT`` (``mark_reach``,
     ``mark_within``), spanning the patch (K22): the deepest; the one farthest from it; the
     one farthest from the line of those two; the one farthest outside the triangle's edges;
     each distance less the candidate's height above the deepest over ``TILT``, so that of
     points spanning the patch alike the one the shape touches after the smaller tilt comes
-    first (``TIE``). A point no farther than ``patch`` (and 1e-9) from one kept, or adding no area,
-    is not kept: a patch narrower than ``patch`` is one point. Writes them to ``out`` in
-    the candidates' order (``_in_order``) and returns their number."""
+    first (``TIE``); on a compliant shape (``soft``) the points below the plane by their
+    spread alone (K22'). A point no farther than ``patch`` (and 1e-9) from one kept, or
+    adding no area, is not kept: a patch narrower than ``patch`` is one point. Writes them
+    to ``out`` in the candidates' order (``_in_order``) and returns their number."""
     first = -1
     for i in range(count):
         if cand[i, OUT] != 0.0 and (first < 0 or cand[i, 3] < cand[first, 3]):
@@ -233,7 +238,7 @@ def reduce_patch(cand, count, patch, n0, n1, n2, out):
     second, best = -1, -math.inf
     for i in range(count):
         if cand[i, OUT] != 0.0 and _apart(cand, i, out, m, patch):
-            s = _length(cand, first, i) - _rise(cand, i, first)
+            s = _length(cand, first, i) - _rise(cand, i, first, soft)
             if s > best + TIE:
                 second, best = i, s
     if second < 0:
@@ -244,7 +249,7 @@ def reduce_patch(cand, count, patch, n0, n1, n2, out):
     for i in range(count):
         if cand[i, OUT] != 0.0 and _apart(cand, i, out, m, patch):
             a = abs(_area2(cand, first, second, i, n0, n1, n2))
-            s = a / base - _rise(cand, i, first)
+            s = a / base - _rise(cand, i, first, soft)
             if a > 1e-18 and s > best + TIE:
                 third, best = i, s
     if third < 0:
@@ -260,34 +265,36 @@ def reduce_patch(cand, count, patch, n0, n1, n2, out):
             a = max(-sign * _area2(cand, first, second, i, n0, n1, n2) / e12,
                     -sign * _area2(cand, second, third, i, n0, n1, n2) / e23,
                     -sign * _area2(cand, third, first, i, n0, n1, n2) / e31)
-            s = a - _rise(cand, i, first)
+            s = a - _rise(cand, i, first, soft)
             if a > 1e-18 and s > best + TIE:
                 fourth, best = i, s
     return _in_order(cand, count, out, first, second, third, fourth)
 
 
 @core
-def plane_contacts(kind, size, vertices, T, n0, n1, n2, delta, bound, margin, patch, cand,
-                   out, V, k, dt):
+def plane_contacts(kind, size, vertices, T, n0, n1, n2, delta, bound, margin, patch, soft,
+                   cand, out, V, k, dt):
     """The contacts of shape ``k``, ``(kind, size, vertices)`` at pose ``T``, with the plane
     ``π = n + δ e∞`` (world frame, ``n`` pointing out of it): at most ``MAX_CONTACTS`` rows
     ``[x, y, z, d]`` in ``out`` (K21, K21a, K22), for the shape moving with the twists
     ``V[k]`` (2, 6) over ``dt``, none of its points travelling farther than ``bound``
-    (``reach_bound``, ``inf``: unknown). ``cand`` has ``CANDIDATE_COLUMNS``. Returns their
-    number."""
+    (``reach_bound``, ``inf``: unknown); ``soft``: the shape is compliant (K22'). ``cand``
+    has ``CANDIDATE_COLUMNS``. Returns their number."""
     count = candidates(kind, size, vertices, T, n0, n1, n2, delta, cand, margin + bound)
     if mark_reach(cand, count, margin, V, k, dt, bound) == 0:
         return 0
-    return reduce_patch(cand, count, patch, n0, n1, n2, out)
+    return reduce_patch(cand, count, patch, n0, n1, n2, out, soft)
 
 
 @core
-def shapes_on_plane(kinds, sizes, vertices, offsets, poses, radii, active, sb, Tb, margin,
-                    patch, cand, out, counts, twists, dt):
+def shapes_on_plane(kinds, sizes, vertices, offsets, poses, radii, active, compliance, sb,
+                    Tb, margin, patch, cand, out, counts, twists, dt):
     """``plane_contacts`` of every shape ``k`` with ``active[k]`` against the plane of size
     ``sb`` (``n``, ``δ`` in its frame) at pose ``Tb``, each moving with its link's twists
     ``twists[k]`` (2, 6) over ``dt``, into ``out[k]`` (``MAX_CONTACTS`` rows each), their
-    number into ``counts[k]``. ``radii[k]`` bounds shape ``k`` about its frame's origin
+    number into ``counts[k]``; ``compliance[k]`` its stiffness and damping (K41: a
+    compliant shape's patch by K22'). ``radii[k]`` bounds shape ``k`` about its frame's
+    origin
     (``pairs.bounding_radii``): a shape whose bounding sphere stays ``margin`` above the
     plane however far its points may travel in the step (``reach_bound``) has no candidate
     within reach (K21a) and none is formed."""
@@ -304,5 +311,6 @@ def shapes_on_plane(kinds, sizes, vertices, offsets, poses, radii, active, sb, T
                               delta) - radii[k] - bound >= margin:
                 continue
         counts[k] = plane_contacts(kinds[k], sizes[k], vertices[offsets[k]:offsets[k + 1]],
-                                   poses[k], n0, n1, n2, delta, bound, margin, patch, cand,
-                                   out[k], twists, k, dt)
+                                   poses[k], n0, n1, n2, delta, bound, margin, patch,
+                                   compliance[k, 0] != 0.0 or compliance[k, 1] != 0.0,
+                                   cand, out[k], twists, k, dt)

@@ -121,7 +121,7 @@ def pair_patch(ka, sa, va, Ta, kb, sb, vb, Tb, margin, patch, zero, P, work, tmp
     c += 1
     if mark_within(cand, c, margin) == 0:
         return 0
-    return reduce_patch(cand, c, patch, n0, n1, n2, out)
+    return reduce_patch(cand, c, patch, n0, n1, n2, out, False)
 
 
 @serial

@@ -84,7 +84,8 @@ def gap_velocity(distance, stabilization: float, dt: float, compliance=None
 
 def contact_jacobian(model, q, contacts, frames) -> np.ndarray:
     """(3 nc, nv): the rows ``(t₁, t₂, n)`` of each contact of ``contacts`` (a ``Contacts``)
-    at ``q``, a point of its link held where it is (C1), or, for a pair's, held to the
+    at ``q``, a point of its link held where it is (C1): for a contact with the ground the
+    point of the plane under the shape's (``Contacts.acting``, K42); for a pair's, held to the
     other shape's point, on its link where ``other_link`` >= 0 (C2, K37); its world rows
     turned into its frame (``frames`` (nc, 3, 3), rows ``t₁, t₂, n``:
     ``step.ground_frame`` of its normal): ``J v`` is the contact points' (relative)
@@ -96,11 +97,12 @@ def contact_jacobian(model, q, contacts, frames) -> np.ndarray:
     if nc == 0:
         return np.zeros((0, model.nv))
     links = link_placements(model, q)
+    acting = contacts.acting  # K42
     constraints = []
     for k in range(nc):
         at, other = np.eye(4), np.eye(4)
-        at[:3, 3] = contacts.point[k]
-        other[:3, 3] = contacts.other_point[k]  # the ground's: the point itself
+        at[:3, 3] = acting[k]
+        other[:3, 3] = contacts.other_point[k]  # a pair's other point (the ground is still)
         b = int(contacts.other_link[k])
         constraints.append(Constraint(
             model, "point", int(contacts.link[k]),

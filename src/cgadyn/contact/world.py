@@ -108,6 +108,14 @@ class Contacts:
     def __len__(self) -> int:
         return int(self.collision.size)
 
+    @property
+    def acting(self) -> np.ndarray:
+        """(K, 3) the point of each contact's link at which its rows are taken (K42): for a
+        contact with the ground the plane's point under the shape's, ``point - distance ·
+        normal``; for a pair's (K37) the point on its shape."""
+        ground = (self.other < 0)[:, None]
+        return np.where(ground, self.point - self.distance[:, None] * self.normal, self.point)
+
 
 def touches_ground(model, collisions, world: World) -> np.ndarray:
     """Which shapes may touch the ground of ``world`` (K,): MuJoCo's filter with the
@@ -190,7 +198,8 @@ def ground_contacts(model, collisions, q, world: World | None = None,
     out = np.empty((K, C.MAX_CONTACTS, C.OUT))
     counts = np.zeros(K, dtype=np.int64)
     C.shapes_on_plane(cm.kinds, cm.sizes, cm.vertices, cm.offsets, poses,
-                      bounding_radii(cm), active, world.plane.packed_size, np.eye(4),
+                      bounding_radii(cm), active, cm.compliance, world.plane.packed_size,
+                      np.eye(4),
                       float(margin), float(patch),
                       np.empty((C.CANDIDATES, C.CANDIDATE_COLUMNS)), out, counts, twists,
                       float(dt))

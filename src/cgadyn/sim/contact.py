@@ -466,8 +466,9 @@ def _detect(m, w_, k_, q, v, vn, dt):
     _shape_twists(m, k_.Sw, links, v, vn, w_.twists, w_.bodies)
     params = wa.params
     C.shapes_on_plane(wa.kinds, wa.sizes, wa.vertices, wa.offsets, poses, wa.radii,
-                      wa.active, wa.ground, wa.ground_pose, params[MARGIN], params[PATCH],
-                      w_.cand, w_.out, w_.counts, w_.twists, dt)  # K21, K21a, K22
+                      wa.active, wa.compliance, wa.ground, wa.ground_pose, params[MARGIN],
+                      params[PATCH], w_.cand, w_.out, w_.counts, w_.twists,
+                      dt)  # K21, K21a, K22, K22'
     nc = 0
     for s in range(links.shape[0]):
         nc += int(w_.counts[s])
@@ -482,9 +483,9 @@ def _detect(m, w_, k_, q, v, vn, dt):
 def _rows(m, w_, k_, nc, nl, J, lam, R, dt):
     """The rows of J, each warm-started in ``lam`` from its slot's λ of the previous step
     (K25): ``(t₁, t₂, n)`` per contact point with the ground, held in the ground frame
-    (K23); the pairs' (K37); ``±e_v`` (a cone's ``-aᵀ``) per limit bound near which the
-    step may go, ``λ >= 0``
-    (K26); ``e_k`` per friction loss, ``|λ| <= f dt`` (K30), the interval rows' bounds into
+    (K23) at the plane's point under the shape's (K42); the pairs' (K37); ``±e_v`` (a
+    cone's ``-aᵀ``) per limit bound near which the step may go, ``λ >= 0`` (K26); ``e_k``
+    per friction loss, ``|λ| <= f dt`` (K30), the interval rows' bounds into
     ``bounds``. ``R`` zeros. Whether any row starts from a previous λ."""
     wa = w_.world
     links, out, frame, prev, had = wa.links, w_.out, wa.frame, w_.prev, w_.had
@@ -499,8 +500,11 @@ def _rows(m, w_, k_, nc, nl, J, lam, R, dt):
     for s in range(shapes):
         for j in range(int(w_.counts[s])):
             r0 = 3 * c
-            _add_columns(k_.Sw, m.parents, m.iv, m.link_joint[links[s]], 1.0, out[s, j], 3,
-                         r0, J, k_.T[0], False)
+            d = out[s, j, 3]  # the plane's point under the shape's (K42)
+            at = (out[s, j, 0] - d * frame[2, 0], out[s, j, 1] - d * frame[2, 1],
+                  out[s, j, 2] - d * frame[2, 2])
+            _add_columns(k_.Sw, m.parents, m.iv, m.link_joint[links[s]], 1.0, at, 3, r0, J,
+                         k_.T[0], False)
             for k in range(m.nv):
                 x, y, z = J[r0, k], J[r0 + 1, k], J[r0 + 2, k]
                 for i in range(3):
