@@ -78,7 +78,8 @@ def test_a_limit_and_a_friction_loss_on_one_coordinate_are_solved_together(
     ``J_s = c e`` (``|λ_s| <= f``) on one coordinate of velocity ``w = w_free + a (λ_r + c
     λ_s)``: ``G`` is singular and PGS row by row moves the two impulses against each other
     by the gap's term a sweep; solved together (K29a) it ends in one sweep on the solution
-    built here."""
+    built here, which ADMM finds too (its power iteration for ``ρ`` restarting where the
+    uniform vector lies in ``G``'s null space, ``c = -1``)."""
     a = 2.0
     G = a * np.array([[1.0, c], [c, c * c]])
     g = np.array([w_free + gap, c * w_free])
@@ -92,6 +93,9 @@ def test_a_limit_and_a_friction_loss_on_one_coordinate_are_solved_together(
     lam, info = cgadyn.solve_contacts(G, g, np.zeros(0), solver="pgs", bounds=bounds)
     assert info.converged and info.iterations <= 3
     assert np.abs(lam - [lam_r, lam_s]).max() < 1e-12
+    other, info = cgadyn.solve_contacts(G, g, np.zeros(0), solver="admm", bounds=bounds,
+                                        max_iterations=10000)  # it crawls: 2812 for c = 2.5
+    assert info.converged and np.abs(other - lam).max() < 1e-7
 
 
 def _steps(model, q, v, steps, **kw):

@@ -43,12 +43,19 @@ POWER_ITERATIONS = 50
 
 @inline
 def largest_eigenvalue(G, R, u, w):
-    """The largest eigenvalue ``L`` of ``G + R`` by power iteration (K17), to 1e-6; ``u``,
-    ``w`` hold ``m`` floats."""
+    """The largest eigenvalue ``L`` of ``G + R`` by power iteration (K17), to 1e-6, from the
+    uniform vector, or, where that lies in the null space of ``G + R`` (two rows of
+    opposite sign on one direction: a joint's upper stop, ``-e_k``, and its friction loss,
+    ``e_k``), from the unit vector of the largest diagonal entry; ``u``, ``w`` hold ``m``
+    floats."""
     m = G.shape[0]
+    top = 0
     for r in range(m):
         u[r] = 1.0 / math.sqrt(m)
+        if G[r, r] + R[r] > G[top, top] + R[top]:
+            top = r
     L = 0.0
+    restarted = False
     for _ in range(POWER_ITERATIONS):
         norm = 0.0
         for r in range(m):
@@ -59,7 +66,12 @@ def largest_eigenvalue(G, R, u, w):
             norm += acc * acc
         norm = math.sqrt(norm)
         if not norm > 0.0:
-            return 0.0
+            if restarted or L > 0.0:
+                return 0.0
+            restarted = True
+            for r in range(m):
+                u[r] = 1.0 if r == top else 0.0
+            continue
         for r in range(m):
             u[r] = w[r] / norm
         done = abs(norm - L) <= 1e-6 * norm
