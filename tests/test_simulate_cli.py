@@ -147,6 +147,8 @@ def test_a_run_that_blows_up_stops_and_says_so():
     (["--controls", "random"], "--controls random drives the motors of an MJCF model, but "
                                "'double_pendulum' has none"),
     (["--ground", "--q0", "0", "2.5"], "starts 0.0"),
+    (["--soft", "1e5"], "--soft makes the soles on the ground compliant: add --ground"),
+    (["--ground", "--soft", "0"], "argument --soft: must be a positive finite number, got '0'"),
     (["--plot", "/proc/a.png"], "cannot write the plot '/proc/a.png': directory '/proc' is not "
                                 "writable"),
     (["--html", "/proc/a.html"], "cannot write the animation '/proc/a.html': directory '/proc' "
@@ -310,6 +312,21 @@ def test_solo12_stands_on_the_ground_and_lands_when_dropped(capsys):
     assert dropped["q0"][2] - standing["q0"][2] == pytest.approx(0.1, abs=1e-12)
     assert dropped["q_final"][2] == pytest.approx(standing["q_final"][2], abs=1e-3)
     assert np.array(dropped["contact_count"])[0] == 0  # it starts in the air
+
+
+def test_talos_stands_on_soft_soles(capsys):
+    """``--soft``: talos_reduced on compliant soles (1e5 N/m a point) under its PD for 1 s:
+    the run completes, its soles sink by about a millimetre and hold it, and the summary
+    names the soles."""
+    argv = ["simulate", "talos_reduced", "--ground", "--soft", "1e5", "--controller", "pd",
+            "--seconds", "1", "--no-progress"]
+    assert cli.main([*argv, "--json"]) == 0
+    out = strict_json(capsys.readouterr().out)
+    assert out["soft"] == 1e5 and out["completed"] == 1000
+    assert 2e-4 < out["q0"][2] - out["q_final"][2] < 5e-3
+    assert np.array(out["contact_count"])[-1] >= 6
+    assert cli.main(argv) == 0
+    assert "ground (soft soles, 100000 N/m a point): " in capsys.readouterr().out
 
 
 @pytest.mark.slow

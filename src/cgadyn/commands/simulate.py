@@ -4,7 +4,7 @@
 
     cgadyn simulate [ROBOT] [--seconds S] [--dt DT] [--integrator NAME]
                     [--controller none|gravity|pd] [--wn W | --kp KP --kd KD] [--q0 Q ...]
-                    [--v0 V ...] [--ground] [--drop H] [--controls none|random]
+                    [--v0 V ...] [--ground] [--drop H] [--soft K] [--controls none|random]
                     [--seed N] [--json] [--plot F.png]
                     [--html F.html] [--no-progress]
 
@@ -12,7 +12,8 @@
 of its URDF or MJCF (``cgadyn.collision_model``; meshes as their convex hulls): the run is
 then the contact step of ``docs/contact.md`` (semi-implicit Euler with frictional contact
 impulses). A floating robot starts resting on it, its lowest shape at the ground, or
-``--drop H`` metres above it.
+``--drop H`` metres above it. ``--soft K`` makes the links it stands on touch the ground
+through springs and dampers (``CollisionModel.compliant``, K41).
 
 The run is integrated in chunks of steps, each one ``cgadyn.simulate`` call continuing from
 the last state (RK4 and the Euler methods are one-step methods, so the states are those of
@@ -128,6 +129,11 @@ def add_parser(sub) -> None:
     p.add_argument("--drop", type=_height, default=None, metavar="H",
                    help="start a floating robot with its lowest shape H metres above the "
                         "ground (implies --ground)")
+    p.add_argument("--soft", type=positive_float, default=None, metavar="K",
+                   help="with --ground: the links it stands on (within 1 cm of its lowest "
+                        "shape) touch the ground through a spring of K N/m and a damper of "
+                        "2 sqrt(K m) N s/m at each contact point (m its mass): soft soles "
+                        "(default rigid)")
     p.add_argument("--controls", choices=("none", "random"), default="none",
                    help="random: each step's controls of the model's MJCF motors drawn "
                         "uniformly in their control ranges (the random actions of a "
@@ -367,6 +373,9 @@ def run(args: argparse.Namespace) -> int:
                          f"{args.dt:g}")
     check_gains(args)
     ground = args.ground or args.drop is not None
+    if args.soft is not None and not ground:
+        raise UsageError("--soft makes the soles on the ground compliant: add --ground (or "
+                         "--drop)")
     integrator = _integrator(args.integrator, ground)
     plot = check_plot_path(args.plot)
     html = check_html_path(args.html)
@@ -413,6 +422,7 @@ def run(args: argparse.Namespace) -> int:
                "energy_initial": traj.energy[0], "energy_final": traj.energy[-1],
                "energy_drift": drift, "q0": q0, "v0": v0, "q_final": traj.q[-1],
                "v_final": traj.v[-1], "ground": ground, "drop": args.drop,
+               "soft": args.soft,
                **(_contact_summary(model, traj) if ground else {})}
     if plot is not None:
         from ..sim.plot import plot_trajectory
@@ -505,6 +515,10 @@ def _ground(model, args, q0: np.ndarray, given: bool, registry):
     # the links it will stand on: those within 1 cm of the lowest shape
     support = tuple(sorted({int(link) for link, d in zip(found.link, distance, strict=True)
                             if d <= distance[k] + 0.01}))
+    if args.soft is not None:  # soft soles (K41)
+        mass = float(np.sum(model.body_mass))
+        collisions = collisions.compliant(args.soft, 2.0 * math.sqrt(args.soft * mass),
+                                          links=support)
     return world, collisions, q0, support
 
 
@@ -544,9 +558,10 @@ def _summary_text(s: dict, plot, html) -> str:
              f"{s['energy_final']:.10g} J"]
     if s["ground"]:
         f = s["contact_force_final"]
-        lines.append(f"  ground: {s['contacts_final']} contacts at the end, their force "
-                     f"{_vec(f)} N against the weight {s['weight']:.6g} N; centre of mass "
-                     f"at {_vec(s['com_final'])} m")
+        soles = "" if s["soft"] is None else f" (soft soles, {s['soft']:g} N/m a point)"
+        lines.append(f"  ground{soles}: {s['contacts_final']} contacts at the end, their "
+                     f"force {_vec(f)} N against the weight {s['weight']:.6g} N; centre of "
+                     f"mass at {_vec(s['com_final'])} m")
     if s["energy_drift"] is not None:
         lines.append(f"  energy drift (passive run): max |E(t) - E(0)| / |E(0)| = "
                      f"{s['energy_drift']:.3e}")
