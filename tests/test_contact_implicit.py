@@ -9,7 +9,7 @@ import dataclasses
 import numpy as np
 import pytest
 from contact_cases import solo12_on_the_ground
-from test_contact_step import BOX, G, _body, _free
+from test_contact_step import BOX, G, _free
 
 import cgadyn
 from cgadyn.contact.step import contact_step
@@ -129,8 +129,9 @@ def test_bad_compliance_is_named():
 def _uneven_sole(k: float, c: float):
     """A 2 kg plate whose sole is the convex hull of a 5 x 3 grid of points a fraction of a
     millimetre apart in height (a mesh foot's), compliant, resting level on the ground."""
-    model = cgadyn.load(_body("plate", "", 2.0, [0.002, 0.007, 0.008]).replace(
-        "<collision><geometry></geometry></collision>", ""), floating_base=True)
+    model = cgadyn.load('<robot name="plate"><link name="plate"><inertial><mass value="2"/>'
+                        '<inertia ixx="0.002" ixy="0" ixz="0" iyy="0.007" iyz="0" izz="0.008"/>'
+                        '</inertial></link></robot>', floating_base=True)
     rise = np.array([[0.0, 0.21, 0.05, 0.3, 0.12], [0.17, 0.02, 0.26, 0.08, 0.23],
                      [0.09, 0.28, 0.14, 0.01, 0.19]]) * 1e-3
     xs, ys = np.linspace(-0.1, 0.1, 5), np.linspace(-0.05, 0.05, 3)
