@@ -38,6 +38,10 @@ LEVEL = 1e-6
 """Candidates within this height (m) of the deepest are level with it for K22's exchange
 (``TILT``): a face resting on the ground, its corners a fraction of a micrometre apart as
 the step corrects its overlap, is held at its widest corners in the same order each step."""
+CORNER = 1e-4
+"""Distances along the plane (m) within this of each other are a tie in the choice of a
+compliant patch's first corner (K22'): a rectangle's four corners, whose distances from its
+centre a tilt of a milliradian moves by tens of nanometres."""
 TIE = 1e-9
 """Scores of K22 (m) closer than this are a tie, kept in the candidates' order: the corners
 of a face, equal but for rounding, come in the same order step after step (each contact's
@@ -200,6 +204,31 @@ def _rise(cand, i, first, soft):
 
 
 @inline
+def _start(cand, count, deep, soft, n0, n1, n2):
+    """The first point of K22's choice: the deepest, ``deep``; on a compliant shape sunk
+    below the plane, of its candidates below it the one farthest from their centroid along
+    the plane (ties within ``CORNER``: the first), a corner of the patch that no tilt moves
+    (K22')."""
+    if not (soft and cand[deep, 3] < 0.0):
+        return deep
+    c0 = c1 = c2 = 0.0
+    n = 0
+    for i in range(count):
+        if cand[i, OUT] != 0.0 and cand[i, 3] < 0.0:
+            c0, c1, c2, n = c0 + cand[i, 0], c1 + cand[i, 1], c2 + cand[i, 2], n + 1
+    c0, c1, c2 = c0 / n, c1 / n, c2 / n
+    start, best = deep, -math.inf
+    for i in range(count):
+        if cand[i, OUT] != 0.0 and cand[i, 3] < 0.0:
+            d0, d1, d2 = cand[i, 0] - c0, cand[i, 1] - c1, cand[i, 2] - c2
+            h = d0 * n0 + d1 * n1 + d2 * n2
+            r = math.sqrt(max(0.0, d0 * d0 + d1 * d1 + d2 * d2 - h * h))
+            if r > best + CORNER:
+                start, best = i, r
+    return start
+
+
+@inline
 def _length(cand, i, j):
     d0, d1, d2 = cand[j, 0] - cand[i, 0], cand[j, 1] - cand[i, 1], cand[j, 2] - cand[i, 2]
     return math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
@@ -228,17 +257,18 @@ def reduce_patch(cand, count, patch, n0, n1, n2, out, soft):
     spread alone (K22'). A point no farther than ``patch`` (and 1e-9) from one kept, or
     adding no area, is not kept: a patch narrower than ``patch`` is one point. Writes them
     to ``out`` in the candidates' order (``_in_order``) and returns their number."""
-    first = -1
+    deep = -1
     for i in range(count):
-        if cand[i, OUT] != 0.0 and (first < 0 or cand[i, 3] < cand[first, 3]):
-            first = i
-    if first < 0:
+        if cand[i, OUT] != 0.0 and (deep < 0 or cand[i, 3] < cand[deep, 3]):
+            deep = i
+    if deep < 0:
         return 0
+    first = _start(cand, count, deep, soft, n0, n1, n2)
     m = _write(out, 0, cand, first)
     second, best = -1, -math.inf
     for i in range(count):
         if cand[i, OUT] != 0.0 and _apart(cand, i, out, m, patch):
-            s = _length(cand, first, i) - _rise(cand, i, first, soft)
+            s = _length(cand, first, i) - _rise(cand, i, deep, soft)
             if s > best + TIE:
                 second, best = i, s
     if second < 0:
@@ -249,7 +279,7 @@ def reduce_patch(cand, count, patch, n0, n1, n2, out, soft):
     for i in range(count):
         if cand[i, OUT] != 0.0 and _apart(cand, i, out, m, patch):
             a = abs(_area2(cand, first, second, i, n0, n1, n2))
-            s = a / base - _rise(cand, i, first, soft)
+            s = a / base - _rise(cand, i, deep, soft)
             if a > 1e-18 and s > best + TIE:
                 third, best = i, s
     if third < 0:
@@ -265,7 +295,7 @@ def reduce_patch(cand, count, patch, n0, n1, n2, out, soft):
             a = max(-sign * _area2(cand, first, second, i, n0, n1, n2) / e12,
                     -sign * _area2(cand, second, third, i, n0, n1, n2) / e23,
                     -sign * _area2(cand, third, first, i, n0, n1, n2) / e31)
-            s = a - _rise(cand, i, first, soft)
+            s = a - _rise(cand, i, deep, soft)
             if a > 1e-18 and s > best + TIE:
                 fourth, best = i, s
     return _in_order(cand, count, out, first, second, third, fourth)
