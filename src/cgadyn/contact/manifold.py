@@ -193,14 +193,14 @@ def _apart(cand, i, out, m, patch):
 
 
 @inline
-def _rise(cand, i, first, soft):
-    """Candidate ``i``'s height above the deepest, ``first``, less ``LEVEL``, over ``TILT``
+def _rise(cand, i, deep, soft):
+    """Candidate ``i``'s height above the deepest, ``deep``, less ``LEVEL``, over ``TILT``
     (0 within ``LEVEL``): the spread it gives up in K22's choice (``reduce_patch``). On a
     compliant shape (``soft``, K41) 0 for a candidate below the plane: each such point
     presses with its own spring, and the patch is where they are (K22')."""
     if soft and cand[i, 3] < 0.0:
         return 0.0
-    return max(0.0, cand[i, 3] - cand[first, 3] - LEVEL) / TILT
+    return max(0.0, cand[i, 3] - cand[deep, 3] - LEVEL) / TILT
 
 
 @inline
