@@ -73,6 +73,7 @@ import numpy as np
 from numba import prange
 
 from .._jit import core, inline, parallel, serial
+from .._threads import in_chunks
 from ..algorithms import _workspace as ws
 from ..algorithms._checks import finite
 from ..algorithms._workspace import chunks
@@ -463,9 +464,8 @@ def heap_size(n, nq, nv, nl, nr):
     return core_workspace_size(n, nq, nv, nl) + extra
 
 
-@parallel
 def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, settings, world,
-             dt, steps, every, Q, V, A, X, CF, CS, CT, CR, completed, status):
+             dt, steps, every, Q, V, A, X, CF, CS, CT, CR, completed, status) -> None:
     """``B = q0.shape[0]`` rollouts of ``steps`` steps, in parallel.
 
     ``q0`` (B, nq), ``v0`` (B, nv); ``u`` the open-loop torques (1 or B, steps or 1, nv),
@@ -486,29 +486,43 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, se
     parallel): each rollout writes every one of its rows once, a state or NaN (``_unset``);
     a rollout that stops writes the last state it reached into the row of that state, or
     the next one (``stop_row``), and NaN after it.
+
+    The rollouts run in contiguous chunks, one per thread of numba's, each chunk one call
+    of ``rollout_range`` on a Python thread (``_threads.in_chunks``), not a ``prange`` loop:
+    such a loop's body is compiled again with everything it calls, a quarter of the cold
+    compile of each of the loop's specialisations, for no run-time gain
+    (``docs/architecture.md``, "Compile time").
     """
-    m = unpack(packed)
-    nr = _rows_of(cons)
-    size = workspace_size(m.n, m.nq, m.nv, m.nl, nr)
-    csize = heap_size(m.n, m.nq, m.nv, m.nl, nr)
-    wsize = _world_size(world, m.n, m.nq, m.nv, m.nl, nr)
-    for b in prange(q0.shape[0]):
-        # the buffers are arguments of the call that carves them: alive while it runs; b as
-        # int64, the type the loop's first typing gives it (else _rollout compiles twice)
-        _rollout(packed, np.int64(b), method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
-                 settings, world, dt, steps, every, Q, V, A, X, CF, CS, CT, CR, completed,
-                 status, np.empty(size), np.empty(csize), np.empty(wsize))
+    size, csize, wsize = rollout_sizes(packed, cons, world)
+
+    def run(b0: int, b1: int) -> None:
+        rollout_range(packed, b0, b1, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
+                      settings, world, dt, steps, every, Q, V, A, X, CF, CS, CT, CR,
+                      completed, status, np.empty(size), np.empty(csize), np.empty(wsize))
+
+    in_chunks(run, q0.shape[0])
 
 
 @serial
-def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, settings,
-             world, dt, steps, every, Q, V, A, X, CF, CS, CT, CR, completed, status, buf,
-             heap, wbuf):
-    """Rollout ``b`` of ``rollouts``, in the scratch ``buf`` (``workspace``) and the cores'
-    workspace ``heap`` (``heap_size``: the shared one, then the constraint core's). Bare
-    views (``_views.carve``) are valid only while the array they view lives, and compiled
-    code frees a local array after its last use, not at the end of its scope: so the two
-    buffers are this function's arguments, alive until it returns."""
+def rollout_sizes(packed, cons, world):
+    """Floats of one thread's buffers for ``rollout_range``: its scratch (``workspace``), its
+    cores' workspace (``heap_size``) and its contact scratch (``_world_size``)."""
+    m = unpack(packed)
+    nr = _rows_of(cons)
+    return (workspace_size(m.n, m.nq, m.nv, m.nl, nr), heap_size(m.n, m.nq, m.nv, m.nl, nr),
+            _world_size(world, m.n, m.nq, m.nv, m.nl, nr))
+
+
+@serial
+def rollout_range(packed, b0, b1, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
+                  settings, world, dt, steps, every, Q, V, A, X, CF, CS, CT, CR, completed,
+                  status, buf, heap, wbuf):
+    """Rollouts ``b0 .. b1 - 1`` of ``rollouts``, one after the other, in the scratch ``buf``
+    (``workspace``) and the cores' workspace ``heap`` (``heap_size``: the shared one, then
+    the constraint core's), and the contact scratch ``wbuf``, which each rollout sets up
+    afresh. Bare views (``_views.carve``) are valid only while the array they view lives,
+    and compiled code frees a local array after its last use, not at the end of its scope:
+    so the buffers are this function's arguments, alive until it returns."""
     mb = unpack(packed)
     held = u.shape[1]
     nr = _rows_of(cons)
@@ -516,83 +530,85 @@ def _rollout(packed, b, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
     work, o = ws.carve(ws.data_pointer(heap), 0, (shared,))  # bare: no reference counts
     cwork = ws.carve(ws.data_pointer(heap), o, (heap.shape[0] - shared,))[0]
     con = _bind(cons, settings, cwork)
-    wd = _bind_world(world, wbuf, mb.n, mb.nq, mb.nv, mb.nl, nr)
-    fac = _factors(wd)
-    kept = _kept(wd)
-    # bare views of this rollout's contact outputs (no reference counts at each step)
-    CSb = ws.carve(ws.data_pointer(CS[b]), 0, CS[b].shape)[0]
-    CTb = ws.carve(ws.data_pointer(CT[b]), 0, CT[b].shape)[0]
-    sc = workspace(ws.data_pointer(buf), mb, nr)
-    for k in range(mb.nv):
-        sc.zero[k] = 0.0
-    q, v, qn, vn, a = sc.q, sc.v, sc.qn, sc.vn, sc.a
-    # bare views of this rollout's rows (no reference counts in the loop over steps)
-    rows = Q.shape[1]
-    Qb = _rows(Q[b], rows, mb.nq)
-    Vb = _rows(V[b], rows, mb.nv)
-    Ab = _rows(A[b], rows, mb.nv)
-    Xb = _rows(X[b], rows, 3 * nr)
-    CFb = _rows(CF[b], rows, CF.shape[2])
-    ub = _rows(u[0], held, mb.nv)  # shared by all rollouts, or
-    if u.shape[0] > 1:
-        ub = _rows(u[b], held, mb.nv)  # this rollout's own
-    hold = 1 if held == steps else 0  # a row per step, or one for all
-    fb = sc.none  # no wrenches, or
-    if f.shape[0] == 1:
-        fb = _rows(f[0], mb.n, 6)
-    elif f.shape[0] > 1:
-        fb = _rows(f[b], mb.n, 6)
-    ctrl = (flags, _rows(coords, COORDS, mb.nv), _rows(q_ref[b], 1, mb.nq)[0],
-            _rows(v_ref[b], 1, mb.nv)[0])
-    for k in range(mb.nq):
-        q[k] = q0[b, k]
-    for k in range(mb.nv):
-        v[k] = v0[b, k]
-    s = OK
-    done = 0
-    last = -1  # the last row written
-    for i in range(steps):
-        s = step(mb, method, q, v, ub[hold * i], fb, ctrl, con, wd, fac, dt, qn, vn, a, sc, work)
-        r = kept_row(i, steps, every)
-        if r >= 0:
-            _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
-            _keep_contacts(kept, CFb[r], CSb, CTb, r)
-            last = r
-        if s != OK:
-            _report(wd, CR[b])
-            break
-        for k in range(mb.nq):
-            q[k] = qn[k]
+    for b in range(b0, b1):
+        wd = _bind_world(world, wbuf, mb.n, mb.nq, mb.nv, mb.nl, nr)  # warm starts cleared
+        fac = _factors(wd)
+        kept = _kept(wd)
+        # bare views of this rollout's contact outputs (no reference counts at each step)
+        CSb = ws.carve(ws.data_pointer(CS[b]), 0, CS[b].shape)[0]
+        CTb = ws.carve(ws.data_pointer(CT[b]), 0, CT[b].shape)[0]
+        sc = workspace(ws.data_pointer(buf), mb, nr)
         for k in range(mb.nv):
-            v[k] = vn[k]
-        done = i + 1
-    if s == OK:
-        s = closed_loop_acceleration(mb, q, v, ub[hold * (steps - 1)], fb, ctrl, con, fac, a,
-                                     sc, work)
-        _record(mb, con, s, sc)
-        r = kept_row(steps, steps, every)
-        if s == OK:  # the contacts at the last state: those of one more step from it (and
-            free_velocity(mb, v, a, dt, vn)  # the constraints' share, C14)
-            _contact(mb, wd, q, v, dt, vn, work, con, sc)
-        _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
+            sc.zero[k] = 0.0
+        q, v, qn, vn, a = sc.q, sc.v, sc.qn, sc.vn, sc.a
+        # bare views of this rollout's rows (no reference counts in the loop over steps)
+        rows = Q.shape[1]
+        Qb = _rows(Q[b], rows, mb.nq)
+        Vb = _rows(V[b], rows, mb.nv)
+        Ab = _rows(A[b], rows, mb.nv)
+        Xb = _rows(X[b], rows, 3 * nr)
+        CFb = _rows(CF[b], rows, CF.shape[2])
+        ub = _rows(u[0], held, mb.nv)  # shared by all rollouts, or
+        if u.shape[0] > 1:
+            ub = _rows(u[b], held, mb.nv)  # this rollout's own
+        hold = 1 if held == steps else 0  # a row per step, or one for all
+        fb = sc.none  # no wrenches, or
+        if f.shape[0] == 1:
+            fb = _rows(f[0], mb.n, 6)
+        elif f.shape[0] > 1:
+            fb = _rows(f[b], mb.n, 6)
+        ctrl = (flags, _rows(coords, COORDS, mb.nv), _rows(q_ref[b], 1, mb.nq)[0],
+                _rows(v_ref[b], 1, mb.nv)[0])
+        for k in range(mb.nq):
+            q[k] = q0[b, k]
+        for k in range(mb.nv):
+            v[k] = v0[b, k]
+        s = OK
+        done = 0
+        last = -1  # the last row written
+        for i in range(steps):
+            s = step(mb, method, q, v, ub[hold * i], fb, ctrl, con, wd, fac, dt, qn, vn, a, sc,
+                     work)
+            r = kept_row(i, steps, every)
+            if r >= 0:
+                _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
+                _keep_contacts(kept, CFb[r], CSb, CTb, r)
+                last = r
+            if s != OK:
+                _report(wd, CR[b])
+                break
+            for k in range(mb.nq):
+                q[k] = qn[k]
+            for k in range(mb.nv):
+                v[k] = vn[k]
+            done = i + 1
         if s == OK:
-            _keep_contacts(kept, CFb[r], CSb, CTb, r)
-        else:
-            _unset(CFb[r])
+            s = closed_loop_acceleration(mb, q, v, ub[hold * (steps - 1)], fb, ctrl, con, fac,
+                                         a, sc, work)
+            _record(mb, con, s, sc)
+            r = kept_row(steps, steps, every)
+            if s == OK:  # the contacts at the last state: those of one more step from it (and
+                free_velocity(mb, v, a, dt, vn)  # the constraints' share, C14)
+                _contact(mb, wd, q, v, dt, vn, work, con, sc)
+            _keep(q, v, a, sc.X, Qb[r], Vb[r], Ab[r], Xb[r])
+            if s == OK:
+                _keep_contacts(kept, CFb[r], CSb, CTb, r)
+            else:
+                _unset(CFb[r])
+                _unset_contacts(kept, CSb, CTb, r)
+            last = r
+        elif kept_row(done, steps, every) < 0:
+            last = stop_row(done, every)
+            _keep(q, v, a, sc.X, Qb[last], Vb[last], Ab[last], Xb[last])
+            _unset(CFb[last])
+            _unset_contacts(kept, CSb, CTb, last)
+        for x in (Qb, Vb, Ab, Xb, CFb):  # NaN in the rows no state reached
+            for r in range(last + 1, x.shape[0]):
+                _unset(x[r])
+        for r in range(last + 1, rows):
             _unset_contacts(kept, CSb, CTb, r)
-        last = r
-    elif kept_row(done, steps, every) < 0:
-        last = stop_row(done, every)
-        _keep(q, v, a, sc.X, Qb[last], Vb[last], Ab[last], Xb[last])
-        _unset(CFb[last])
-        _unset_contacts(kept, CSb, CTb, last)
-    for x in (Qb, Vb, Ab, Xb, CFb):  # NaN in the rows no state reached
-        for r in range(last + 1, x.shape[0]):
-            _unset(x[r])
-    for r in range(last + 1, rows):
-        _unset_contacts(kept, CSb, CTb, r)
-    completed[b] = done
-    status[b] = s
+        completed[b] = done
+        status[b] = s
 
 
 @inline
