@@ -56,7 +56,16 @@ def _per_row(x, name: str, batch: tuple, m: int, size: int, what: str) -> np.nda
     if a.shape not in ((size,), batch + (size,)):
         raise ValueError(f"{name} must be a number, ({size},) ({what}) or {batch + (size,)} "
                          f"for G of shape {batch + (m, m)}, got shape {a.shape}")
-    return np.ascontiguousarray(np.broadcast_to(a, batch + (size,)))
+    return _compiled_layout(np.broadcast_to(a, batch + (size,)))
+
+
+def _compiled_layout(a: np.ndarray) -> np.ndarray:
+    """``a`` as a writable C-contiguous array of float64, copied where it is not one (a
+    broadcast view, a caller's read-only array): the types the contact step inside the
+    rollouts hands ``solve_one``, so that one compiled specialisation of the solvers serves
+    that step, single problems and batches (numba compiles them again, tens of seconds,
+    for an argument that is read-only)."""
+    return np.require(a, dtype=np.float64, requirements=["C", "W"])
 
 
 def _settings(tolerance, relative_tolerance, max_iterations, warm: bool,
@@ -149,17 +158,16 @@ def solve_contacts(G, g, mu, compliance=None, solver: str = "admm", tolerance: f
     s = _settings(tolerance, relative_tolerance, max_iterations, warm_start is not None,
                   proximal)
     info = np.zeros(batch + (ncp.INFO,))
-    Gc = np.ascontiguousarray(Ga)
-    gc = np.ascontiguousarray(np.broadcast_to(ga, batch + (m,)))
+    Gc = _compiled_layout(Ga)
+    gc = _compiled_layout(np.broadcast_to(ga, batch + (m,)))
+    bc = _compiled_layout(np.broadcast_to(ba, batch + ba.shape))
     code = SOLVERS[solver]
     if batch:
         with PARALLEL_LOCK:
-            status = solve_batch(code, Gc, gc, mua, np.ascontiguousarray(
-                np.broadcast_to(ba, batch + ba.shape)), R, s, lam, info,
-                numba.get_num_threads())
+            status = solve_batch(code, Gc, gc, mua, bc, R, s, lam, info,
+                                 numba.get_num_threads())
     else:
-        status = solve_one(code, Gc, gc, mua, np.ascontiguousarray(ba), R, s, lam, info,
-                           np.empty((m, m)),
+        status = solve_one(code, Gc, gc, mua, bc, R, s, lam, info, np.empty((m, m)),
                            np.empty((SCRATCH_ROWS, max(m, 6))))
     if status != OK:
         raise ValueError(_explain(int(status), bool(batch)))
