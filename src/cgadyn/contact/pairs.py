@@ -64,7 +64,9 @@ def _point_distance(x0, x1, x2, kb, sb, vb, Tb, zero, P, work, tmp):
         for j in range(4):
             P[i, j] = 1.0 if i == j else 0.0
     P[0, 3], P[1, 3], P[2, 3] = x0, x1, x2
-    if pair_distance(SPHERE, zero, vb[:0], P, kb, sb, vb, Tb, work, tmp) != OK:
+    # np.int64: a constant argument is a literal type, which numba compiles pair_distance
+    # (GJK, EPA) again for
+    if pair_distance(np.int64(SPHERE), zero, vb[:0], P, kb, sb, vb, Tb, work, tmp) != OK:
         return np.nan
     return tmp[0]
 
@@ -111,7 +113,7 @@ def pair_patch(ka, sa, va, Ta, kb, sb, vb, Tb, margin, patch, zero, P, work, tmp
     # a's candidates against b's tangent plane π = n + (n · p_b) e∞ (K1, K21)
     count = candidates(ka, sa, va, Ta, n0, n1, n2, n0 * pb0 + n1 * pb1 + n2 * pb2,
                        cand[0:CANDIDATES], math.inf)
-    c = _keep(cand, 0, count, n0, n1, n2, 1.0, kb, sb, vb, Tb, margin, zero, P, work, tmp)
+    c = _keep(cand, np.int64(0), count, n0, n1, n2, 1.0, kb, sb, vb, Tb, margin, zero, P, work, tmp)
     # b's against a's tangent plane, whose normal is -n
     count = candidates(kb, sb, vb, Tb, -n0, -n1, -n2, -(n0 * pa0 + n1 * pa1 + n2 * pa2),
                        cand[c:c + CANDIDATES], math.inf)

@@ -196,7 +196,7 @@ def ground_contacts(model, collisions, q, world: World | None = None,
         if not (isinstance(x, (int, float)) and np.isfinite(x) and x >= 0):
             raise ValueError(f"{name} must be a finite number >= 0, got {x!r}")
     out = np.empty((K, C.MAX_CONTACTS, C.OUT))
-    counts = np.zeros(K, dtype=np.int64)
+    counts = np.zeros(K)  # float, as the rollouts' scratch holds it: one compiled variant
     C.shapes_on_plane(cm.kinds, cm.sizes, cm.vertices, cm.offsets, poses,
                       bounding_radii(cm), active, cm.compliance, world.plane.packed_size,
                       np.eye(4),

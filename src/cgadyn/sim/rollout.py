@@ -214,8 +214,9 @@ def _world_dynamics(m, q, v, tau, f, con, fac, qdd, sc, work):
 def _constrained(m, q, v, tau, f, con, qdd, sc, work):
     """The constrained dynamics of ``_dynamics`` (C6, C7), λ in ``sc.lam``."""
     cons, settings, cwork = con
-    status = constraint_core(m, cons, q, v, tau, settings, FORWARD, sc.J, sc.gam, sc.G, qdd,
-                             sc.lam, sc.info, cwork, f)
+    # np.int64: the constant would be a literal type, a variant of the core of its own
+    status = constraint_core(m, cons, q, v, tau, settings, np.int64(FORWARD), sc.J, sc.gam,
+                             sc.G, qdd, sc.lam, sc.info, cwork, f)
     if status == OK and sc.info[INFO - 1] >= 0.0:
         return fault(CONSTRAINTS_CONFLICT, int(sc.info[INFO - 1]))
     return status
@@ -248,7 +249,7 @@ def _record(m, con, status, sc):
 def _rows_of(cons):
     """The constraint rows of a pack (``constraints.core``); 0 for none (``cons`` None)."""
     if cons is None:
-        return 0
+        return np.int64(0)  # not the literal 0: one variant of what takes it
     return int(cons[1])
 
 
