@@ -15,6 +15,7 @@ import os
 import shutil
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -99,3 +100,59 @@ def test_an_edit_throws_away_only_the_machine_code_that_depends_on_it(tmp_path, 
         sub = UserProvidedCacheLocator.get_suitable_cache_subpath(str(src / "__init__.py"))
         assert json.loads((tmp_path / sub / _jit.STAMP).read_text()) == {
             p.name: fp for p, fp in prints.items() if p.parent == src}
+
+
+LATE = """
+import sys, time
+from pathlib import Path
+import numpy as np
+import cgadyn
+model = cgadyn.load("double_pendulum")
+Path(sys.argv[1]).write_text("imported")
+while not Path(sys.argv[2]).exists():
+    time.sleep(0.05)
+print(repr(cgadyn.rnea(model, np.array([0.3, -0.2]), np.zeros(2), np.zeros(2)).tolist()))
+"""
+"""A process that imports the package, waits, and only then compiles rnea and caches it."""
+
+
+def test_a_process_that_imported_before_an_edit_does_not_cache_as_current(tmp_path: Path):
+    """The race ``_heal`` alone does not cover: a process imports the sources, an inlined
+    kernel is edited, a new process heals the cache (and stamps it as the edited code's),
+    then the first process compiles rnea from the code it imported and caches it under
+    numba's stamp of rnea's own file, which the edit did not touch. The first process
+    computes with the code it imported; a third must compute with the edited code (numba's
+    index names the fingerprint of the sources it was compiled from,
+    ``_jit._install_source_stamps``)."""
+    package = Path(cgadyn.__file__).parent
+    copy = tmp_path / "cgadyn"
+    shutil.copytree(package, copy, ignore=shutil.ignore_patterns("__pycache__", "*.so"))
+    model = cgadyn.load("double_pendulum")
+    before = cgadyn.rnea(model, [0.3, -0.2], [0.0, 0.0], [0.0, 0.0])
+    after = cgadyn.rnea(model, [0.8, 0.3], [0.0, 0.0], [0.0, 0.0])
+    cache = tmp_path / "numba"
+    env = {**os.environ, "PYTHONPATH": str(tmp_path), "PYTHONDONTWRITEBYTECODE": "1",
+           "NUMBA_CACHE_DIR": str(cache), "CGADYN_CACHE_DIR": str(tmp_path / "models")}
+    ready, go = tmp_path / "ready", tmp_path / "go"
+    late = subprocess.Popen([sys.executable, "-c", LATE, str(ready), str(go)], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            cwd=tmp_path)
+    try:
+        for _ in range(6000):
+            if ready.exists() or late.poll() is not None:
+                break
+            time.sleep(0.05)
+        assert ready.exists(), late.communicate()[1]
+        joints = copy / "multibody" / "joints" / "dispatch.py"
+        joints.write_text(joints.read_text().replace(*EDIT))
+        heal = subprocess.run([sys.executable, "-c", "import cgadyn._jit"], env=env,
+                              capture_output=True, text=True, timeout=600, cwd=tmp_path)
+        assert heal.returncode == 0, heal.stderr  # a new process heals the cache, caches nothing
+        go.write_text("go")
+        out, err = late.communicate(timeout=600)
+    finally:
+        if late.poll() is None:
+            late.kill()
+    assert late.returncode == 0, err
+    assert np.allclose(eval(out.strip().splitlines()[-1]), before, rtol=0, atol=1e-12)
+    assert np.allclose(_run(tmp_path, cache), after, rtol=0, atol=1e-12)

@@ -102,7 +102,7 @@ def _heal() -> None:
     another ``NUMBA_CACHE_DIR``, say) is healed when it is used again. The first directory
     numba will try is made now and stamped, so that the code numba caches there later is
     known to be this code's."""
-    prints = closure_fingerprints()
+    prints = _PRINTS
     for src, dirs in _cache_dirs():
         now = {p.name: fp for p, fp in prints.items() if p.parent == src}
         try:
@@ -128,7 +128,42 @@ def _heal() -> None:
                 pass  # read-only: numba will not cache here either
 
 
+_PRINTS = closure_fingerprints()
+"""Each compiled source file's fingerprint of the files it imports, as this process read
+them at import."""
+
 _heal()
+
+
+def _install_source_stamps() -> None:
+    """Make numba's cache index of each function of a compiled source file name the file's
+    fingerprint (``_PRINTS``) as this process imported it, beside numba's own stamp of the
+    file alone.
+
+    ``_heal`` throws away what was compiled from other sources when a process starts, but
+    a process that imported the sources before an edit of a file they import, and compiles
+    later, writes the machine code of the code it imported into the cache, under the stamp
+    of the function's own (unedited) file: later processes would load it as current. With
+    the fingerprint in the stamp, numba reads an index written by such a process as stale
+    and compiles again. Where numba's locators have no ``get_source_stamp`` (another numba),
+    nothing is changed: the healing at import still applies."""
+    from numba.core import caching
+
+    mixin = getattr(caching, "_SourceFileBackedLocatorMixin", None)
+    original = getattr(mixin, "get_source_stamp", None)
+    if original is None or getattr(original, "_cgadyn", False):
+        return
+
+    def get_source_stamp(self):
+        stamp = original(self)
+        fingerprint = _PRINTS.get(Path(getattr(self, "_py_file", "")).resolve())
+        return stamp if fingerprint is None else (stamp, fingerprint)
+
+    get_source_stamp._cgadyn = True
+    mixin.get_source_stamp = get_source_stamp
+
+
+_install_source_stamps()
 
 
 def caching() -> bool:
