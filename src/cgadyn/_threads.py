@@ -15,7 +15,7 @@ It is for calls whose chunks run for milliseconds or more (the rollouts): starti
 costs tens of microseconds, where numba's pool wakes its threads in a few. What it saves is
 compile time: numba compiles a ``prange`` loop's body as a function of its own and links
 into it every function it calls, so that LLVM optimises and emits all of that code once
-more (``docs/architecture.md``, "Compile time").
+more (``docs/architecture.md``, "Compiling and caching").
 """
 
 from __future__ import annotations

@@ -492,7 +492,7 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, se
     of ``rollout_range`` on a Python thread (``_threads.in_chunks``), not a ``prange`` loop:
     such a loop's body is compiled again with everything it calls, a quarter of the cold
     compile of each of the loop's specialisations, for no run-time gain
-    (``docs/architecture.md``, "Compile time").
+    (``docs/architecture.md``, "Compiling and caching").
     """
     size, csize, wsize = rollout_sizes(packed, cons, world)
 
