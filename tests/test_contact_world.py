@@ -37,14 +37,14 @@ def _contacts(shape, T, world=None, margin=1.0):
     cand = np.empty((C.CANDIDATES, C.CANDIDATE_COLUMNS))
     radius = bounding_radii([SimpleNamespace(shape=shape)])[0]
     vertices = np.ascontiguousarray(shape.packed_vertices, dtype=float).reshape(-1, 3)
-    counts = np.zeros(1, dtype=np.int64)
+    counts = np.zeros(1)  # floats, as the library passes them (one compiled variant)
     C.shapes_on_plane(np.array([shape.kind]), np.array([shape.packed_size], dtype=float),
                       vertices, np.array([0, len(vertices)]), T[None].copy(),
                       np.array([radius]), np.array([True]), np.zeros((1, 2)),
                       world.plane.packed_size,
                       np.eye(4), margin, 0.0, cand, out[None], counts, np.zeros((1, 2, 6)),
                       0.0)
-    return out[:counts[0]]
+    return out[:int(counts[0])]
 
 
 @pytest.mark.parametrize("shape", SHAPES, ids=lambda s: s.name)
