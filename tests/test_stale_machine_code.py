@@ -36,16 +36,23 @@ EDIT = ("        x = q[k]\n", "        x = q[k] + 0.5\n")
 """The joint scalars of ``q + 0.5``: the torques of another configuration."""
 
 
+def _env(tmp_path: Path, cache: Path) -> dict[str, str]:
+    """The environment of a process that imports the copy of the package in ``tmp_path``
+    and caches its machine code in ``cache``."""
+    return {**os.environ, "PYTHONPATH": str(tmp_path), "PYTHONDONTWRITEBYTECODE": "1",
+            "NUMBA_CACHE_DIR": str(cache), "CGADYN_CACHE_DIR": str(tmp_path / "models")}
+
+
 def _run(tmp_path: Path, cache: Path) -> list[float]:
-    env = {**os.environ, "PYTHONPATH": str(tmp_path), "PYTHONDONTWRITEBYTECODE": "1",
-           "NUMBA_CACHE_DIR": str(cache), "CGADYN_CACHE_DIR": str(tmp_path / "models")}
-    run = subprocess.run([sys.executable, "-c", SCRIPT], env=env, capture_output=True,
-                         text=True, timeout=600, cwd=tmp_path)
+    run = subprocess.run([sys.executable, "-c", SCRIPT], env=_env(tmp_path, cache),
+                         capture_output=True, text=True, timeout=600, cwd=tmp_path)
     assert run.returncode == 0, run.stderr
     return eval(run.stdout.strip().splitlines()[-1])
 
 
-def test_an_edited_kernel_heals_every_cache_directory(tmp_path: Path):
+def _copy(tmp_path: Path) -> tuple[Path, np.ndarray, np.ndarray]:
+    """A copy of the package in ``tmp_path``, and ``SCRIPT``'s torques before and after
+    ``EDIT`` (computed here, by the package itself)."""
     package = Path(cgadyn.__file__).parent
     copy = tmp_path / "cgadyn"
     shutil.copytree(package, copy, ignore=shutil.ignore_patterns("__pycache__", "*.so"))
@@ -53,6 +60,11 @@ def test_an_edited_kernel_heals_every_cache_directory(tmp_path: Path):
     before = cgadyn.rnea(model, [0.3, -0.2], [0.0, 0.0], [0.0, 0.0])
     after = cgadyn.rnea(model, [0.8, 0.3], [0.0, 0.0], [0.0, 0.0])
     assert not np.allclose(before, after)  # the edit shows in the numbers
+    return copy, before, after
+
+
+def test_an_edited_kernel_heals_every_cache_directory(tmp_path: Path):
+    copy, before, after = _copy(tmp_path)
     first, second = tmp_path / "numba_a", tmp_path / "numba_b"
     assert np.allclose(_run(tmp_path, first), before, rtol=0, atol=1e-12)
     assert np.allclose(_run(tmp_path, second), before, rtol=0, atol=1e-12)
@@ -124,15 +136,9 @@ def test_a_process_that_imported_before_an_edit_does_not_cache_as_current(tmp_pa
     computes with the code it imported; a third must compute with the edited code (numba's
     index names the fingerprint of the sources it was compiled from,
     ``_jit._install_source_stamps``)."""
-    package = Path(cgadyn.__file__).parent
-    copy = tmp_path / "cgadyn"
-    shutil.copytree(package, copy, ignore=shutil.ignore_patterns("__pycache__", "*.so"))
-    model = cgadyn.load("double_pendulum")
-    before = cgadyn.rnea(model, [0.3, -0.2], [0.0, 0.0], [0.0, 0.0])
-    after = cgadyn.rnea(model, [0.8, 0.3], [0.0, 0.0], [0.0, 0.0])
+    copy, before, after = _copy(tmp_path)
     cache = tmp_path / "numba"
-    env = {**os.environ, "PYTHONPATH": str(tmp_path), "PYTHONDONTWRITEBYTECODE": "1",
-           "NUMBA_CACHE_DIR": str(cache), "CGADYN_CACHE_DIR": str(tmp_path / "models")}
+    env = _env(tmp_path, cache)
     ready, go = tmp_path / "ready", tmp_path / "go"
     late = subprocess.Popen([sys.executable, "-c", LATE, str(ready), str(go)], env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
