@@ -489,10 +489,9 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, se
     the next one (``stop_row``), and NaN after it.
 
     The rollouts run in contiguous chunks, one per thread of numba's, each chunk one call
-    of ``rollout_range`` on a Python thread (``_threads.in_chunks``), not a ``prange`` loop:
-    such a loop's body is compiled again with everything it calls, a quarter of the cold
-    compile of each of the loop's specialisations, for no run-time gain
-    (``docs/architecture.md``, "Compiling and caching").
+    of ``rollout_range`` on a Python thread (``_threads.in_chunks``), not a ``prange`` loop,
+    whose body numba would compile again with everything it calls (``docs/architecture.md``,
+    "Compiling and caching").
     """
     size, csize, wsize = rollout_sizes(packed, cons, world)
 
@@ -531,6 +530,12 @@ def rollout_range(packed, b0, b1, method, q0, v0, u, f, flags, coords, q_ref, v_
     work, o = ws.carve(ws.data_pointer(heap), 0, (shared,))  # bare: no reference counts
     cwork = ws.carve(ws.data_pointer(heap), o, (heap.shape[0] - shared,))[0]
     con = _bind(cons, settings, cwork)
+    sc = workspace(ws.data_pointer(buf), mb, nr)
+    for k in range(mb.nv):
+        sc.zero[k] = 0.0
+    q, v, qn, vn, a = sc.q, sc.v, sc.qn, sc.vn, sc.a
+    rows = Q.shape[1]
+    hold = 1 if held == steps else 0  # a row of u per step, or one for all
     for b in range(b0, b1):
         wd = _bind_world(world, wbuf, mb.n, mb.nq, mb.nv, mb.nl, nr)  # warm starts cleared
         fac = _factors(wd)
@@ -538,12 +543,7 @@ def rollout_range(packed, b0, b1, method, q0, v0, u, f, flags, coords, q_ref, v_
         # bare views of this rollout's contact outputs (no reference counts at each step)
         CSb = ws.carve(ws.data_pointer(CS[b]), 0, CS[b].shape)[0]
         CTb = ws.carve(ws.data_pointer(CT[b]), 0, CT[b].shape)[0]
-        sc = workspace(ws.data_pointer(buf), mb, nr)
-        for k in range(mb.nv):
-            sc.zero[k] = 0.0
-        q, v, qn, vn, a = sc.q, sc.v, sc.qn, sc.vn, sc.a
         # bare views of this rollout's rows (no reference counts in the loop over steps)
-        rows = Q.shape[1]
         Qb = _rows(Q[b], rows, mb.nq)
         Vb = _rows(V[b], rows, mb.nv)
         Ab = _rows(A[b], rows, mb.nv)
@@ -552,7 +552,6 @@ def rollout_range(packed, b0, b1, method, q0, v0, u, f, flags, coords, q_ref, v_
         ub = _rows(u[0], held, mb.nv)  # shared by all rollouts, or
         if u.shape[0] > 1:
             ub = _rows(u[b], held, mb.nv)  # this rollout's own
-        hold = 1 if held == steps else 0  # a row per step, or one for all
         fb = sc.none  # no wrenches, or
         if f.shape[0] == 1:
             fb = _rows(f[0], mb.n, 6)
