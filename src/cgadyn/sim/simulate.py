@@ -34,6 +34,7 @@ from ..constraints.model import pack
 from ..constraints.operators import checked_settings
 from ..multibody.joints.table import spring_deflection
 from ..multibody.packed import DEFAULT_GRAVITY, with_armature
+from . import pages
 from .bodies import robot_and_bodies
 from .contact import KEPT, REPORT, slots, world_arrays
 from .controllers import PD, GravityCompensation, actuated_gains
@@ -216,9 +217,10 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     cons, solve = (np.array(p.array, dtype=float), settings) if p.nr else (None, None)
     CF = np.empty(shape + (KEPT if world is not None else 0,))
     # the slots' forces and the joints' limit and friction torques, slot- and coordinate-
-    # major and zeros: pages no contact writes are never touched (rollout._keep_contacts)
-    CS = np.zeros((B, K if world is not None else 0, rows, 3))
-    CT = np.zeros((B, 2, model.nv if world is not None else 0, rows))
+    # major and zeros: pages no contact writes are never touched (rollout._keep_contacts,
+    # sim/pages.py)
+    CS = pages.zeros((B, K if world is not None else 0, rows, 3))
+    CT = pages.zeros((B, 2, model.nv if world is not None else 0, rows))
     CR = np.full((B, REPORT), np.nan)
     with PARALLEL_LOCK:
         rollouts(step_model, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, q_ref, v_ref,
