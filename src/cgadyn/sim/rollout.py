@@ -317,9 +317,9 @@ def _keep_contacts(kept, row, CS, CT, r):
     (``sim.contact.KEPT``), and into row ``r`` of ``CS`` (K, rows, 3) and ``CT`` (2, nv,
     rows), the forces of the slots that held a contact and the limits' and friction losses'
     nonzero generalised forces; nothing without a world. ``CS`` and ``CT`` are slot-major
-    and come in as untouched zero pages (``simulate``): a slot that never holds a contact,
-    a coordinate no limit or friction loss acts on, is never written and costs no memory,
-    and each written stream is contiguous in the steps."""
+    and come in as untouched zero pages of 4 KiB (``simulate``, ``sim/pages.py``): a slot
+    that never holds a contact, a coordinate no limit or friction loss acts on, is never
+    written and costs no memory, and each written stream is contiguous in the steps."""
     if kept is None:
         return
     force, had, count, report, torques = kept
