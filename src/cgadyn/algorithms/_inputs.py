@@ -22,10 +22,9 @@ _NUMERIC = "biuf"
 
 def state(model, x, name: str, size: int) -> np.ndarray:
     """``x`` as a contiguous writable float64 array of shape (size,) or (B, size)."""
-    order = ("q: " if name == "q" else f"{name}: ") + layout(model, name != "q")
     if x is None:
         raise ValueError(f"{name} is None; expected an array of shape ({size},) or "
-                         f"(B, {size}) for {model.name!r} ({order})")
+                         f"(B, {size}) for {model.name!r} ({_order(model, name)})")
     try:
         a = np.asarray(x)
     except (TypeError, ValueError) as exc:
@@ -40,9 +39,15 @@ def state(model, x, name: str, size: int) -> np.ndarray:
                              f"dtype {a.dtype}") from None
     if a.ndim not in (1, 2) or a.shape[-1] != size:
         raise ValueError(f"{name} must have shape ({size},) or (B, {size}) for "
-                         f"{model.name!r}, got {a.shape}; {order}")
+                         f"{model.name!r}, got {a.shape}; {_order(model, name)}")
     a = np.ascontiguousarray(a, dtype=np.float64)
     return a if a.flags.writeable else a.copy()  # one compiled signature: writable arrays
+
+
+def _order(model, name: str) -> str:
+    """The order of the entries of state ``name`` (``q``: configurations, else velocities),
+    for an error's message: written only for one (the joints' names, a loop over them)."""
+    return ("q: " if name == "q" else f"{name}: ") + layout(model, name != "q")
 
 
 def states(model, arrays: tuple, inputs: tuple) -> tuple[np.ndarray, ...]:
