@@ -126,11 +126,43 @@ residual of the step (``rollout._keep_contacts``, which writes the slots' forces
 joint limits' and friction losses' generalised forces into arrays of their own)."""
 
 
+WORLDS_KEPT = 16
+"""How many ``world_arrays`` results are kept for the next calls (``_WORLDS``)."""
+_WORLDS: dict[tuple, tuple] = {}
+
+
 def world_arrays(model, collisions, world, contact, joint_limits: bool = True,
                  friction_loss: bool = True, robot_joints: int | None = None) -> tuple:
     """The tuple the loop reads (the module's docstring), with the settings of
     ``contact`` (a ``ContactSettings``); the joints from ``robot_joints`` on (default: none)
-    are the World's free bodies."""
+    are the World's free bodies. Made once per model, collision model, world and settings
+    and kept (the last ``WORLDS_KEPT``): a controller that calls ``simulate`` at every
+    period with the same scene would otherwise build them again each time (the candidate
+    pairs, the shapes' bounding radii and frames), half of such a call's own cost. Each
+    input is immutable: a model's arrays are read-only, a collision model is made from
+    frozen records (``compliant`` and ``on`` return new ones), a world and settings are
+    frozen records, compared by value (a world of free bodies by identity)."""
+    try:
+        scene = hash(world)
+        scene = world
+    except TypeError:  # a world of bodies whose records hold arrays: by identity
+        scene = id(world)
+    key = (id(model), id(collisions), scene, contact, joint_limits, friction_loss,
+           robot_joints)
+    found = _WORLDS.get(key)
+    if found is not None:  # the entry holds the objects, so their ids are still theirs
+        return found[1]
+    arrays = _world_arrays(model, collisions, world, contact, joint_limits, friction_loss,
+                           robot_joints)
+    if len(_WORLDS) >= WORLDS_KEPT:
+        _WORLDS.clear()
+    _WORLDS[key] = ((model, collisions, world), arrays)
+    return arrays
+
+
+def _world_arrays(model, collisions, world, contact, joint_limits: bool,
+                  friction_loss: bool, robot_joints: int | None) -> tuple:
+    """``world_arrays``, made anew."""
     from ..contact.limits import joint_frictions
     from ..contact.limits import joint_limits as limits_of
     from ..contact.pairs import bounding_radii
