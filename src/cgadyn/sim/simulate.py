@@ -74,6 +74,11 @@ class SimulationDiverged(RuntimeWarning):
 
 MEMORY_SHARE = 0.8
 """The share of the memory available that the states of one ``simulate`` call may take."""
+CHECKED_FROM = 1 << 24
+"""Bytes of kept states from which ``_fits`` asks the system what memory is available
+(reading ``/proc/meminfo``, a file, at each call); a run that needs less always fits where
+Python runs at all, and the controller that calls ``simulate`` at every period for a short
+horizon does not pay for the question."""
 
 
 def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravity=None,
@@ -361,7 +366,10 @@ def _fits(model, B: int, steps: int, rows: int, nr: int = 0, slots: int | None =
     ``MEMORY_SHARE`` of the memory available."""
     world = 0 if slots is None else KEPT + 3 * slots + 2 * model.nv + 3
     per_row = 8 * (model.nq + 2 * model.nv + 2 + 3 * nr + 2 * nr + world)
-    need, have = B * rows * per_row, int(MEMORY_SHARE * available_memory())
+    need = B * rows * per_row
+    if need < CHECKED_FROM:
+        return
+    have = int(MEMORY_SHARE * available_memory())
     if need <= have:
         return
     fit = have // (B * per_row)  # rows that fit; kept_rows(steps, k) <= steps / k + 2
