@@ -303,3 +303,41 @@ def test_rollout_keeps_planar_directions_unit(name):
             assert np.abs(np.linalg.norm(unit, axis=-1) - 1.0).max() <= 1e-12
     drift = np.abs(traj.energy[:, -1] - traj.energy[:, 0]) / np.abs(traj.energy[:, 0])
     assert drift.max() <= 1e-6
+
+
+@pytest.mark.parametrize("name", [n for n in sorted(MODELS) if n.startswith("universal")])
+def test_pinocchios_joint_indexed_arrays_move_by_the_joint_map(name):
+    """A universal or spherical ZYX joint is a chain of joints in cgadyn: Pinocchio's
+    wrenches per joint (``f_ext``) and joint placements (``oMi``) move between the
+    libraries by ``oracle.joint_map``, the wrenches by ``oracle.cgadyn_wrenches``."""
+    from cgadyn.cga.conventions import matrix_from_motor
+
+    pm = MODELS[name]()
+    model = cgadyn.from_pinocchio(pm)
+    assert model.njoints > pm.njoints - 1  # the chains' joints
+    data = pm.createData()
+    rng = np.random.default_rng(3)
+    states = oracle.sample(model, 3, 5)
+    for q, v, a in zip(states.q, states.v, states.a, strict=True):
+        qp = oracle.pin_configuration(model, q)
+        f_pin = rng.standard_normal((pm.njoints - 1, 6))
+        f = oracle.cgadyn_wrenches(model, pm, f_pin)
+        expected = pin.rnea(pm, data, qp, v, a, oracle.forces(f_pin))
+        np.testing.assert_allclose(cgadyn.rnea(model, q, v, a, f_ext=f), expected,
+                                   rtol=1e-10, atol=1e-10 * np.abs(expected).max())
+        expected = pin.aba(pm, data, qp, v, a, oracle.forces(f_pin))
+        np.testing.assert_allclose(cgadyn.aba(model, q, v, a, f_ext=f), expected,
+                                   rtol=1e-9, atol=1e-9 * np.abs(expected).max())
+        pin.forwardKinematics(pm, data, qp)
+        joints, _ = cgadyn.forward_kinematics(model, q)
+        for i, j in enumerate(oracle.joint_map(model, pm)):
+            np.testing.assert_allclose(matrix_from_motor(joints[j]),
+                                       data.oMi[i + 1].homogeneous, atol=1e-12)
+
+
+def test_the_joint_map_refuses_another_model():
+    pm = MODELS["universal-chain"]()
+    with pytest.raises(ValueError, match="are not joints of 'panda'"):
+        oracle.joint_map(cgadyn.load("panda"), pm)
+    with pytest.raises(ValueError, match=r"shape \(\.\.\., 4, 6\)"):
+        oracle.cgadyn_wrenches(cgadyn.from_pinocchio(pm), pm, np.zeros((5, 6)))

@@ -120,6 +120,42 @@ def cgadyn_configuration(model, qp: np.ndarray) -> np.ndarray:
     return table.from_pinocchio(model, qp)
 
 
+def joint_map(model, pm) -> np.ndarray:
+    """int64 (``pm.njoints - 1``,): for each joint of the Pinocchio model ``pm`` that
+    ``model`` was converted from (``from_pinocchio``), universe excluded and in Pinocchio's
+    order, the cgadyn joint that carries its body: the joint of the same name. A universal
+    or spherical ZYX joint is a chain of revolute joints in cgadyn whose last joint has its
+    name, its body and its frame (the frame after the joint's whole motion, where Pinocchio
+    expresses the joint's ``f_ext`` and places its ``oMi``), so that rows indexed by joint
+    move between the libraries by this map: ``placements_pin = placements[map]``,
+    ``f_ext[map] = f_ext_pin`` (``cgadyn_wrenches``). Raises ``ValueError`` naming a
+    Pinocchio joint that ``model`` does not have (a model converted from another)."""
+    names = list(pm.names)[1:]
+    missing = [name for name in names if name not in model.joint_names]
+    if missing:
+        raise ValueError(f"joint_map: the Pinocchio model's joints {missing} are not joints "
+                         f"of {model.name!r}; expected the model that "
+                         f"cgadyn.from_pinocchio made of it")
+    return np.array([model.joint_index(name) for name in names], dtype=np.int64)
+
+
+def cgadyn_wrenches(model, pm, f_ext_pin) -> np.ndarray:
+    """Pinocchio's external wrenches, one per joint of ``pm`` (``(..., pm.njoints - 1,
+    6)``, ``[f, τ]`` in each joint's frame, universe excluded), as cgadyn's ``f_ext``
+    (``(..., model.njoints, 6)``): each at the joint of ``joint_map``, zero at the joints
+    inside a universal or spherical ZYX joint's chain (massless bodies that nothing
+    pushes)."""
+    f = np.asarray(f_ext_pin, dtype=float)
+    nj = pm.njoints - 1
+    if f.ndim < 2 or f.shape[-2:] != (nj, 6):
+        raise ValueError(f"cgadyn_wrenches: Pinocchio's wrenches must have shape (..., {nj}, "
+                         f"6), one [f, tau] per joint of its model, universe excluded; got "
+                         f"{f.shape}")
+    out = np.zeros(f.shape[:-2] + (model.njoints, 6))
+    out[..., joint_map(model, pm), :] = f
+    return out
+
+
 def forces(f_ext: np.ndarray):
     """Pinocchio's list of forces (the universe's first) from cgadyn's (n, 6) ``f_ext``."""
     import pinocchio as pin
