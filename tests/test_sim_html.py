@@ -213,3 +213,61 @@ def test_the_floor_is_a_grid_under_the_robot_seen_from_above(pendulum_page):
     c, r = np.array(meta["center"]), meta["radius"]
     assert np.abs(points[:, :2] - c[:2]).max() < 2.5 * r  # about the robot, not 20 m
     assert "h = Math.max(c[2] + 1.6 * r, meta.floor + 0.8 * r)" in text  # camera above it
+
+
+@pytest.fixture(scope="module")
+def standing_page(tmp_path_factory):
+    """solo12 standing on the ground for 0.3 s, its contact forces drawn."""
+    from contact_cases import solo12_on_the_ground
+
+    model, cm, q = solo12_on_the_ground()
+    pd = cgadyn.PD(kp=20.0, kd=0.5, q_ref=q, gravity_compensation=False)
+    traj = cgadyn.simulate(model, q, np.zeros(model.nv), 1e-3, 300, controller=pd,
+                           integrator="semi_implicit_euler", world=cgadyn.World(),
+                           collisions=cm)
+    path = html.write_html(model, traj.q, 1e-3, tmp_path_factory.mktemp("html") / "solo.html",
+                           contacts=traj.contacts)
+    return model, traj, path
+
+
+def test_contact_forces_are_arrows_ending_at_their_points(standing_page):
+    """One clip per contact slot: at each frame the arrow's head (its tail plus its length
+    along the force) is the contact point, its length the force times the robot's size
+    over its weight; hidden where the slot holds no contact."""
+    model, traj, path = standing_page
+    meta, cmds = _page_parts(path.read_text(encoding="utf-8"))
+    clips = [a for c in cmds if c["type"] == "set_animation" for a in c["animations"]
+             if a["path"].startswith("/cgadyn/contacts/")]
+    rows = html.animation_frames(traj.q, 1e-3)
+    seen = {c.slot for r in rows for c in traj.contacts(int(r))}
+    assert len(seen) >= 4 and {a["path"] for a in clips} == {
+        f"/cgadyn/contacts/slot_{s}" for s in seen}
+    per_newton = meta["radius"] / (model.total_mass * 9.81)
+    for a in clips:
+        slot = int(a["path"].rsplit("_", 1)[1])
+        pos, quat, scale = ([k["value"] for k in t["keys"]] for t in a["clip"]["tracks"])
+        for i, r in enumerate(rows):
+            c = next((c for c in traj.contacts(int(r)) if c.slot == slot), None)
+            if c is None or not np.all(np.isfinite(c.force)) or not np.any(c.force):
+                assert scale[i] == [html.HIDDEN] * 3
+                continue
+            x, y, z, w = quat[i]
+            up = np.array([2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w)])
+            np.testing.assert_allclose(up, c.force / np.linalg.norm(c.force), atol=1e-9)
+            assert scale[i][1] == pytest.approx(np.linalg.norm(c.force) * per_newton)
+            np.testing.assert_allclose(np.array(pos[i]) + scale[i][1] * up, c.point,
+                                       atol=1e-12)
+
+
+@pytest.mark.slow
+@pytest.mark.browser
+@pytest.mark.skipif(CHROMIUM is None, reason="no chromium to render the page")
+def test_chromium_shows_the_contact_forces(standing_page, tmp_path):
+    import matplotlib.image as mpimg
+
+    _, _, path = standing_page
+    png = tmp_path / "shot.png"
+    screenshot(path, png, budget_ms=1500)
+    img = (mpimg.imread(png)[..., :3] * 255).astype(int)
+    red = (img[..., 0] > 150) & (img[..., 1] < 80) & (img[..., 2] < 80)
+    assert red.sum() > 50, f"no contact arrow drawn: {red.sum()} red pixels"

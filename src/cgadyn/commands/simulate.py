@@ -275,7 +275,8 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
     i = out.pop("i")  # the times as one call gives them (sim.simulate._times)
     t = np.where(i % every == 0, (dt * every) * (i // every), dt * i)
     return Trajectory(t=t, **out, completed=done, diverged=bool(message), dt=dt,
-                      integrator=integrator, message=message)
+                      integrator=integrator, message=message,
+                      scene=traj.scene)  # the same for every call: its contacts' at a state
 
 
 def _stopped(message: str, done: int, steps: int, dt: float, offset: int = 0) -> str:
@@ -431,7 +432,8 @@ def run(args: argparse.Namespace) -> int:
     if html is not None:
         from ..sim.html import write_html
 
-        write_html(model, traj.q, args.dt * every, html, urdf=_urdf(args.robot, registry))
+        write_html(model, traj.q, args.dt * every, html, urdf=_urdf(args.robot, registry),
+                   contacts=traj.contacts if ground else None)
     if args.json:
         arrays = {k: getattr(traj, k) for k in ("t", "q", "v", "a", "kinetic", "potential",
                                                 "energy")}

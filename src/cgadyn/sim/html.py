@@ -9,6 +9,8 @@ Geometry comes from the URDF's ``<visual>`` elements (meshes in DAE, STL or OBJ,
 cylinders, spheres), each placed at its link frame composed with the visual's ``<origin>``
 (and ``scale``); the link frames per animation frame are
 :func:`cgadyn.link_placements` of the trajectory, sampled at ``fps`` frames per second.
+A rollout with a world adds its contact forces, one arrow per contact slot, animated with
+the robot (position, direction and length keyframed with the links').
 """
 
 from __future__ import annotations
@@ -243,7 +245,7 @@ def animation_frames(q: np.ndarray, dt: float, fps: float = FPS) -> np.ndarray:
 
 
 def _commands(model, q: np.ndarray, dt: float, fps: float, urdf,
-              loop: bool) -> tuple[list[dict], dict]:
+              loop: bool, contacts=None) -> tuple[list[dict], dict]:
     from ..algorithms.api import link_placements
 
     vis = visuals(model, urdf) or skeleton(model)
@@ -272,13 +274,102 @@ def _commands(model, q: np.ndarray, dt: float, fps: float, urdf,
                             for t, r in zip(times, quat, strict=True)]}]
         animations.append({"path": path[li], "clip": {"fps": float(fps), "name": "default",
                                                       "tracks": tracks}})
+    framing = _framing(T, vis)
+    if contacts is not None:
+        arrows, clips = _contact_arrows(model, contacts, rows, times, fps, framing)
+        cmds += arrows
+        animations += clips
     cmds.append({"type": "set_animation", "path": "", "animations": animations,
                  "options": {"play": True, "repetitions": 1_000_000 if loop else 1}})
     cmds.append({"type": "set_property", "path": "/Axes", "property": "visible",
                  "value": False})
-    framing = _framing(T, vis)
     cmds += _floor(framing)
     return cmds, framing
+
+
+CONTACT_RGBA = (0.85, 0.15, 0.1, 1.0)
+"""The colour of the contact force arrows."""
+HIDDEN = 1e-9
+"""The scale of an arrow whose slot holds no contact in a frame: too small to draw."""
+
+
+def _contact_arrows(model, contacts, rows, times, fps: float,
+                    framing: dict) -> tuple[list[dict], list[dict]]:
+    """One arrow per contact slot that holds a contact in any frame (``contacts(k)``: the
+    ``ContactPoint``s of state k, a trajectory's ``contacts``): the force on the robot,
+    pushing at the contact point (the arrow ends there, outside the body it pushes), the
+    robot's weight as long as the robot's size (capped at twice it), animated with the
+    robot; hidden (``HIDDEN`` scale) in the frames where its slot holds no force. Returns
+    the arrows' commands and their animation clips."""
+    g, _ = require_viewer()
+    per_frame = [{c.slot: c for c in contacts(int(r))} for r in rows]
+    slots = sorted({slot for frame in per_frame for slot in frame})
+    radius = framing["radius"]
+    weight = max(model.total_mass * 9.81, 1e-12)
+    per_newton = radius / weight
+    cmds: list[dict] = []
+    clips: list[dict] = []
+    for slot in slots:
+        node = f"/cgadyn/contacts/slot_{slot}"
+        shaft = g.Cylinder(1.0, 0.02 * radius)  # along y, centred: moved up by half
+        cmds.append({"type": "set_object", "path": f"{node}/shaft",
+                     "object": g.Mesh(shaft, g.MeshLambertMaterial(
+                         color=_hex(CONTACT_RGBA))).lower()})
+        cmds.append({"type": "set_transform", "path": f"{node}/shaft",
+                     "matrix": [1.0, 0, 0, 0, 0, 1.0, 0, 0, 0, 0, 1.0, 0, 0, 0.5, 0, 1.0]})
+        shown = [frame.get(slot) for frame in per_frame]
+        shown = [c if c is not None and np.all(np.isfinite(c.force))
+                 and np.linalg.norm(c.force) > 0.0 else None for c in shown]
+        points = _filled([None if c is None else np.asarray(c.point, dtype=float)
+                          for c in shown])
+        pos, quat, scale = [], [], []
+        for c, p in zip(shown, points, strict=True):
+            if c is None:
+                pos.append([float(x) for x in p])
+                quat.append([0.0, 0.0, 0.0, 1.0])
+                scale.append([HIDDEN] * 3)
+                continue
+            f = np.asarray(c.force, dtype=float)
+            d = f / np.linalg.norm(f)
+            length = min(float(np.linalg.norm(f)) * per_newton, 2.0 * radius)
+            pos.append([float(x) for x in p - length * d])  # the tail; the head at p
+            quat.append(_quaternion_xyzw(_turn_y_to(d)))
+            scale.append([1.0, length, 1.0])
+        tracks = [{"name": f".{name}", "type": kind,
+                   "keys": [{"time": float(t), "value": v} for t, v in zip(times, values,
+                                                                          strict=True)]}
+                  for name, kind, values in (("position", "vector3", pos),
+                                             ("quaternion", "quaternion", quat),
+                                             ("scale", "vector3", scale))]
+        clips.append({"path": node, "clip": {"fps": float(fps), "name": "default",
+                                             "tracks": tracks}})
+    return cmds, clips
+
+
+def _filled(points: list) -> list[np.ndarray]:
+    """``points`` with each None replaced by the nearest point before it (after it, at the
+    start), so that a hidden arrow waits where its slot's contact appears or left."""
+    known = [p for p in points if p is not None]
+    last = known[0] if known else np.zeros(3)
+    out = []
+    for p in points:
+        last = p if p is not None else last
+        out.append(last)
+    first = next((i for i, p in enumerate(points) if p is not None), len(points))
+    return [known[0] if i < first else p for i, p in enumerate(out)]
+
+
+def _turn_y_to(d: np.ndarray) -> np.ndarray:
+    """The rotation matrix turning the y axis onto the unit vector ``d`` (about their common
+    normal; a half turn about x where d is -y)."""
+    y = np.array([0.0, 1.0, 0.0])
+    axis = np.cross(y, d)
+    s, c = float(np.linalg.norm(axis)), float(y @ d)
+    if s < 1e-12:
+        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
+    k = axis / s
+    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
+    return np.eye(3) + s * K + (1.0 - c) * K @ K
 
 
 def _framing(T: np.ndarray, vis: list[dict]) -> dict:
@@ -362,10 +453,12 @@ viewer.set_dirty();
 
 
 def write_html(model, q, dt: float, path: str | os.PathLike, urdf=None, fps: float = FPS,
-               loop: bool = True, title: str | None = None) -> Path:
+               loop: bool = True, title: str | None = None, contacts=None) -> Path:
     """Write a self-contained HTML page that animates ``model`` through the states ``q``.
 
     ``q`` : (T, nq) configurations ``dt`` seconds apart (a trajectory's ``q``).
+    ``contacts`` : the contacts of state k as ``contacts(k)`` (a trajectory's ``contacts``,
+    of a rollout with a world): drawn as arrows of their forces on the robot.
     ``urdf`` : the URDF file (or text) ``model`` was loaded from, to find its visuals;
     default: the registry's file for ``model.name``.
     ``fps`` : animation frames per second (the states nearest those instants are shown).
@@ -388,7 +481,7 @@ def write_html(model, q, dt: float, path: str | os.PathLike, urdf=None, fps: flo
         raise FileNotFoundError(f"cannot write {str(out)!r}: directory {str(out.parent)!r} "
                                 f"does not exist")
     _, umsgpack = require_viewer()
-    cmds, framing = _commands(model, q, float(dt), float(fps), urdf, loop)
+    cmds, framing = _commands(model, q, float(dt), float(fps), urdf, loop, contacts)
     blobs = [base64.b64encode(umsgpack.packb(c)).decode("ascii") for c in cmds]
     duration = (len(q) - 1) * dt
     meta = {"robot": model.name, "fps": fps, "frames": int(len(animation_frames(q, dt, fps))),
