@@ -271,3 +271,26 @@ def test_chromium_shows_the_contact_forces(standing_page, tmp_path):
     img = (mpimg.imread(png)[..., :3] * 255).astype(int)
     red = (img[..., 0] > 150) & (img[..., 1] < 80) & (img[..., 2] < 80)
     assert red.sum() > 50, f"no contact arrow drawn: {red.sum()} red pixels"
+
+
+def test_a_slot_that_never_pushes_has_no_arrow(tmp_path):
+    """A contact found within the margin but carrying no force in any frame (zero, or NaN at
+    the last state, whose step was never taken) draws nothing and breaks nothing."""
+    from types import SimpleNamespace
+
+    model = cgadyn.load("double_pendulum")
+    q = _pendulum_trajectory(model, n=31)
+
+    def contacts(k):
+        push = np.array([0.0, 0.0, 5.0 if k >= 10 else 0.0])
+        return [SimpleNamespace(slot=0, point=np.zeros(3), force=np.zeros(3)),
+                SimpleNamespace(slot=1, point=np.ones(3), force=np.full(3, np.nan)),
+                SimpleNamespace(slot=4, point=np.ones(3), force=push)]
+
+    path = html.write_html(model, q, 0.01, tmp_path / "dp.html", contacts=contacts)
+    _, cmds = _page_parts(path.read_text(encoding="utf-8"))
+    clips = [a for c in cmds if c["type"] == "set_animation" for a in c["animations"]
+             if a["path"].startswith("/cgadyn/contacts/")]
+    assert [a["path"] for a in clips] == ["/cgadyn/contacts/slot_4"]
+    scale = [k["value"] for k in clips[0]["clip"]["tracks"][2]["keys"]]
+    assert scale[0] == [html.HIDDEN] * 3 and scale[-1][1] > 0.0

@@ -299,8 +299,9 @@ def _contact_arrows(model, contacts, rows, times, fps: float,
     ``ContactPoint``s of state k, a trajectory's ``contacts``): the force on the robot,
     pushing at the contact point (the arrow ends there, outside the body it pushes), the
     robot's weight as long as the robot's size (capped at twice it), animated with the
-    robot; hidden (``HIDDEN`` scale) in the frames where its slot holds no force. Returns
-    the arrows' commands and their animation clips."""
+    robot; hidden (``HIDDEN`` scale) in the frames where its slot holds no force; none for
+    a slot whose contacts never push. Returns the arrows' commands and their animation
+    clips."""
     g, _ = require_viewer()
     per_frame = [{c.slot: c for c in contacts(int(r))} for r in rows]
     slots = sorted({slot for frame in per_frame for slot in frame})
@@ -311,15 +312,17 @@ def _contact_arrows(model, contacts, rows, times, fps: float,
     clips: list[dict] = []
     for slot in slots:
         node = f"/cgadyn/contacts/slot_{slot}"
+        shown = [frame.get(slot) for frame in per_frame]
+        shown = [c if c is not None and np.all(np.isfinite(c.force))
+                 and np.linalg.norm(c.force) > 0.0 else None for c in shown]
+        if all(c is None for c in shown):  # found, but never pushing: no arrow
+            continue
         shaft = g.Cylinder(1.0, 0.02 * radius)  # along y, centred: moved up by half
         cmds.append({"type": "set_object", "path": f"{node}/shaft",
                      "object": g.Mesh(shaft, g.MeshLambertMaterial(
                          color=_hex(CONTACT_RGBA))).lower()})
         cmds.append({"type": "set_transform", "path": f"{node}/shaft",
                      "matrix": [1.0, 0, 0, 0, 0, 1.0, 0, 0, 0, 0, 1.0, 0, 0, 0.5, 0, 1.0]})
-        shown = [frame.get(slot) for frame in per_frame]
-        shown = [c if c is not None and np.all(np.isfinite(c.force))
-                 and np.linalg.norm(c.force) > 0.0 else None for c in shown]
         points = _filled([None if c is None else np.asarray(c.point, dtype=float)
                           for c in shown])
         pos, quat, scale = [], [], []
@@ -347,10 +350,11 @@ def _contact_arrows(model, contacts, rows, times, fps: float,
 
 
 def _filled(points: list) -> list[np.ndarray]:
-    """``points`` with each None replaced by the nearest point before it (after it, at the
-    start), so that a hidden arrow waits where its slot's contact appears or left."""
+    """``points`` (one at least not None) with each None replaced by the nearest point
+    before it (after it, at the start), so that a hidden arrow waits where its slot's
+    contact appears or left."""
     known = [p for p in points if p is not None]
-    last = known[0] if known else np.zeros(3)
+    last = known[0]
     out = []
     for p in points:
         last = p if p is not None else last
