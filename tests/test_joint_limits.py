@@ -136,6 +136,26 @@ def test_a_slider_dropped_on_its_stop_never_gains_energy():
     assert abs(q[-1]) < 1e-9 and abs(run[-1][1][0]) < 1e-9
 
 
+@pytest.mark.parametrize(("q0", "bound"), [(0.0, 0.5), (1.4, 1.0)])
+def test_a_joint_started_past_its_stop_is_taken_back_without_a_kick(q0, bound):
+    """A link turning about the vertical (gravity does no work on it) started at rest 0.5 or
+    0.4 rad past a stop: the position update takes it back, a fraction ``stabilization`` of
+    the overshoot a step (K26a), and its velocity stays zero, so it gains no energy and
+    never swings on through its range (with K23's term it left at 0.2 · 0.5 / dt = 100
+    rad/s); the compiled loop and ``contact_step`` agree."""
+    model = _one_link("revolute", "0 0 1", "0.5 0 0", 0.5, 1.0)
+    tr = cgadyn.simulate(model, np.array([q0]), np.zeros(1), DT, 100, integrator=SIE,
+                         world=NOWHERE)
+    assert np.abs(tr.v).max() < 1e-12
+    overshoot = np.abs(tr.q[:, 0] - bound)
+    assert np.all(np.diff(overshoot) <= 0.0) and overshoot[-1] < 1e-8
+    np.testing.assert_allclose(overshoot[1:4], abs(q0 - bound) * 0.8 ** np.arange(1, 4),
+                               rtol=1e-12)
+    assert np.abs(np.diff(tr.energy)).max() < 1e-12
+    ref = _steps(model, np.array([q0]), np.zeros(1), 100)
+    np.testing.assert_allclose([s[0][0] for s in ref], tr.q[:, 0], atol=1e-14)
+
+
 @pytest.mark.parametrize("friction", [0.0, 2.0])
 def test_the_compiled_step_is_contact_step_with_limits(friction):
     """300 steps of the pendulum across its impact on the stop, without and with a friction

@@ -106,7 +106,8 @@ def add_parser(sub) -> None:
                         f"--ground, the only one contact allows)")
     p.add_argument("--controller", choices=CONTROLLERS, default="none",
                    help="none: passive; gravity: gravity compensation; pd: joint PD to the "
-                        "neutral configuration plus gravity compensation (default none)")
+                        "neutral configuration (within the joints' limits) plus gravity "
+                        "compensation (default none)")
     p.add_argument("--wn", type=positive_float, default=None,
                    help=f"PD natural frequency in rad/s: K_p = diag(M(q_ref)) wn^2, "
                         f"K_d = 2 diag(M(q_ref)) wn, critically damped per joint, so that "
@@ -120,7 +121,8 @@ def add_parser(sub) -> None:
                         "(with --controller pd only)")
     p.add_argument("--q0", nargs="+", metavar="Q",
                    help="initial configuration, nq numbers separated by spaces or commas "
-                        "(default: the neutral configuration)")
+                        "(default: the neutral configuration, each coordinate moved into "
+                        "its joint's limits)")
     p.add_argument("--v0", nargs="+", metavar="V",
                    help="initial velocity, nv numbers (default zero)")
     p.add_argument("--ground", action="store_true",
@@ -349,14 +351,29 @@ def check_gains(args: argparse.Namespace) -> None:
                          f"add --controller pd")
 
 
-def _controller(args, model, support=()):
+def start_configuration(model) -> np.ndarray:
+    """The neutral configuration with each coordinate of a joint whose coordinates add
+    (revolute, prismatic, ...) moved into its limits: the command's default start and PD
+    target. Gymnasium's Ant has every ankle's range away from 0 (30 to 70 degrees): started
+    outside, a step takes it back (K26a), but a start should be a state the model allows."""
     from ..algorithms import neutral
+    from ..multibody.joints import TYPES
+
+    q = np.asarray(neutral(model), float)
+    for j, t in enumerate(model.joint_types):
+        if TYPES[int(t)].additive:
+            i = slice(int(model.idx_q[j]), int(model.idx_q[j + 1]))
+            q[i] = np.clip(q[i], model.lower[i], model.upper[i])
+    return q
+
+
+def _controller(args, model, support=()):
     from ..sim import PD, GravityCompensation
 
     if args.controller == "gravity":
         return GravityCompensation()
     if args.controller == "pd":
-        q_ref = np.asarray(neutral(model), float)
+        q_ref = start_configuration(model)
         kp, kd = pd_gains(model, q_ref, WN if args.wn is None else args.wn, support)
         kp_user, kd_user = _gains(args.kp, model, "--kp"), _gains(args.kd, model, "--kd")
         kp = kp if kp_user is None else kp_user
@@ -384,11 +401,9 @@ def run(args: argparse.Namespace) -> int:
     if args.drop is not None and not model.floating_base:
         raise UsageError(f"--drop lifts a floating base, but {model.name!r} has a fixed base "
                          f"(add --floating-base to give it one)")
-    from ..algorithms import neutral
-
     q0 = parse_vector(args.q0, model.nq, "--q0")
     given = q0 is not None
-    q0 = np.asarray(neutral(model), float) if q0 is None else q0
+    q0 = start_configuration(model) if q0 is None else q0
     v0 = parse_vector(args.v0, model.nv, "--v0")
     v0 = np.zeros(model.nv) if v0 is None else v0
     ctrl = _controls(model, args, steps)
@@ -507,7 +522,7 @@ def _ground(model, args, q0: np.ndarray, given: bool, registry):
     k = int(np.argmin(distance))
     if distance[k] < -PENETRATION:
         shape = collisions[int(found.collision[k])].name
-        where = "the given --q0" if given else "its neutral configuration"
+        where = "the given --q0" if given else "its start (the neutral configuration)"
         raise UsageError(f"--ground: at {where} {model.name!r} starts "
                          f"{-distance[k]:.3g} m inside the ground (its shape "
                          f"{shape!r}); start it above the ground"

@@ -18,9 +18,11 @@ import math
 
 import numpy as np
 
-from .._jit import serial
+from .._jit import inline, serial
+from .problem import gap_term
 
-__all__ = ["LIMIT_COLUMNS", "ROW_COLUMNS", "active_limits", "joint_frictions", "joint_limits"]
+__all__ = ["LIMIT_COLUMNS", "ROW_COLUMNS", "active_limits", "joint_frictions", "joint_limits",
+           "limit_gap", "limit_shift"]
 
 Q, V, LOWER, UPPER, CONE = range(5)
 LIMIT_COLUMNS = 5
@@ -119,3 +121,32 @@ def _cone(largest, q, v, vn, i, k, dt, margin, slot, rows, count):
     rows[count, ROW_GAP], rows[count, ROW_SLOT] = d, slot
     rows[count, ROW_COEF], rows[count, ROW_COEF + 1], rows[count, ROW_COEF + 2] = -x, -y, -z
     return count + 1
+
+
+@inline
+def limit_gap(rows, k, beta, dt):
+    """The gap's term of limit row ``k`` (K26): ``d / dt`` for an open gap (the step may
+    close it, no sooner); for a coordinate past its bound (``d < 0``) 0, so that the step
+    moves it no further out, and the step's position update takes it back by the fraction
+    ``β`` of its overshoot (``limit_shift``, K26a): K23's velocity ``β d / dt`` would stay
+    in ``v`` and carry the joint on, adding the energy of a kick that nothing put in (a
+    model started outside its ranges, Gymnasium's Ant at its neutral pose, jumped metres).
+    A cone's row (K26') keeps K23's term."""
+    d = rows[k, ROW_GAP]
+    if rows[k, ROW_WIDTH] == 1.0:
+        return max(d, 0.0) / dt
+    return gap_term(d, beta, dt)
+
+
+@serial
+def limit_shift(limits, rows, count, beta, q):
+    """``q`` after the step's position update, each coordinate that the step began past a
+    bound of (``rows[:count]``, ``active_limits``'; ``d < 0``) moved back toward it by
+    ``β |d|`` (K26a): a correction of the position alone, with no velocity to keep."""
+    for k in range(count):
+        d = rows[k, ROW_GAP]
+        if rows[k, ROW_WIDTH] != 1.0 or not d < 0.0:
+            continue
+        slot = int(rows[k, ROW_SLOT])
+        i = int(limits[slot // 2, Q])
+        q[i] += -beta * d if slot % 2 == 0 else beta * d

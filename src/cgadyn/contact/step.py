@@ -96,7 +96,9 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
        (``CollisionModel.compliant``), a spring and damper's term and compliance (K41); with
        ``joint_limits``, after the contacts' rows, one row ``±e_v`` per bound of a joint of
        one coordinate (``limits.py``) whose gap is below ``margin`` plus ``|v_i| dt``, with
-       the same gap term and ``λ >= 0`` (K26; joints of several coordinates get none); with
+       ``λ >= 0`` and the open gap's term, none past the bound: the position update takes
+       such a coordinate back by ``stabilization`` of its overshoot instead, adding no
+       velocity (K26, K26a; joints of several coordinates get none); with
        ``friction_loss``, one row ``e_k`` per velocity coordinate with ``Model.friction``
        ``f > 0``, its impulse in ``[-f dt, f dt]`` (K30);
     3. the impulses ``λ`` in the friction cones of ``World.friction`` by ``solver``
@@ -120,11 +122,12 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         LIMIT_COLUMNS,
         ROW_COEF,
         ROW_COLUMNS,
-        ROW_GAP,
         ROW_V,
         ROW_WIDTH,
         active_limits,
         joint_frictions,
+        limit_gap,
+        limit_shift,
     )
     from .limits import joint_limits as joint_limits_of
     from .model import CollisionModel, _collisions
@@ -187,7 +190,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     term, compliance = gap_velocity(contacts.distance, stabilization, step,
                                     contact_compliance(cm, contacts))  # K41
     g[3 * np.arange(nc) + 2] += term  # K23, K41
-    g[3 * nc + np.arange(nl)] += gap_velocity(rows[:nl, ROW_GAP], stabilization, step)[0]
+    g[3 * nc + np.arange(nl)] += [limit_gap(rows, k, stabilization, step)  # K26, K26a
+                                  for k in range(nl)]
     soft_rows = np.zeros(len(g))  # R: the compliance of each row (K41)
     soft_rows[3 * np.arange(nc) + 2] = compliance
     bounds = np.concatenate([np.tile([0.0, np.inf], (nl, 1)),  # λ >= 0 (K26)
@@ -213,7 +217,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     limit_torques = J[3 * nc:n1].T @ lam[3 * nc:n1] / step
     friction_torques = J[n1:].T @ lam[n1:] / step
     sigma = (G[:3 * nc] @ lam + g[:3 * nc]).reshape(nc, 3)  # σ = G λ + g (K11)
-    return ContactStep(integrate(model, q, step * v_next),
-                       step_moved_velocity(model, v_next, step), contacts, forces,
+    q_next = integrate(model, q, step * v_next)
+    limit_shift(limits, rows, nl, stabilization, q_next)  # past a bound: back by β |d| (K26a)
+    return ContactStep(q_next, step_moved_velocity(model, v_next, step), contacts, forces,
                        limit_torques, friction_torques, info, used, sigma)
 

@@ -58,13 +58,13 @@ from ..contact.limits import (
     LIMIT_COLUMNS,
     ROW_COEF,
     ROW_COLUMNS,
-    ROW_GAP,
     ROW_SLOT,
     ROW_V,
     ROW_WIDTH,
     active_limits,
+    limit_gap,
+    limit_shift,
 )
-from ..contact.problem import gap_term as _gap
 from ..contact.problem import normal_row
 from ..contact.solver import ADMM, PGS, solve_one
 from ..kernels.rigid import rigid_frame, rigid_rotate
@@ -103,7 +103,8 @@ ContactScratch = namedtuple("ContactScratch", (
 the shapes' poses, the contacts found (``out``, ``counts``), candidates, the problem's
 matrices (``big``), the cones' μ, the solver's info and settings, each slot's impulse of the
 previous step (``prev``, ``had``) and force of this one (``force``), the contacts' number
-and the report of the step (``count``, ``report``), the constraint workspace, the active
+and the limit rows' (``count``: ``shift_past_limits`` reads the second after the step) and
+the report of the step (``report``), the constraint workspace, the active
 limits' rows, the interval rows' bounds and previous impulses (``lprev``, ``lhad``), the
 shapes' link twists (K21a) and the joints' (``bodies``), ``factored`` (whether the
 workspace holds M's factors at this step's q; whether the last step had rows), the pairs'
@@ -226,7 +227,7 @@ def scratch_size(n, nq, nv, nl, shapes, limits, frictions, nr):
     return (shapes * 16 + shapes * C.MAX_CONTACTS * C.OUT + shapes
             + C.CANDIDATES * C.CANDIDATE_COLUMNS + shapes * 12
             + m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6) + K + ncp.INFO
-            + ncp.SETTINGS + 2 * K * 3 + K + 1 + REPORT
+            + ncp.SETTINGS + 2 * K * 3 + K + 2 + REPORT
             + L * ROW_COLUMNS + 2 * (L + frictions + nr) + 2 * (L + frictions)
             + constraint_workspace_size(n, nq, nv, nl, m) + n * 12 + 2 + 2 * nv)
 
@@ -252,7 +253,7 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
     prev, o = ws.carve(p, o, (K, 3))
     force, o = ws.carve(p, o, (K, 3))
     had, o = ws.carve(p, o, (K,))
-    count, o = ws.carve(p, o, (1,))
+    count, o = ws.carve(p, o, (2,))
     report, o = ws.carve(p, o, (REPORT,))
     cwork, o = ws.carve(p, o, (constraint_workspace_size(n, nq, nv, nl, m),))
     lrows, o = ws.carve(p, o, (L, ROW_COLUMNS))
@@ -271,7 +272,7 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
             force[k, i] = 0.0
     for k in range(L + F):
         lhad[k], lprev[k] = 0.0, 0.0
-    count[0] = 0.0
+    count[0] = count[1] = 0.0
     factored[0], factored[1] = 0.0, 1.0
     return ContactScratch(_bare_world(world), poses, out, counts, cand, big, mu, info,
                           settings, prev, force, had, count, report, cwork, lrows, bounds,
@@ -386,7 +387,7 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
         if w_.had[k] != 0.0:
             for i in range(3):
                 w_.force[k, i] = 0.0
-    w_.count[0] = nc
+    w_.count[0], w_.count[1] = nc, nl  # nl: the limit rows limit_shift reads after the step
     for i in range(REPORT):
         w_.report[i] = 0.0
     for i in range(2):
@@ -427,6 +428,17 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
         return status
     _keep_bilateral(con, lam, mc - nb, dt, sc)
     return _keep(m, w_, k_, nc, nl, nf, J, lam, vn, dt)
+
+
+@serial
+def shift_past_limits(world, qn):
+    """``qn``, the configuration after the step, with each coordinate that the step began
+    past a joint limit moved back by the fraction ``stabilization`` of its overshoot
+    (``contact.limits.limit_shift``, K26a); nothing without a world (None: pruned)."""
+    if world is None:
+        return
+    wa = world.world
+    limit_shift(wa.limits, world.lrows, int(world.count[1]), wa.params[STABILIZATION], qn)
 
 
 @serial
@@ -591,7 +603,7 @@ def _free_term(m, w_, nc, nl, J, g, R, vn, dt):
             c += 1
     pair_gaps(wa.pairs, w_.pairs, g, c, stabilization, dt)
     for k in range(nl):
-        g[3 * nc + k] += _gap(w_.lrows[k, ROW_GAP], stabilization, dt)
+        g[3 * nc + k] += limit_gap(w_.lrows, k, stabilization, dt)  # K26, K26a
 
 
 @inline

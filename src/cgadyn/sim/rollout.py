@@ -92,7 +92,13 @@ from ..constraints.work.core import workspace as constraint_workspace
 from ..constraints.work.core import workspace_size as constraint_workspace_size
 from ..multibody.joints import joint_difference, joint_integrate
 from ..multibody.packed import unpack
-from .contact import carve_scratch, contact_velocity, factored_dynamics, scratch_size
+from .contact import (
+    carve_scratch,
+    contact_velocity,
+    factored_dynamics,
+    scratch_size,
+    shift_past_limits,
+)
 from .pairs import pair_count, pair_scratch_size
 from .work.rollout import workspace, workspace_size
 
@@ -434,6 +440,8 @@ def step(m, method, q, v, u, f, ctrl, con, world, fac, dt, qn, vn, a, sc, work):
             tau[k] = K[0, k] + 2.0 * K[1, k] + 2.0 * K[2, k] + K[3, k]
             vn[k] = v[k] + w * (Ka[0, k] + 2.0 * Ka[1, k] + 2.0 * Ka[2, k] + Ka[3, k])
     _advance(m, q, tau, w, tmp, dq, qn)  # q ⊕ dt v, q ⊕ dt v⁺ or RK4's weighted sum
+    if method == SEMI_IMPLICIT_EULER:
+        shift_past_limits(world, qn)  # back toward a bound the step began past (K26a)
     if method != RK4:
         transport(m, tau, dt, vn)  # v' in the frames of q' (K24)
     if not (finite(qn) and finite(vn)):
