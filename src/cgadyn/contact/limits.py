@@ -138,7 +138,7 @@ def limit_gap(rows, k, beta, dt):
     return gap_term(d, beta, dt)
 
 
-@serial
+@inline
 def limit_shift(limits, rows, count, beta, q):
     """``q`` after the step's position update, each coordinate that the step began past a
     bound of (``rows[:count]``, ``active_limits``'; ``d < 0``) moved back toward it by

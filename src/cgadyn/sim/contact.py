@@ -430,11 +430,13 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     return _keep(m, w_, k_, nc, nl, nf, J, lam, vn, dt)
 
 
-@serial
+@core
 def shift_past_limits(world, qn):
     """``qn``, the configuration after the step, with each coordinate that the step began
     past a joint limit moved back by the fraction ``stabilization`` of its overshoot
-    (``contact.limits.limit_shift``, K26a); nothing without a world (None: pruned)."""
+    (``contact.limits.limit_shift``, K26a); nothing without a world (None: pruned). A core,
+    as ``contact_velocity``: the scratch it takes holds some forty arrays, and a function
+    with reference counts raised and dropped each of them at every step."""
     if world is None:
         return
     wa = world.world
