@@ -294,3 +294,29 @@ def test_a_slot_that_never_pushes_has_no_arrow(tmp_path):
     assert [a["path"] for a in clips] == ["/cgadyn/contacts/slot_4"]
     scale = [k["value"] for k in clips[0]["clip"]["tracks"][2]["keys"]]
     assert scale[0] == [html.HIDDEN] * 3 and scale[-1][1] > 0.0
+
+
+def test_an_mjcf_model_is_drawn_with_its_geoms(tmp_path):
+    """Gymnasium's Ant (MJCF: no URDF visuals) is drawn as its skeleton and its geoms: the
+    torso's sphere, and each leg's capsules as a cylinder between two spheres at the
+    capsule's ends, in its link; its floor (a geom of the world) is not drawn."""
+    pytest.importorskip("mujoco", reason="MJCF through MuJoCo's compiler")
+    model = cgadyn.load("gymnasium:ant")
+    shapes = html.shape_visuals(model, "gymnasium:ant")
+    kinds = [v["kind"] for v in shapes]
+    assert kinds.count("cylinder") == 12 and kinds.count("sphere") == 1 + 2 * 12
+    assert all(v["link"] >= 0 for v in shapes)
+    q = cgadyn.neutral(model)
+    T = cgadyn.link_placements(model, q)
+    cm = cgadyn.collision_model(model, "gymnasium:ant")
+    capsules = [c for c in cm if c.link >= 0 and c.shape.name == "capsule"]
+    ends = [(T[v["link"]] @ v["origin"])[:3, 3] for v in shapes if v["kind"] == "sphere"]
+    for c in capsules:  # both ends of each capsule's segment carry a sphere
+        for z in (-c.shape.size[1], c.shape.size[1]):
+            p = (T[c.link] @ np.asarray(c.placement) @ [0.0, 0.0, z, 1.0])[:3]
+            assert min(np.linalg.norm(np.array(ends) - p, axis=1)) < 1e-12
+    path = html.write_html(model, np.tile(q, (3, 1)), 0.01, tmp_path / "ant.html",
+                           urdf="gymnasium:ant")
+    _, cmds = _page_parts(path.read_text(encoding="utf-8"))
+    drawn = sum(c["type"] == "set_object" and c["path"] != "/cgadyn/floor" for c in cmds)
+    assert drawn == len(html.skeleton(model)) + len(shapes)

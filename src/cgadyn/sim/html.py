@@ -7,7 +7,8 @@ one JSON ``<script>`` element: the file loads nothing from the network and plays
 
 Geometry comes from the URDF's ``<visual>`` elements (meshes in DAE, STL or OBJ, boxes,
 cylinders, spheres), each placed at its link frame composed with the visual's ``<origin>``
-(and ``scale``); the link frames per animation frame are
+(and ``scale``); a model without visuals is a skeleton of its joints with its collision
+shapes (an MJCF model's geoms); the link frames per animation frame are
 :func:`cgadyn.link_placements` of the trajectory, sampled at ``fps`` frames per second.
 A rollout with a world adds its contact forces, one arrow per contact slot, animated with
 the robot (position, direction and length keyframed with the links').
@@ -29,8 +30,7 @@ import numpy as np
 from ..multibody.meshes import model_source, resolve_mesh
 
 __all__ = ["MissingViewer", "animation_frames", "require_viewer", "resolve_mesh", "visuals",
-           "skeleton",
-           "write_html"]
+           "shape_visuals", "skeleton", "write_html"]
 
 FPS = 30.0
 """Frames per second of the animation (the trajectory is sampled at these instants)."""
@@ -172,6 +172,49 @@ def skeleton(model) -> list[dict]:
     return out
 
 
+SHAPE_RGBA = (0.8, 0.62, 0.42, 1.0)
+"""The colour of collision shapes drawn for a model without visuals."""
+
+
+def shape_visuals(model, source=None) -> list[dict]:
+    """Visuals for the collision shapes of a model without any (an MJCF model: its geoms,
+    read through ``collision_model``): a sphere, a box, a cylinder, and a capsule as a
+    cylinder with a sphere at each end, each where its link carries it; none for a convex
+    mesh or a shape of the world (a floor), nor where the source holds no shapes."""
+    import warnings
+
+    from ..contact.model import collision_model
+    from ..contact.shapes import BOX, CAPSULE, CYLINDER, SPHERE
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            cm = collision_model(model, source)
+    except (ValueError, FileNotFoundError, OSError):
+        return []
+    out = []
+    for c in cm:
+        if c.link < 0 or c.shape.kind not in (SPHERE, CAPSULE, BOX, CYLINDER):
+            continue
+        T, size = np.asarray(c.placement, dtype=float), c.shape.size
+        if c.shape.kind == SPHERE:
+            out.append({"link": c.link, "origin": T, "kind": "sphere", "size": [size[0]],
+                        "rgba": SHAPE_RGBA})
+        elif c.shape.kind == BOX:
+            out.append({"link": c.link, "origin": T, "kind": "box",
+                        "size": [2.0 * x for x in size[:3]], "rgba": SHAPE_RGBA})
+        else:  # cylinder and capsule: along z, length 2 size[1]
+            out.append({"link": c.link, "origin": T, "kind": "cylinder",
+                        "size": [size[0], 2.0 * size[1]], "rgba": SHAPE_RGBA})
+            if c.shape.kind == CAPSULE:
+                for z in (-size[1], size[1]):
+                    end = T @ np.array([[1.0, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, z],
+                                        [0, 0, 0, 1]])
+                    out.append({"link": c.link, "origin": end, "kind": "sphere",
+                                "size": [size[0]], "rgba": SHAPE_RGBA})
+    return out
+
+
 def _bone(p: np.ndarray, length: float) -> np.ndarray:
     """The frame of a cylinder from the origin to ``p`` (URDF cylinders lie along z)."""
     z = p / length
@@ -248,7 +291,7 @@ def _commands(model, q: np.ndarray, dt: float, fps: float, urdf,
               loop: bool, contacts=None) -> tuple[list[dict], dict]:
     from ..algorithms.api import link_placements
 
-    vis = visuals(model, urdf) or skeleton(model)
+    vis = visuals(model, urdf) or skeleton(model) + shape_visuals(model, urdf)
     rows = animation_frames(q, dt, fps)
     T = np.asarray(link_placements(model, q[rows]))  # (F, nl, 4, 4)
     links = sorted({v["link"] for v in vis})
