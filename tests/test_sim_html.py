@@ -128,16 +128,18 @@ def screenshot(page: Path, png: Path, size=(800, 600), budget_ms: int = 3000) ->
 
 
 def robot_pixels(png: Path) -> dict:
-    """Fractions of the picture in the double pendulum's colours (yellow base, grey links)
-    and of distinct colours; meshcat's background is a blue gradient."""
+    """Fractions of the picture in the double pendulum's colours (yellow base, grey links),
+    the count of red pixels (contact arrows) and of distinct colours; meshcat's background
+    is a blue gradient."""
     import matplotlib.image as mpimg
 
     img = (mpimg.imread(png)[..., :3] * 255).astype(int)
     r, g, b = img[..., 0], img[..., 1], img[..., 2]
     yellow = (r > 180) & (g > 180) & (b < 90)
     grey = (np.abs(r - g) < 12) & (np.abs(g - b) < 12) & (r > 120)
+    red = (r > 150) & (g < 80) & (b < 80)  # the contact arrows (html.CONTACT_RGBA)
     return {"yellow": float(yellow.mean()), "grey": float(grey.mean()),  # empty scene: 0, 0.005
-            "colours": len(np.unique(img.reshape(-1, 3), axis=0))}
+            "red": int(red.sum()), "colours": len(np.unique(img.reshape(-1, 3), axis=0))}
 
 
 @pytest.mark.slow
@@ -263,14 +265,11 @@ def test_contact_forces_are_arrows_ending_at_their_points(standing_page):
 @pytest.mark.browser
 @pytest.mark.skipif(CHROMIUM is None, reason="no chromium to render the page")
 def test_chromium_shows_the_contact_forces(standing_page, tmp_path):
-    import matplotlib.image as mpimg
-
     _, _, path = standing_page
     png = tmp_path / "shot.png"
     screenshot(path, png, budget_ms=1500)
-    img = (mpimg.imread(png)[..., :3] * 255).astype(int)
-    red = (img[..., 0] > 150) & (img[..., 1] < 80) & (img[..., 2] < 80)
-    assert red.sum() > 50, f"no contact arrow drawn: {red.sum()} red pixels"
+    red = robot_pixels(png)["red"]
+    assert red > 50, f"no contact arrow drawn: {red} red pixels"
 
 
 def test_a_slot_that_never_pushes_has_no_arrow(tmp_path):

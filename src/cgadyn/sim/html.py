@@ -379,7 +379,7 @@ def _contact_arrows(model, contacts, rows, times, fps: float,
             d = f / np.linalg.norm(f)
             length = min(float(np.linalg.norm(f)) * per_newton, 2.0 * radius)
             pos.append([float(x) for x in p - length * d])  # the tail; the head at p
-            quat.append(_quaternion_xyzw(_turn_y_to(d)))
+            quat.append(_quaternion_y_to(d))
             scale.append([1.0, length, 1.0])
         tracks = [{"name": f".{name}", "type": kind,
                    "keys": [{"time": float(t), "value": v} for t, v in zip(times, values,
@@ -396,27 +396,23 @@ def _filled(points: list) -> list[np.ndarray]:
     """``points`` (one at least not None) with each None replaced by the nearest point
     before it (after it, at the start), so that a hidden arrow waits where its slot's
     contact appears or left."""
-    known = [p for p in points if p is not None]
-    last = known[0]
+    last = next(p for p in points if p is not None)
     out = []
     for p in points:
         last = p if p is not None else last
         out.append(last)
-    first = next((i for i, p in enumerate(points) if p is not None), len(points))
-    return [known[0] if i < first else p for i, p in enumerate(out)]
+    return out
 
 
-def _turn_y_to(d: np.ndarray) -> np.ndarray:
-    """The rotation matrix turning the y axis onto the unit vector ``d`` (about their common
-    normal; a half turn about x where d is -y)."""
-    y = np.array([0.0, 1.0, 0.0])
-    axis = np.cross(y, d)
-    s, c = float(np.linalg.norm(axis)), float(y @ d)
-    if s < 1e-12:
-        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
-    k = axis / s
-    K = np.array([[0.0, -k[2], k[1]], [k[2], 0.0, -k[0]], [-k[1], k[0], 0.0]])
-    return np.eye(3) + s * K + (1.0 - c) * K @ K
+def _quaternion_y_to(d: np.ndarray) -> list[float]:
+    """The unit quaternion ``(x, y, z, w)`` of the shortest turn of the y axis onto the unit
+    vector ``d``: ``(y × d, 1 + y · d)`` normalised (the half-way rotor); a half turn about
+    x where d is -y."""
+    x, y, z, w = d[2], 0.0, -d[0], 1.0 + d[1]  # y × d = (d_z, 0, -d_x)
+    norm = math.sqrt(x * x + z * z + w * w)
+    if norm < 1e-12:
+        return [1.0, 0.0, 0.0, 0.0]
+    return [float(x / norm), y, float(z / norm), float(w / norm)]
 
 
 def _framing(T: np.ndarray, vis: list[dict]) -> dict:
