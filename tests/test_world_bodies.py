@@ -272,7 +272,10 @@ def test_a_rollouts_pair_contacts_and_criteria_are_contact_steps():
     """A ball thrown off-centre onto a box on the ground: at every 10th step the contacts
     ``Trajectory.contacts`` finds again, the ball's on the box among them, are
     ``contact_step``'s from the same state (point, force, the other shape), and the
-    criteria ``Trajectory.contact_criteria`` gives equal its step's, to 1e-9."""
+    criteria ``Trajectory.contact_criteria`` gives equal its step's, to 1e-9. The box on
+    four corners under the ball is statically indeterminate: its corners' forces are not
+    unique, and the two steps' G, equal to rounding (M's factors, a dense solve), may
+    share them differently by up to 1e-6 N, their sum equal to 1e-9 N."""
     world = World(bodies=[_box(), Body(cgadyn.Sphere(0.05), 0.5, position=(0.03, 0, 0.3),
                                        friction=0.4, name="ball")])
     extended, _, q = world_model(EMPTY, None, world)
@@ -293,8 +296,10 @@ def test_a_rollouts_pair_contacts_and_criteria_are_contact_steps():
             other = s.contacts.other[i]
             assert c.other == (None if other < 0 else ("box", "ball")[other])
             assert np.abs(c.point - s.contacts.point[i]).max() < 1e-12
-            assert np.abs(c.force - s.forces[i]).max() < 1e-8
+            assert np.abs(c.force - s.forces[i]).max() < 1e-6
             pairs_seen += other >= 0
+        total = sum(c.force for c in found) if len(found) else np.zeros(3)
+        assert np.abs(total - s.forces.sum(axis=0)).max() < 1e-9
         if len(found):
             for name, value in s.criteria.maxima().items():
                 assert getattr(history, name)[k] == pytest.approx(value, abs=1e-9), name

@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from .._jit import inline, serial
-from .problem import gap_term
+from .problem import gap_term, open_gap
 
 __all__ = ["LIMIT_COLUMNS", "ROW_COLUMNS", "active_limits", "joint_frictions", "joint_limits",
            "limit_gap", "limit_shift"]
@@ -134,7 +134,7 @@ def limit_gap(rows, k, beta, dt):
     A cone's row (K26') keeps K23's term."""
     d = rows[k, ROW_GAP]
     if rows[k, ROW_WIDTH] == 1.0:
-        return max(d, 0.0) / dt
+        return open_gap(d, dt)
     return gap_term(d, beta, dt)
 
 

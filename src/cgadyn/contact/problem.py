@@ -40,22 +40,30 @@ def contact_problem(model, q, v, tau, dt: float, constraints) -> tuple[np.ndarra
 
 
 @inline
+def open_gap(d, dt):
+    """The gap's term of a rigid contact's normal row or a limit's row (K23, K26): ``d /
+    dt`` for an open gap (the step may close it, no sooner), 0 for a penetration (the step
+    takes the point no further in; the position update takes it back, K43, K26a)."""
+    return max(d, 0.0) / dt
+
+
+@inline
 def gap_term(d, beta, dt):
-    """The gap's term of a rigid normal or limit row (K23): ``d / dt`` for an open gap (the
-    step may close it, no sooner), ``β d / dt`` for a penetration (a fraction ``β`` of it
-    corrected per step)."""
+    """The gap's term of a cone limit's row (K26'): ``d / dt`` for an open gap, ``β d / dt``
+    for a penetration (a fraction ``β`` of it corrected per step by a velocity)."""
     return (d if d > 0.0 else beta * d) / dt
 
 
 @inline
-def normal_row(d, k, c, beta, dt):
+def normal_row(d, k, c, dt):
     """``(gap term, R)`` of a contact's normal row at the signed distance ``d``: rigid
-    (``k = c = 0``), K23's term and ``R = 0``; a spring ``k`` and damper ``c`` (K41), the
-    force ``f = -k d⁺ - c σ_N`` at the end of the step (``d⁺ = d + dt σ_N``), which is
-    ``0 <= λ ⊥ σ_N + k d / (dt k + c) + λ / (dt (dt k + c)) >= 0``: the term ``k d / (dt k +
-    c)`` and ``R = 1 / (dt (dt k + c))`` (an open gap: ``d / dt``, as K23)."""
+    (``k = c = 0``), K23's term (``open_gap``) and ``R = 0``; a spring ``k`` and damper
+    ``c`` (K41), the force ``f = -k d⁺ - c σ_N`` at the end of the step (``d⁺ = d + dt
+    σ_N``), which is ``0 <= λ ⊥ σ_N + k d / (dt k + c) + λ / (dt (dt k + c)) >= 0``: the
+    term ``k d / (dt k + c)`` and ``R = 1 / (dt (dt k + c))`` (an open gap: ``d / dt``, as
+    K23)."""
     if k == 0.0 and c == 0.0:
-        return gap_term(d, beta, dt), 0.0
+        return open_gap(d, dt), 0.0
     r = 1.0 / (dt * (dt * k + c))
     if d > 0.0:
         return d / dt, r
@@ -69,14 +77,13 @@ def contact_compliance(collisions, contacts) -> np.ndarray:
                     0.0)
 
 
-def gap_velocity(distance, stabilization: float, dt: float, compliance=None
-                 ) -> tuple[np.ndarray, np.ndarray]:
+def gap_velocity(distance, dt: float, compliance=None) -> tuple[np.ndarray, np.ndarray]:
     """``normal_row`` of each contact at ``distance`` (nc,) with ``compliance`` (nc, 2)
     (stiffness, damping; None: rigid): the gap's terms (nc,) and the diagonal ``R`` (nc,)
     of their normal rows (K23, K41)."""
     d = np.asarray(distance, dtype=float).reshape(-1)
     kc = np.zeros((len(d), 2)) if compliance is None else np.asarray(compliance, float)
-    rows = [normal_row(float(x), float(k), float(c), float(stabilization), float(dt))
+    rows = [normal_row(float(x), float(k), float(c), float(dt))
             for x, (k, c) in zip(d, kc.reshape(len(d), 2), strict=True)]
     out = np.array(rows, dtype=float).reshape(len(d), 2)
     return out[:, 0], out[:, 1]

@@ -44,8 +44,9 @@ class ContactSettings:
     the flat facets of a curved shape's hull (a round foot's) are millimetres wide, and
     their corners would be nearly dependent rows on which both solvers take thousands of
     iterations, for a torque about the facet worth nothing; a patch narrower than ``patch``
-    is one point. ``stabilization``: the fraction of a penetration corrected per step (K23),
-    in [0, 1]. ``warm_start``: a contact that stays starts from its force of the step before
+    is one point. ``stabilization``: the fraction of a penetration, or of a joint's
+    overshoot past its limit, taken back per step by the position update (K43, K26a), in
+    [0, 1]. ``warm_start``: a contact that stays starts from its force of the step before
     (K25)."""
 
     solver: str = "pgs"

@@ -1,11 +1,12 @@
 """One velocity-level time step with frictional contact on the ground and joint limits
-(docs/contact.md, K20, K23-K26, K30).
+(docs/contact.md, K20, K23-K26, K30, K43).
 
 ``contact_step`` joins the pieces of ``cgadyn.contact``: the contact points of the robot's
 shapes with the ground (K21-K22), each a point constraint of its link held in the ground's
 frame ``(t₁, t₂, n)``, the contact problem of the step (K20, K23), its forces by ADMM or PGS
 (K11-K19), the velocity after the step and the configuration moved on the manifold with it
-(K24, semi-implicit Euler). The joints' limits near which the step may take a coordinate are
+(K24, semi-implicit Euler), then the configuration alone moved out of any penetration left
+(K43). The joints' limits near which the step may take a coordinate are
 one-row constraints ``λ >= 0`` of the same problem (K26, ``limits.py``), and so is each
 joint's friction loss, ``|λ| <= f dt`` (K30). It is the step of Carpentier et al. (RSS 2024)
 and of Pinocchio's and MuJoCo's simulators, called from Python: one step, one configuration.
@@ -17,6 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .correction import correction_impulses, correction_targets
 from .pairs import candidate_pairs, contact_frame
 from .problem import contact_compliance, contact_jacobian, gap_velocity
 from .settings import ContactSettings, other_solver, residual
@@ -45,7 +47,8 @@ class ContactStep:
     and of the friction losses (``friction_torques`` (nv,));
     the solver's report (``info``, a ``ContactSolveInfo``; None without contacts or limits)
     and which solver gave the forces (``solver``); ``velocities`` (K, 3), each contact's
-    velocity after the step in its frame ``(t₁, t₂, n)`` with the gap's term of K23,
+    velocity after the step in its frame ``(t₁, t₂, n)`` with the gap's term of K23 (an
+    open gap's ``d / dt``),
     ``σ = G λ + g`` (K11), and ``criteria``, the step's physical criteria (K31-K34)."""
 
     q: np.ndarray
@@ -91,8 +94,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     2. the contact problem (K20, K23): ``G = J M⁻¹ Jᵀ`` and ``g = J v_free`` in each
        contact's frame ``(t₁, t₂, n)`` (``ground_frame``), with the normal velocity allowed
        to close an open gap within the step (``g_N + d / dt`` for ``d > 0``) and a
-       penetration corrected by a fraction ``stabilization`` per step (``g_N + stabilization
-       · d / dt`` for ``d < 0``), or, on a shape made compliant
+       penetration held where it is (nothing added for ``d < 0``: step 5 takes it back), or,
+       on a shape made compliant
        (``CollisionModel.compliant``), a spring and damper's term and compliance (K41); with
        ``joint_limits``, after the contacts' rows, one row ``±e_v`` per bound of a joint of
        one coordinate (``limits.py``) whose gap is below ``margin`` plus ``|v_i| dt``, with
@@ -108,7 +111,12 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
        at most ``accept`` are kept (``info.converged`` is then False);
     4. ``v⁺ = v_free + M⁻¹ Jᵀ λ`` and ``q⁺ = q ⊕ dt v⁺`` (K24), ``v⁺`` then moved into
        the frames of ``q⁺`` (a free flyer's linear velocity, taken in the frame of ``q``
-       through the step: ``v_free = v + dt (v̇ + ω × v)`` there, K24).
+       through the step: ``v_free = v + dt (v̇ + ω × v)`` there, K24);
+    5. where a rigid contact ends the step inside (``d + dt σ_N < 0``), ``q⁺`` moved by
+       the smallest displacement in M's metric that takes every such penetration back by
+       the fraction ``stabilization`` and takes no other inside (K43, ``correction.py``): a
+       correction of the configuration alone, ``v⁺`` unchanged, so that a body started
+       inside the ground rises to its surface and is not thrown.
 
     ``passive``: add the joints' damping and spring torques (``passive_torques``) as
     ``simulate`` does. Raises ``ValueError`` where the solvers end with a residual above
@@ -187,8 +195,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     G = J @ np.linalg.solve(crba(model, q), J.T)  # G = J M⁻¹ Jᵀ (C7) over every row
     G = 0.5 * (G + G.T)
     g = J @ v_free
-    term, compliance = gap_velocity(contacts.distance, stabilization, step,
-                                    contact_compliance(cm, contacts))  # K41
+    stiffness = contact_compliance(cm, contacts)
+    term, compliance = gap_velocity(contacts.distance, step, stiffness)  # K41
     g[3 * np.arange(nc) + 2] += term  # K23, K41
     g[3 * nc + np.arange(nl)] += [limit_gap(rows, k, stabilization, step)  # K26, K26a
                                   for k in range(nl)]
@@ -219,6 +227,14 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     sigma = (G[:3 * nc] @ lam + g[:3 * nc]).reshape(nc, 3)  # σ = G λ + g (K11)
     q_next = integrate(model, q, step * v_next)
     limit_shift(limits, rows, nl, stabilization, q_next)  # past a bound: back by β |d| (K26a)
+    depth = np.where(np.any(stiffness != 0.0, axis=1), np.nan, contacts.distance)
+    b, mu = np.empty(nc), np.empty(nc)
+    deepest = correction_targets(G, g, lam, depth, nc, stabilization, step, b)  # K43
+    if deepest > 0.0:  # a contact ends the step inside: q⁺ ⊕ M⁻¹ J_Nᵀ μ
+        correction_impulses(G, nc, b, deepest, mu)
+        shift = aba(model, q, np.zeros(model.nv), J[2:3 * nc:3].T @ mu,
+                    gravity=np.zeros(3))
+        q_next = integrate(model, q_next, shift)
     return ContactStep(q_next, step_moved_velocity(model, v_next, step), contacts, forces,
                        limit_torques, friction_torques, info, used, sigma)
 

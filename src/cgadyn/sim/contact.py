@@ -54,6 +54,7 @@ from ..constraints.work.core import workspace_size as constraint_workspace_size
 from ..contact import manifold as C
 from ..contact import ncp
 from ..contact.admm import SCRATCH_ROWS
+from ..contact.correction import correction_impulses, correction_targets
 from ..contact.limits import (
     LIMIT_COLUMNS,
     ROW_COEF,
@@ -68,6 +69,7 @@ from ..contact.limits import (
 from ..contact.problem import normal_row
 from ..contact.solver import ADMM, PGS, solve_one
 from ..kernels.rigid import rigid_frame, rigid_rotate
+from ..multibody.joints import joint_integrate
 from .pairs import (
     carve_pairs,
     detect_pairs,
@@ -98,12 +100,13 @@ pairs' code)."""
 ContactScratch = namedtuple("ContactScratch", (
     "world", "poses", "out", "counts", "cand", "big", "mu", "info", "settings", "prev",
     "force", "had", "count", "report", "cwork", "lrows", "bounds", "lprev",
-    "lhad", "twists", "bodies", "factored", "pairs", "joint_torques"))
+    "lhad", "twists", "bodies", "factored", "pairs", "joint_torques", "depth", "shift"))
 """A rollout's contact scratch (``carve_scratch``) beside its ``WorldArrays`` (``world``):
 the shapes' poses, the contacts found (``out``, ``counts``), candidates, the problem's
 matrices (``big``), the cones' μ, the solver's info and settings, each slot's impulse of the
-previous step (``prev``, ``had``) and force of this one (``force``), the contacts' number
-and the limit rows' (``count``: ``shift_past_limits`` reads the second after the step) and
+previous step (``prev``, ``had``) and force of this one (``force``), the contacts' number,
+the limit rows' and whether ``shift`` holds a correction (``count``: ``correct_positions``
+reads the last two after the step) and
 the report of the step (``report``), the constraint workspace, the active
 limits' rows, the interval rows' bounds and previous impulses (``lprev``, ``lhad``), the
 shapes' link twists (K21a) and the joints' (``bodies``), ``factored`` (whether the
@@ -111,7 +114,9 @@ workspace holds M's factors at this step's q; whether the last step had rows), t
 scratch (``sim.pairs.carve_pairs``; None without pairs), and ``joint_torques`` (2, nv): the
 generalised forces of the joint limits and of the friction losses in the last step (their
 impulses over dt, as ``contact.step.ContactStep``'s ``limit_torques`` and
-``friction_torques``)."""
+``friction_torques``); each contact's signed distance (``depth``, NaN for a compliant one)
+and the configuration's correction out of the contacts' penetrations (``shift`` (nv,),
+K43)."""
 
 MARGIN, STABILIZATION, FRICTION, WARM, FIRST, ACCEPT, PATCH = range(7)
 PARAMS = 7
@@ -229,7 +234,8 @@ def scratch_size(n, nq, nv, nl, shapes, limits, frictions, nr):
             + m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6) + K + ncp.INFO
             + ncp.SETTINGS + 2 * K * 3 + K + 2 + REPORT
             + L * ROW_COLUMNS + 2 * (L + frictions + nr) + 2 * (L + frictions)
-            + constraint_workspace_size(n, nq, nv, nl, m) + n * 12 + 2 + 2 * nv)
+            + constraint_workspace_size(n, nq, nv, nl, m) + n * 12 + 2 + 2 * nv + 1 + K
+            + nv)
 
 
 @serial
@@ -253,7 +259,7 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
     prev, o = ws.carve(p, o, (K, 3))
     force, o = ws.carve(p, o, (K, 3))
     had, o = ws.carve(p, o, (K,))
-    count, o = ws.carve(p, o, (2,))
+    count, o = ws.carve(p, o, (3,))
     report, o = ws.carve(p, o, (REPORT,))
     cwork, o = ws.carve(p, o, (constraint_workspace_size(n, nq, nv, nl, m),))
     lrows, o = ws.carve(p, o, (L, ROW_COLUMNS))
@@ -264,6 +270,8 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
     bodies, o = ws.carve(p, o, (n, 2, 6))
     factored, o = ws.carve(p, o, (2,))
     joint_torques, o = ws.carve(p, o, (2, nv))
+    depth, o = ws.carve(p, o, (K,))
+    shift, o = ws.carve(p, o, (nv,))
     ps = carve_pairs(world.pairs, p, o)
     for k in range(K):
         had[k] = 0.0
@@ -272,11 +280,12 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
             force[k, i] = 0.0
     for k in range(L + F):
         lhad[k], lprev[k] = 0.0, 0.0
-    count[0] = count[1] = 0.0
+    count[0] = count[1] = count[2] = 0.0
     factored[0], factored[1] = 0.0, 1.0
     return ContactScratch(_bare_world(world), poses, out, counts, cand, big, mu, info,
                           settings, prev, force, had, count, report, cwork, lrows, bounds,
-                          lprev, lhad, twists, bodies, factored, ps, joint_torques)
+                          lprev, lhad, twists, bodies, factored, ps, joint_torques, depth,
+                          shift)
 
 
 @serial
@@ -387,7 +396,7 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
         if w_.had[k] != 0.0:
             for i in range(3):
                 w_.force[k, i] = 0.0
-    w_.count[0], w_.count[1] = nc, nl  # nl: the limit rows limit_shift reads after the step
+    w_.count[0], w_.count[1], w_.count[2] = nc, nl, 0.0  # correct_positions reads the last two
     for i in range(REPORT):
         w_.report[i] = 0.0
     for i in range(2):
@@ -426,21 +435,39 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     status = _solve(w_, nc, nl + nf + nb, warm, G, g, lam, R, Cs, w)
     if status != OK:
         return status
+    _correction(m, w_, k_, nc, J, G, g, lam, dt, w)  # K43, applied after the step
     _keep_bilateral(con, lam, mc - nb, dt, sc)
     return _keep(m, w_, k_, nc, nl, nf, J, lam, vn, dt)
 
 
 @core
-def shift_past_limits(world, qn):
+def correct_positions(m, world, qn, tmp, dq, qs):
     """``qn``, the configuration after the step, with each coordinate that the step began
     past a joint limit moved back by the fraction ``stabilization`` of its overshoot
-    (``contact.limits.limit_shift``, K26a); nothing without a world (None: pruned). A core,
-    as ``contact_velocity``: the scratch it takes holds some forty arrays, and a function
-    with reference counts raised and dropped each of them at every step."""
+    (``contact.limits.limit_shift``, K26a), then moved by the contacts' correction
+    ``shift`` where the step left one (``qn ⊕ δ``, K43; ``qs`` and ``dq`` scratch); nothing
+    without a world (None: pruned). A core, as ``contact_velocity``: the scratch it takes
+    holds some forty arrays, and a function with reference counts raised and dropped each
+    of them at every step; the joints' exponentials are a core of their own
+    (``_shift_configuration``), called only on a step that leaves a correction."""
     if world is None:
         return
     wa = world.world
     limit_shift(wa.limits, world.lrows, int(world.count[1]), wa.params[STABILIZATION], qn)
+    if world.count[2] != 0.0:
+        _shift_configuration(m, world.shift, qn, tmp, dq, qs)
+
+
+@core
+def _shift_configuration(m, shift, qn, tmp, dq, qs):
+    """``qn ← qn ⊕ shift`` joint by joint (``joint_integrate``; ``qs`` and ``dq``
+    scratch)."""
+    for k in range(m.nv):
+        dq[k] = shift[k]
+    for j in range(m.n):
+        joint_integrate(m, j, qn, dq, tmp, qs)
+    for i in range(m.nq):
+        qn[i] = qs[i]
 
 
 @serial
@@ -588,7 +615,8 @@ def _rows(m, w_, k_, nc, nl, J, lam, R, dt):
 def _free_term(m, w_, nc, nl, J, g, R, vn, dt):
     """``g = J v_free`` with the gap's term on the ground contacts' normal rows (K23), or a
     compliant shape's spring and damper with its compliance in ``R`` (K41), the pairs' and
-    the limit rows' gap terms (K37, K26)."""
+    the limit rows' gap terms (K37, K26); each contact's signed distance into ``depth``
+    (NaN for a compliant one: K43 leaves it to its spring)."""
     wa = w_.world
     stabilization = wa.params[STABILIZATION]
     for r in range(J.shape[0]):
@@ -599,11 +627,12 @@ def _free_term(m, w_, nc, nl, J, g, R, vn, dt):
     c = 0
     for s in range(wa.kinds.shape[0]):
         for j in range(int(w_.counts[s])):
-            term, R[3 * c + 2] = normal_row(w_.out[s, j, 3], wa.compliance[s, 0],
-                                            wa.compliance[s, 1], stabilization, dt)
+            d, k, damping = w_.out[s, j, 3], wa.compliance[s, 0], wa.compliance[s, 1]
+            term, R[3 * c + 2] = normal_row(d, k, damping, dt)
             g[3 * c + 2] += term
+            w_.depth[c] = d if k == 0.0 and damping == 0.0 else math.nan
             c += 1
-    pair_gaps(wa.pairs, w_.pairs, g, c, stabilization, dt)
+    pair_gaps(wa.pairs, w_.pairs, g, w_.depth, c, dt)
     for k in range(nl):
         g[3 * nc + k] += limit_gap(w_.lrows, k, stabilization, dt)  # K26, K26a
 
@@ -636,6 +665,28 @@ def _solve(w_, nc, ni, warm, G, g, lam, R, Cs, w):
     if info[ncp.CONVERGED] == 0.0 and max(report[1], report[2], report[3]) > params[ACCEPT]:
         return fault(CONTACT_UNSOLVED, -1)
     return OK
+
+
+@inline
+def _correction(m, w_, k_, nc, J, G, g, lam, dt, w):
+    """The configuration's correction out of the rigid contacts' penetrations at the end
+    of the step, ``δ = M⁻¹ J_Nᵀ μ`` (K43, ``contact.correction``) into ``shift``, from M's
+    factors, and ``count[2] = 1``; nothing where no contact ends the step inside. ``w``:
+    the solvers' scratch, free after them (its rows 0 and 1: ``b`` and ``μ``)."""
+    b, mu = w[0, :nc], w[1, :nc]
+    deepest = correction_targets(G, g, lam, w_.depth, nc, w_.world.params[STABILIZATION],
+                                 dt, b)
+    if not deepest > 0.0:
+        return
+    correction_impulses(G, nc, b, deepest, mu)
+    shift = w_.shift
+    for i in range(m.nv):
+        acc = 0.0
+        for c in range(nc):
+            acc += J[3 * c + 2, i] * mu[c]
+        shift[i] = acc
+    ltdl_solve(m, k_.H, shift)
+    w_.count[2] = 1.0
 
 
 @inline

@@ -286,7 +286,6 @@ def trajectory_criteria(traj, rollout: int | None = None, slip: float = SLIP
     out = {name: np.full(steps, np.nan) for name in CRITERIA}
     number = np.full(steps, -1, dtype=np.int64)
     unmatched = reordered = 0
-    beta = scene.settings.stabilization
     for k in range(steps):
         if not (np.all(np.isfinite(q[k + 1])) and np.all(np.isfinite(v[k + 1]))
                 and count[k] >= 0):
@@ -303,7 +302,7 @@ def trajectory_criteria(traj, rollout: int | None = None, slip: float = SLIP
         reordered += int(moved)
         sigma = (J @ v_plus).reshape(nc, 3)  # σ = J v⁺ (K20, K24)
         soft = contact_compliance(scene.collisions, contacts)
-        sigma[:, 2] += gap_velocity(contacts.distance, beta, dt, soft)[0]  # K23, K41
+        sigma[:, 2] += gap_velocity(contacts.distance, dt, soft)[0]  # K23, K41
         crit = step_criteria(contact_frame_forces(forces[k, slots], frames), sigma,
                              contacts.distance, contacts.friction, slip)
         for name, value in crit.maxima().items():

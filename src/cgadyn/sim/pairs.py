@@ -21,7 +21,7 @@ from ..constraints.core import _add_columns
 from ..contact.distance import WORK
 from ..contact.manifold import CANDIDATE_COLUMNS, MAX_CONTACTS, OUT
 from ..contact.pairs import PAIR_CANDIDATES, contact_frame, pair_contacts, pair_margin
-from ..contact.problem import gap_term
+from ..contact.problem import open_gap
 
 __all__ = ["pair_world"]
 
@@ -145,14 +145,16 @@ def pair_rows(pairs, friction, ps, m, Sw, links, J, mu, lam, prev, had, c, shape
 
 
 @serial
-def pair_gaps(pairs, ps, g, c, beta, dt):
-    """The gap's term (K23) on each pair contact's normal row, from contact ``c``."""
+def pair_gaps(pairs, ps, g, depth, c, dt):
+    """The gap's term (K23) on each pair contact's normal row, from contact ``c``, and the
+    contact's signed distance into ``depth[c]`` (K43)."""
     if pairs is None:
         return
     out, counts, _, _, _, _, _, _, _ = ps  # unpacked: ps may be typed Optional
     for p in range(counts.shape[0]):
         for j in range(int(counts[p])):
-            g[3 * c + 2] += gap_term(out[p, j, 3], beta, dt)
+            g[3 * c + 2] += open_gap(out[p, j, 3], dt)
+            depth[c] = out[p, j, 3]
             c += 1
 
 

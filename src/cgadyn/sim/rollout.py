@@ -95,9 +95,9 @@ from ..multibody.packed import unpack
 from .contact import (
     carve_scratch,
     contact_velocity,
+    correct_positions,
     factored_dynamics,
     scratch_size,
-    shift_past_limits,
 )
 from .pairs import pair_count, pair_scratch_size
 from .work.rollout import workspace, workspace_size
@@ -441,7 +441,7 @@ def step(m, method, q, v, u, f, ctrl, con, world, fac, dt, qn, vn, a, sc, work):
             vn[k] = v[k] + w * (Ka[0, k] + 2.0 * Ka[1, k] + 2.0 * Ka[2, k] + Ka[3, k])
     _advance(m, q, tau, w, tmp, dq, qn)  # q ⊕ dt v, q ⊕ dt v⁺ or RK4's weighted sum
     if method == SEMI_IMPLICIT_EULER:
-        shift_past_limits(world, qn)  # back toward a bound the step began past (K26a)
+        correct_positions(m, world, qn, tmp, dq, qs)  # past a bound, into the ground: K26a, K43
     if method != RK4:
         transport(m, tau, dt, vn)  # v' in the frames of q' (K24)
     if not (finite(qn) and finite(vn)):
