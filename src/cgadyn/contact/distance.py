@@ -717,8 +717,9 @@ def epa(ka, sa, va, Ta, kb, sb, vb, Tb, n, work, out):
                 nf += 1
         nv += 1
     m0, m1, m2, depth = F[best, 3], F[best, 4], F[best, 5], F[best, 6]
-    if not depth >= 0.0:  # the origin outside the polytope: it was not grown right
+    if not depth >= -EPA_TOLERANCE:  # the origin outside the polytope: not grown right
         return False
+    depth = max(depth, 0.0)  # the origin on a face, to rounding: the cores touch
     i, j, k = int(F[best, 0]), int(F[best, 1]), int(F[best, 2])
     # barycentric weights of δ n, the face's point nearest the origin
     x0, x1, x2 = depth * m0 - V[i, 0], depth * m1 - V[i, 1], depth * m2 - V[i, 2]
