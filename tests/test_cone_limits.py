@@ -91,3 +91,24 @@ def test_the_compiled_step_is_contact_step_with_a_cone():
     off = cgadyn.simulate(model, q0, v0, DT, 300, integrator="semi_implicit_euler",
                           world=NOWHERE, joint_limits=False)
     assert max(_angle(x) for x in off.q) > CONE + 0.1
+
+
+def test_a_ball_started_past_its_cone_turns_back_without_a_kick():
+    """Without gravity, the rod started 0.2 rad past its cone about y: the position update
+    turns it back about its own axis by ``β`` of its overshoot a step (K26a), its angle
+    ``CONE + 0.2 (1 - β)^k`` to 1e-12, and it keeps no velocity (a velocity ``β d / dt``
+    would have sent it on across the cone at 40 rad/s); ``contact_step``, under gravity
+    that the cone holds, takes the same first step."""
+    model = _rod()
+    q0 = cgadyn.neutral(model)
+    q0[1], q0[3] = np.sin(0.5 * (CONE + 0.2)), np.cos(0.5 * (CONE + 0.2))  # about y
+    tr = cgadyn.simulate(model, q0, np.zeros(3), DT, 40, integrator="semi_implicit_euler",
+                         world=NOWHERE, gravity=np.zeros(3))
+    beta = cgadyn.ContactSettings().stabilization
+    angles = np.array([_angle(x) for x in tr.q])
+    assert np.abs(angles - (CONE + 0.2 * (1 - beta) ** np.arange(41))).max() < 1e-12
+    assert np.abs(tr.v).max() < 1e-12
+    assert np.abs(tr.q[:, [0, 2]]).max() < 1e-15  # about y alone
+    s = contact_step(model, None, q0, np.zeros(3), np.zeros(3), DT, NOWHERE)
+    assert abs(_angle(s.q) - angles[1]) < 1e-12  # gravity pushes it out: the cone holds
+    assert np.abs(s.v).max() < 1e-9

@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from .._jit import inline, serial
-from .problem import gap_term, open_gap
+from .problem import open_gap
 
 __all__ = ["LIMIT_COLUMNS", "ROW_COLUMNS", "active_limits", "joint_frictions", "joint_limits",
            "limit_gap", "limit_shift"]
@@ -124,29 +124,46 @@ def _cone(largest, q, v, vn, i, k, dt, margin, slot, rows, count):
 
 
 @inline
-def limit_gap(rows, k, beta, dt):
-    """The gap's term of limit row ``k`` (K26): ``d / dt`` for an open gap (the step may
-    close it, no sooner); for a coordinate past its bound (``d < 0``) 0, so that the step
-    moves it no further out, and the step's position update takes it back by the fraction
-    ``β`` of its overshoot (``limit_shift``, K26a): K23's velocity ``β d / dt`` would stay
-    in ``v`` and carry the joint on, adding the energy of a kick that nothing put in (a
-    model started outside its ranges, Gymnasium's Ant at its neutral pose, jumped metres).
-    A cone's row (K26') keeps K23's term."""
-    d = rows[k, ROW_GAP]
-    if rows[k, ROW_WIDTH] == 1.0:
-        return open_gap(d, dt)
-    return gap_term(d, beta, dt)
+def limit_gap(rows, k, dt):
+    """The gap's term of limit row ``k`` (K26, K26'): ``d / dt`` for an open gap (the step
+    may close it, no sooner); for a coordinate or a cone past its bound (``d < 0``) 0, so
+    that the step moves it no further out, and the step's position update takes it back by
+    the fraction ``β`` of its overshoot (``limit_shift``, K26a): a velocity ``β d / dt``
+    would stay in ``v`` and carry the joint on, adding the energy of a kick that nothing
+    put in (a model started outside its ranges, Gymnasium's Ant at its neutral pose, jumped
+    metres)."""
+    return open_gap(rows[k, ROW_GAP], dt)
 
 
 @inline
 def limit_shift(limits, rows, count, beta, q):
     """``q`` after the step's position update, each coordinate that the step began past a
     bound of (``rows[:count]``, ``active_limits``'; ``d < 0``) moved back toward it by
-    ``β |d|`` (K26a): a correction of the position alone, with no velocity to keep."""
+    ``β |d|``, and each ball joint that began past its cone turned back about its own axis
+    by ``β |d|`` (K26a): a correction of the position alone, with no velocity to keep."""
     for k in range(count):
         d = rows[k, ROW_GAP]
-        if rows[k, ROW_WIDTH] != 1.0 or not d < 0.0:
+        if not d < 0.0:
             continue
         slot = int(rows[k, ROW_SLOT])
         i = int(limits[slot // 2, Q])
-        q[i] += -beta * d if slot % 2 == 0 else beta * d
+        if rows[k, ROW_WIDTH] == 1.0:
+            q[i] += -beta * d if slot % 2 == 0 else beta * d
+        else:
+            _turn_back(q, i, beta * d)
+
+
+@inline
+def _turn_back(q, i, angle):
+    """The quaternion ``(x, y, z, w)`` at ``q[i]`` turned by ``angle`` about its own axis
+    (``θ ← θ + angle``, taken with ``w >= 0``; K26a on a cone): the rotation's axis ``a``
+    is unchanged, so the cone's gap grows by ``-angle``."""
+    x, y, z, w = q[i], q[i + 1], q[i + 2], q[i + 3]
+    if w < 0.0:
+        x, y, z, w = -x, -y, -z, -w
+    s = math.sqrt(x * x + y * y + z * z)
+    if s == 0.0:
+        return
+    half = math.atan2(s, w) + 0.5 * angle
+    c = math.sin(half) / s
+    q[i], q[i + 1], q[i + 2], q[i + 3] = c * x, c * y, c * z, math.cos(half)

@@ -48,13 +48,6 @@ def open_gap(d, dt):
 
 
 @inline
-def gap_term(d, beta, dt):
-    """The gap's term of a cone limit's row (K26'): ``d / dt`` for an open gap, ``β d / dt``
-    for a penetration (a fraction ``β`` of it corrected per step by a velocity)."""
-    return (d if d > 0.0 else beta * d) / dt
-
-
-@inline
 def normal_row(d, k, c, dt):
     """``(gap term, R)`` of a contact's normal row at the signed distance ``d``: rigid
     (``k = c = 0``), K23's term (``open_gap``) and ``R = 0``; a spring ``k`` and damper

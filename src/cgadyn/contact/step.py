@@ -198,7 +198,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     stiffness = contact_compliance(cm, contacts)
     term, compliance = gap_velocity(contacts.distance, step, stiffness)  # K41
     g[3 * np.arange(nc) + 2] += term  # K23, K41
-    g[3 * nc + np.arange(nl)] += [limit_gap(rows, k, stabilization, step)  # K26, K26a
+    g[3 * nc + np.arange(nl)] += [limit_gap(rows, k, step)  # K26, K26a
                                   for k in range(nl)]
     soft_rows = np.zeros(len(g))  # R: the compliance of each row (K41)
     soft_rows[3 * np.arange(nc) + 2] = compliance

@@ -618,7 +618,6 @@ def _free_term(m, w_, nc, nl, J, g, R, vn, dt):
     the limit rows' gap terms (K37, K26); each contact's signed distance into ``depth``
     (NaN for a compliant one: K43 leaves it to its spring)."""
     wa = w_.world
-    stabilization = wa.params[STABILIZATION]
     for r in range(J.shape[0]):
         acc = 0.0
         for k in range(m.nv):
@@ -634,7 +633,7 @@ def _free_term(m, w_, nc, nl, J, g, R, vn, dt):
             c += 1
     pair_gaps(wa.pairs, w_.pairs, g, w_.depth, c, dt)
     for k in range(nl):
-        g[3 * nc + k] += limit_gap(w_.lrows, k, stabilization, dt)  # K26, K26a
+        g[3 * nc + k] += limit_gap(w_.lrows, k, dt)  # K26, K26a
 
 
 @inline
