@@ -60,6 +60,38 @@ def test_gymnasium_humanoid_is_read_whole():
     assert np.isclose(model.total_mass, mj.body_mass[1:].sum())
 
 
+@pytest.mark.parametrize("name", MODELS)
+def test_home_is_mujocos_qpos0(name):
+    """``Model.home`` is MuJoCo's ``qpos0`` (its joints' ``ref``): the links are where
+    MuJoCo puts them at ``qpos0``, to 1e-12. The hopper's home stands it up its ``rootz``
+    slide, its foot above the floor, where q = 0 sinks it 1.2 m into the floor; the
+    command starts there, and ``cgadyn info`` shows it."""
+    from cgadyn.commands.simulate import start_configuration
+
+    model, mj = _load(ROOT / f"{name}.xml")
+    qpos, _ = cgadyn.to_mujoco_state(model, model.home, np.zeros(model.nv))
+    assert np.array_equal(qpos, mj.qpos0)
+    data = mujoco.MjData(mj)
+    mujoco.mj_kinematics(mj, data)
+    links = cgadyn.link_placements(model, model.home)
+    for b in range(1, mj.nbody):
+        name_b = mujoco.mj_id2name(mj, mujoco.mjtObj.mjOBJ_BODY, b)
+        if name_b in model.link_names:
+            at = links[model.link_names.index(name_b)][:3, 3]
+            assert np.abs(at - data.xpos[b]).max() < 1e-12, name_b
+    if name == "gymnasium/hopper":
+        start = start_configuration(model)
+        assert start[1] == 1.25
+        cm = cgadyn.collision_model(model, str(ROOT / f"{name}.xml"))
+        feet = cgadyn.ground_contacts(model, cm, start, margin=10.0)
+        assert feet.distance.min() > 0.0
+        sunk = cgadyn.ground_contacts(model, cm, cgadyn.neutral(model), margin=10.0)
+        assert sunk.distance.min() < -1.0
+        from cgadyn.commands.info import format_info, model_info
+
+        assert "home configuration (the file's qpos0" in format_info(model_info(model))
+
+
 def test_load_uses_mujoco_for_mjcf():
     model = cgadyn.load(ROOT / "gymnasium/ant.xml")
     mj = mujoco.MjModel.from_xml_path(str(ROOT / "gymnasium/ant.xml"))

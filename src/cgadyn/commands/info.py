@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import argparse
 
+import numpy as np
+
 from .common import DEFAULT_ROBOT, ROBOT_HELP, add_base_options, floating_base, print_json
 
 __all__ = ["add_parser", "format_info", "model_info", "native_extension", "run"]
@@ -26,8 +28,11 @@ def _limits(values, j: int, idx) -> list[float]:
 
 def model_info(model) -> dict:
     """Base, sizes, joints (kind, parent, coordinates, limits, armature, damping,
-    stiffness, body mass), links (with the joint they move with), actuators and total mass
-    of a model."""
+    stiffness, body mass), links (with the joint they move with), actuators, total mass and
+    home configuration (``Model.home``; ``home_is_neutral`` where it is the neutral one) of
+    a model."""
+    from ..algorithms import neutral
+
     def joint(j: int) -> dict:
         parent = int(model.parents[j])
         return {"name": model.joint_names[j], "kind": model.joint_kinds[j],
@@ -50,7 +55,8 @@ def model_info(model) -> dict:
             "links": [{"name": n, "joint": None if model.link_joint[i] < 0
                        else model.joint_names[model.link_joint[i]]}
                       for i, n in enumerate(model.link_names)],
-            "actuators": model.actuators}
+            "actuators": model.actuators, "home": [float(x) for x in model.home],
+            "home_is_neutral": bool(np.array_equal(model.home, neutral(model)))}
 
 
 def native_extension() -> dict:
@@ -89,6 +95,9 @@ def format_info(info: dict) -> str:
                      f"{_range(jt['lower'], jt['upper']):<22}{jt['body_mass']:>9.4g}"
                      f"{_most(jt['armature']):>10}{_most(jt['damping']):>9}"
                      f"{_most(jt['stiffness']):>8}  {jt['parent'] or 'world'}")
+    if not info.get("home_is_neutral", True):
+        lines += ["", "home configuration (the file's qpos0; cgadyn simulate starts there): "
+                  "[" + ", ".join(f"{x:.4g}" for x in info["home"]) + "]"]
     lines += ["", f"{'link':<36}moves with joint"]
     lines += [f"{lk['name']:<36}{lk['joint'] or '(fixed to world)'}" for lk in info["links"]]
     if info.get("actuators"):

@@ -106,8 +106,8 @@ def add_parser(sub) -> None:
                         f"--ground, the only one contact allows)")
     p.add_argument("--controller", choices=CONTROLLERS, default="none",
                    help="none: passive; gravity: gravity compensation; pd: joint PD to the "
-                        "neutral configuration (within the joints' limits) plus gravity "
-                        "compensation (default none)")
+                        "start configuration (the model's home, within the joints' limits) "
+                        "plus gravity compensation (default none)")
     p.add_argument("--wn", type=positive_float, default=None,
                    help=f"PD natural frequency in rad/s: K_p = diag(M(q_ref)) wn^2, "
                         f"K_d = 2 diag(M(q_ref)) wn, critically damped per joint, so that "
@@ -121,8 +121,8 @@ def add_parser(sub) -> None:
                         "(with --controller pd only)")
     p.add_argument("--q0", nargs="+", metavar="Q",
                    help="initial configuration, nq numbers separated by spaces or commas "
-                        "(default: the neutral configuration, each coordinate moved into "
-                        "its joint's limits)")
+                        "(default: the model's home configuration (an MJCF model's qpos0, a "
+                        "URDF's neutral one), each coordinate moved into its joint's limits)")
     p.add_argument("--v0", nargs="+", metavar="V",
                    help="initial velocity, nv numbers (default zero)")
     p.add_argument("--ground", action="store_true",
@@ -352,14 +352,15 @@ def check_gains(args: argparse.Namespace) -> None:
 
 
 def start_configuration(model) -> np.ndarray:
-    """The neutral configuration with each coordinate of a joint whose coordinates add
-    (revolute, prismatic, ...) moved into its limits: the command's default start and PD
-    target. Gymnasium's Ant has every ankle's range away from 0 (30 to 70 degrees): started
-    outside, a step takes it back (K26a), but a start should be a state the model allows."""
-    from ..algorithms import neutral
+    """The model's home configuration (``Model.home``: MuJoCo's ``qpos0``, where the
+    hopper stands 1.25 m up its ``rootz`` slide, not sunk 1.2 m into the floor at q = 0; a
+    URDF's neutral one) with each coordinate of a joint whose coordinates add (revolute,
+    prismatic, ...) moved into its limits: the command's default start and PD target.
+    Gymnasium's Ant has every ankle's range away from 0 (30 to 70 degrees): started outside,
+    a step takes it back (K26a), but a start should be a state the model allows."""
     from ..multibody.joints import TYPES
 
-    q = np.asarray(neutral(model), float)
+    q = np.array(model.home, dtype=float)
     for j, t in enumerate(model.joint_types):
         if TYPES[int(t)].additive:
             i = slice(int(model.idx_q[j]), int(model.idx_q[j + 1]))
@@ -522,12 +523,12 @@ def _ground(model, args, q0: np.ndarray, given: bool, registry):
     k = int(np.argmin(distance))
     if distance[k] < -PENETRATION:
         shape = collisions[int(found.collision[k])].name
-        where = "the given --q0" if given else "its start (the neutral configuration)"
+        where = "the given --q0" if given else "its start (its home configuration)"
         raise UsageError(f"--ground: at {where} {model.name!r} starts "
                          f"{-distance[k]:.3g} m inside the ground (its shape "
                          f"{shape!r}); start it above the ground"
                          + ("" if model.floating_base else
-                            " (a fixed base stays where its URDF puts it: z = 0 is the "
+                            " (a fixed base stays where its file puts it: z = 0 is the "
                             "ground, so a robot hanging below its base cannot stand on it)"))
     # the links it will stand on: those within 1 cm of the lowest shape
     support = tuple(sorted({int(link) for link, d in zip(found.link, distance, strict=True)

@@ -204,6 +204,7 @@ def with_bodies(model, collisions, bodies) -> tuple[object, CollisionModel, np.n
         friction=cat(model.friction, np.zeros(nv)),
         stiffness=cat(model.stiffness, np.zeros(nv)),
         spring_reference=cat(model.spring_reference, np.tile(_NEUTRAL, nb)),
+        home=cat(model.home, np.concatenate([b.q for b in bodies])),
         cone_limit=cat(model.cone_limit, np.full(nb, np.inf)),
     )
     links = model.nlinks + np.arange(nb)

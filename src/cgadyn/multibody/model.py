@@ -47,6 +47,7 @@ _ARRAY_FIELDS = (
     "friction",
     "stiffness",
     "spring_reference",
+    "home",
     "cone_limit",
     "actuator_dof",
     "actuator_gear",
@@ -147,6 +148,11 @@ class Model:
     spring_reference : float64 (nq,)
         The configuration at which the springs are relaxed (MuJoCo's ``qpos_spring``, in
         cgadyn's layout); defaults to the neutral configuration.
+    home : float64 (nq,)
+        The configuration the model's file draws the robot in: MuJoCo's ``qpos0`` (each
+        joint's ``ref``, in cgadyn's layout; Gymnasium's and dm_control's episodes start
+        there, the hopper's torso 1.25 m up its ``rootz`` slide), the neutral configuration
+        for a URDF. ``cgadyn simulate`` starts there.
     actuator_names : tuple[str, ...]
         The joint motors (MuJoCo's ``<motor joint=...>``), none by default
         (``cgadyn.actuator_torques``, ``simulate(ctrl=...)``).
@@ -187,6 +193,7 @@ class Model:
     friction: np.ndarray | None = None
     stiffness: np.ndarray | None = None
     spring_reference: np.ndarray | None = None
+    home: np.ndarray | None = None
     cone_limit: np.ndarray | None = None
     actuator_names: tuple = ()
     actuator_dof: np.ndarray | None = None
@@ -209,11 +216,12 @@ class Model:
         if self.cone_limit is None:
             object.__setattr__(self, "cone_limit",
                                np.full(len(np.asarray(self.joint_types).reshape(-1)), np.inf))
-        if self.spring_reference is None:
-            from .joints.table import neutral_of_types
+        for field in ("spring_reference", "home"):
+            if getattr(self, field) is None:
+                from .joints.table import neutral_of_types
 
-            object.__setattr__(self, "spring_reference",
-                               neutral_of_types(np.asarray(self.joint_types).reshape(-1)))
+                object.__setattr__(self, field,
+                                   neutral_of_types(np.asarray(self.joint_types).reshape(-1)))
         for field in _ARRAY_FIELDS:
             arr = getattr(self, field)
             dtype = np.int64 if field in ("joint_types", "parents", "link_joint",
@@ -256,6 +264,7 @@ class Model:
             "friction": (nv,),
             "stiffness": (nv,),
             "spring_reference": (nq,),
+            "home": (nq,),
             "cone_limit": (n,),
             "actuator_dof": (len(self.actuator_names),),
             "actuator_gear": (len(self.actuator_names),),
@@ -325,9 +334,10 @@ class Model:
                 raise ValueError(f"Model.{field}[{k}] (joint "
                                  f"{self.joint_names[self.dof_joint[k]]!r}) is {values[k]}; "
                                  f"expected a finite number >= 0")
-        if not np.all(np.isfinite(self.spring_reference)):
-            raise ValueError("Model.spring_reference has entries that are not finite; "
-                             "expected a configuration")
+        for field in ("spring_reference", "home"):
+            if not np.all(np.isfinite(getattr(self, field))):
+                raise ValueError(f"Model.{field} has entries that are not finite; "
+                                 f"expected a configuration")
         for j, t in enumerate(self.joint_types):
             limit = float(self.cone_limit[j])
             if not (limit > 0.0) or (np.isfinite(limit) and not TYPES[int(t)].cone):

@@ -32,10 +32,10 @@ places every body. ``from_mujoco`` reads what it compiled, whole:
   named site whose name no body has (``site_xpos``, ``site_xmat``).
 - **Passive dynamics**: ``dof_armature`` (``Model.armature``), ``dof_damping``
   (``Model.damping``), ``jnt_stiffness`` and ``qpos_spring`` (``Model.stiffness``,
-  ``Model.spring_reference``); ``jnt_range`` where ``jnt_limited`` (``Model.lower``,
-  ``Model.upper`` for a hinge or a slide, ``Model.cone_limit`` for a ball) and
-  ``dof_frictionloss`` (``Model.friction``), which the contact step enforces
-  (``docs/contact.md``, "Joint limits", "Friction loss").
+  ``Model.spring_reference``), and ``qpos0`` as ``Model.home``; ``jnt_range`` where
+  ``jnt_limited`` (``Model.lower``, ``Model.upper`` for a hinge or a slide,
+  ``Model.cone_limit`` for a ball) and ``dof_frictionloss`` (``Model.friction``), which the
+  contact step enforces (``docs/contact.md``, "Joint limits", "Friction loss").
 - **Actuators**: the joint motors (``Model.actuators``: gear, control and force ranges);
   other actuators are left out with a warning.
 
@@ -276,7 +276,8 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
             damping=joints["damping"], stiffness=joints["stiffness"],
             friction=joints["friction"], cone_limit=joints["cone"])
         return dataclasses.replace(model, spring_reference=table.from_mujoco(
-            model, mj.qpos_spring), **_motors(mj, model, joint_of, model_name))
+            model, mj.qpos_spring), home=table.from_mujoco(model, mj.qpos0),
+            **_motors(mj, model, joint_of, model_name))
     except ValueError as exc:
         raise ValueError(f"MuJoCo model {model_name!r}: {exc}") from None
 
