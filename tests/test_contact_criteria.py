@@ -118,7 +118,9 @@ def test_a_rollout_criteria_are_contact_step_criteria():
     """A box tumbling onto its face (forces from zero each step): at every 10th step the
     contacts and forces ``Trajectory.contacts`` finds again are ``contact_step``'s from the
     same state, and the criteria ``Trajectory.contact_criteria`` gives equal its step's, to
-    1e-10; a penetration is measured where the corner lands."""
+    1e-10; the corner lands without passing into the ground (K24a: Pinocchio's screw
+    motion, which the steps once took, let a turning corner end a step below the
+    linearised contact's plane)."""
     model, cm = _free(BOX)
     q = tilted(model)
     v = np.array([0.3, 0.0, 0.0, 0.0, 1.0, 0.5])
@@ -140,7 +142,7 @@ def test_a_rollout_criteria_are_contact_step_criteria():
             for name, value in worst.items():
                 assert getattr(history, name)[k] == pytest.approx(value, abs=1e-10), name
     assert checked >= 15
-    assert 0.0 < history.maxima()["penetration"] < 1e-3
+    assert history.maxima()["penetration"] < 1e-12
 
 
 def test_criteria_need_every_state_and_a_world():

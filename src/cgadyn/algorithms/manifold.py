@@ -16,6 +16,7 @@ from ..multibody.joints import (
     joint_difference,
     joint_frame_rate,
     joint_integrate,
+    joint_step,
     joint_transport,
 )
 from ..multibody.packed import unpack
@@ -98,6 +99,26 @@ def step_free_velocity(model, v, a, dt: float) -> np.ndarray:
     out = np.empty(model.nv)
     euler_velocity(model.packed, np.asarray(v, dtype=float), np.asarray(a, dtype=float),
                    float(dt), out)
+    return out
+
+
+@serial
+def euler_position(packed, q, dq, out):
+    """``joint_step`` of every joint, for Python (``contact_step``)."""
+    m = unpack(packed)
+    tmp = np.empty((3, 8))
+    for j in range(m.n):
+        joint_step(m, j, q, dq, tmp, out)
+
+
+def step_moved_configuration(model, q, dq) -> np.ndarray:
+    """``q`` moved by an Euler step's displacement ``dq`` (its velocity times dt), as the
+    rollouts move it (``joint_step``, K24a): ``integrate`` but for a free flyer's or planar
+    joint's origin, which goes straight along the world vector of its linear part. A new
+    array."""
+    q = np.asarray(q, dtype=float)
+    out = q.copy()
+    euler_position(model.packed, q, np.asarray(dq, dtype=float), out)
     return out
 
 

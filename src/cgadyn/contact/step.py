@@ -109,7 +109,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
        cycle on redundant contacts with sliding, docs/contact.md), the other goes on from
        its last forces; where neither meets ``tolerance``, forces whose residuals are all
        at most ``accept`` are kept (``info.converged`` is then False);
-    4. ``v⁺ = v_free + M⁻¹ Jᵀ λ`` and ``q⁺ = q ⊕ dt v⁺`` (K24), ``v⁺`` then moved into
+    4. ``v⁺ = v_free + M⁻¹ Jᵀ λ`` and ``q⁺ = q ⊕ dt v⁺`` (K24; a free flyer's origin
+       straight along the world vector of its linear part, K24a), ``v⁺`` then moved into
        the frames of ``q⁺`` (a free flyer's linear velocity, taken in the frame of ``q``
        through the step: ``v_free = v + dt (v̇ + ω × v)`` there, K24);
     5. where a rigid contact ends the step inside (``d + dt σ_N < 0``), ``q⁺`` moved by
@@ -123,7 +124,11 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     ``accept`` (naming the residuals) or for bad input.
     """
     from ..algorithms import aba, crba, integrate
-    from ..algorithms.manifold import step_free_velocity, step_moved_velocity
+    from ..algorithms.manifold import (
+        step_free_velocity,
+        step_moved_configuration,
+        step_moved_velocity,
+    )
     from ..algorithms.passive import passive_torques
     from .inputs import checked_collisions, checked_settings, checked_world
     from .limits import (
@@ -180,7 +185,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     frictions = joint_frictions(model) if friction_loss else np.zeros((0, 2))
     nc, nf = len(contacts), len(frictions)
     if nc + nl + nf == 0:
-        return ContactStep(integrate(model, q, step * v_free),
+        return ContactStep(step_moved_configuration(model, q, step * v_free),
                            step_moved_velocity(model, v_free, step), contacts,
                            np.zeros((0, 3)), np.zeros(model.nv), np.zeros(model.nv),
                            velocities=np.zeros((0, 3)))
@@ -225,7 +230,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     limit_torques = J[3 * nc:n1].T @ lam[3 * nc:n1] / step
     friction_torques = J[n1:].T @ lam[n1:] / step
     sigma = (G[:3 * nc] @ lam + g[:3 * nc]).reshape(nc, 3)  # σ = G λ + g (K11)
-    q_next = integrate(model, q, step * v_next)
+    q_next = step_moved_configuration(model, q, step * v_next)  # K24a
     limit_shift(limits, rows, nl, stabilization, q_next)  # past a bound: back by β |d| (K26a)
     depth = np.where(np.any(stiffness != 0.0, axis=1), np.nan, contacts.distance)
     b, mu = np.empty(nc), np.empty(nc)

@@ -90,7 +90,7 @@ from ..constraints.articulated import row_values
 from ..constraints.core import FORWARD, INFO, constraint_core
 from ..constraints.work.core import workspace as constraint_workspace
 from ..constraints.work.core import workspace_size as constraint_workspace_size
-from ..multibody.joints import joint_difference, joint_integrate
+from ..multibody.joints import joint_difference, joint_integrate, joint_step
 from ..multibody.packed import unpack
 from .contact import (
     carve_scratch,
@@ -366,14 +366,19 @@ def _report(world, out):
 
 
 @inline
-def _advance(m, q, v, h, tmp, dq, out):
-    """``out = q ⊕ h v`` (``dq`` receives ``h v``)."""
+def _advance(m, q, v, h, tmp, dq, out, euler):
+    """``out = q ⊕ h v`` (``dq`` receives ``h v``); an Euler step's move where ``euler``
+    (``joint_step``: a free flyer's or planar joint's origin along the world vector of its
+    linear velocity, held there through the step, K24a)."""
     if m.flat:  # every joint additive: a sum, coordinate-wise
         for k in range(m.nv):
             dq[k] = h * v[k]
             out[k] = q[k] + dq[k]
         return
-    _advance_joints(m, q, v, h, tmp, dq, out)
+    if euler:
+        _step_joints(m, q, v, h, tmp, dq, out)
+    else:
+        _advance_joints(m, q, v, h, tmp, dq, out)
 
 
 @core
@@ -385,6 +390,16 @@ def _advance_joints(m, q, v, h, tmp, dq, out):
         dq[k] = h * v[k]
     for j in range(m.n):
         joint_integrate(m, j, q, dq, tmp, out)
+
+
+@core
+def _step_joints(m, q, v, h, tmp, dq, out):
+    """``_advance`` of an Euler step, joint by joint (``joint_step``), compiled once and
+    called."""
+    for k in range(m.nv):
+        dq[k] = h * v[k]
+    for j in range(m.n):
+        joint_step(m, j, q, dq, tmp, out)
 
 
 @core
@@ -411,7 +426,7 @@ def step(m, method, q, v, u, f, ctrl, con, world, fac, dt, qn, vn, a, sc, work):
             for k in range(m.nv):
                 K[0, k] = v[k]
         else:
-            _advance(m, q, K[i - 1], h, tmp, dq, qs)  # q ⊕ c_i h v_{i-1}
+            _advance(m, q, K[i - 1], h, tmp, dq, qs, False)  # q ⊕ c_i h v_{i-1}
             for k in range(m.nv):
                 K[i, k] = v[k] + h * Ka[i - 1, k]  # v_i = v + c_i h q̈_{i-1}
         status = closed_loop_acceleration(m, q if i == 0 else qs, K[i], u, f, ctrl, con, fac,
@@ -439,7 +454,7 @@ def step(m, method, q, v, u, f, ctrl, con, world, fac, dt, qn, vn, a, sc, work):
         for k in range(m.nv):
             tau[k] = K[0, k] + 2.0 * K[1, k] + 2.0 * K[2, k] + K[3, k]
             vn[k] = v[k] + w * (Ka[0, k] + 2.0 * Ka[1, k] + 2.0 * Ka[2, k] + Ka[3, k])
-    _advance(m, q, tau, w, tmp, dq, qn)  # q ⊕ dt v, q ⊕ dt v⁺ or RK4's weighted sum
+    _advance(m, q, tau, w, tmp, dq, qn, method != RK4)  # dt v, dt v⁺ (K24a); RK4's sum
     if method == SEMI_IMPLICIT_EULER:
         correct_positions(m, world, qn, tmp, dq, qs)  # past a bound, into the ground: K26a, K43
     if method != RK4:

@@ -42,6 +42,7 @@ from .dispatch import (
     joint_motors,
     joint_power,
     joint_scalars,
+    joint_step,
     joint_transport,
     joint_twist,
     quaternion_error,
@@ -73,6 +74,6 @@ __all__ = [
     "REVOLUTE_UNBOUNDED", "SPEEDS", "SPHERICAL", "TRANSLATION", "TYPES", "TYPE_NAMES",
     "JointType", "free_root", "is_additive",
     "joint_difference", "joint_frame_rate", "joint_integrate", "joint_motors", "joint_power",
-    "joint_scalars", "joint_transport", "joint_twist", "of_kind", "quaternion_error",
+    "joint_scalars", "joint_step", "joint_transport", "joint_twist", "of_kind", "quaternion_error",
     "unit_axes",
 ]

@@ -27,6 +27,7 @@ from ...kernels import (
 )
 from ...kernels.lane_arrays import sqrt
 from ...kernels.layout import physical, quaternion, rotor
+from ...kernels.rigid import rigid_frame, rigid_rotate
 from .record import JointType
 
 FREE_FLYER = 3
@@ -94,6 +95,21 @@ def free_flyer_integrate(q, i, tmp, out):
     """``out[i:i+7] = q ⊕ v = M exp(V / 2)``, the body twist ``V = S v`` given in
     ``tmp[2]`` (``tmp``: (3, 8)); the quaternion's sign kept on q's side."""
     quaternion_integrate(q, i, 3, tmp, out)
+
+
+@inline
+def free_flyer_step(q, i, d0, d1, d2, tmp, out):
+    """``out[i:i+7]``: the origin moved along the world vector ``R d`` of the step's
+    linear displacement ``d = (d0, d1, d2)`` (given in the body's frame at the start of
+    the step), the rotation by ``R exp(ω)``, its twist given in ``tmp[2]`` (a pure rotation
+    about the origin, which ``quaternion_integrate`` leaves where it is): K24a, the Euler
+    steps' move of a free flyer (``dispatch.joint_step``)."""
+    _quaternion_motor(q, i, 3, tmp[0])
+    r, p = rigid_frame(tmp[0])
+    w0, w1, w2 = rigid_rotate(r, d0, d1, d2)
+    p0, p1, p2 = p[0] + w0, p[1] + w1, p[2] + w2
+    quaternion_integrate(q, i, 3, tmp, out)
+    out[i], out[i + 1], out[i + 2] = p0, p1, p2
 
 
 @inline

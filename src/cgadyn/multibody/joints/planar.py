@@ -85,6 +85,19 @@ def planar_integrate(q, i, tmp, out):
 
 
 @inline
+def planar_step(q, i, d0, d1, tmp, out):
+    """``out[i:i+4]``: the origin moved along the plane's vector ``R(θ) (d0, d1)`` of the
+    step's linear displacement (in the child's frame at the start of the step), the angle
+    by the rotation whose twist ``tmp[2]`` gives (about the origin): K24a in the plane
+    (``free_flyer_step``)."""
+    c, s = q[i + 2], q[i + 3]
+    n = 1.0 / math.sqrt(c * c + s * s)
+    x, y = q[i] + n * (c * d0 - s * d1), q[i + 1] + n * (s * d0 + c * d1)
+    planar_integrate(q, i, tmp, out)
+    out[i], out[i + 1] = x, y
+
+
+@inline
 def planar_difference(q0, q1, i, k, tmp, out):
     """``out[k:k+3] = q1 ⊖ q0 = (vx, vy, ω)`` of ``V = log(~M0 M1)``, the motor taken with a
     non-negative scalar part (the angle in [-π, π], Pinocchio's SE(2) ``log``). ``tmp``:
