@@ -23,7 +23,9 @@ for one-dof joints, ``M exp(V / 2)`` for a free flyer). With ``h = dt``:
 
   so that a body that nothing pushes keeps its velocity in the world (read in the turning
   frame, ``v + h v̇`` grows it by ``h² |ω × v|²`` a step: the energy of a spinning body
-  would rise);
+  would rise), and move q' with ``joint_step``: the origin straight along that world
+  velocity, ``p + h R v``, the body turned about it by ``R exp(h ω̂)`` (K24a; the screw
+  motion of ``q ⊕ h v`` runs the origin on an arc);
 - ``RK4``: the classical Runge-Kutta stages, each taken from q in the chart ``q ⊕ ·``::
 
       k_1 = (v, q̈(q, v))
