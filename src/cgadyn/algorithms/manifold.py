@@ -102,13 +102,31 @@ def step_free_velocity(model, v, a, dt: float) -> np.ndarray:
     return out
 
 
-@serial
-def euler_position(packed, q, dq, out):
-    """``joint_step`` of every joint, for Python (``contact_step``)."""
-    m = unpack(packed)
-    tmp = np.empty((3, 8))
+@core
+def integrate_joints(m, q, v, h, tmp, dq, out):
+    """``out = q ⊕ h v`` joint by joint (``joint_integrate``; ``dq`` receives ``h v``),
+    compiled once and called: the rollouts' sites and every rollout's specialisation share
+    it instead of each carrying every joint type's exponential."""
+    for k in range(m.nv):
+        dq[k] = h * v[k]
+    for j in range(m.n):
+        joint_integrate(m, j, q, dq, tmp, out)
+
+
+@core
+def step_joints(m, q, v, h, tmp, dq, out):
+    """``integrate_joints`` for an Euler step (``joint_step``: a free flyer's or planar
+    joint's origin straight along the world vector of its linear velocity, K24a)."""
+    for k in range(m.nv):
+        dq[k] = h * v[k]
     for j in range(m.n):
         joint_step(m, j, q, dq, tmp, out)
+
+
+@serial
+def euler_position(packed, q, dq, out):
+    """``step_joints`` for Python (``contact_step``): ``out = q`` moved by ``dq``."""
+    step_joints(unpack(packed), q, dq, 1.0, np.empty((3, 8)), np.empty(dq.shape[0]), out)
 
 
 def step_moved_configuration(model, q, dq) -> np.ndarray:

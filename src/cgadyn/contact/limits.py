@@ -103,11 +103,8 @@ def _cone(largest, q, v, vn, i, k, dt, margin, slot, rows, count):
     ``θ = 2 atan2(|(x, y, z)|, w)`` about ``a = (x, y, z) / |(x, y, z)|``, and
     ``θ̇ = aᵀ ω`` for the angular velocity ω at ``v[k]`` (in the child's frame or the
     parent's alike: R a = a); the gap ``d = θ_max - θ``, the row ``-aᵀ``. The new count."""
-    x, y, z, w = q[i], q[i + 1], q[i + 2], q[i + 3]
-    if w < 0.0:
-        x, y, z, w = -x, -y, -z, -w
-    s = math.sqrt(x * x + y * y + z * z)
-    d = largest - 2.0 * math.atan2(s, w)
+    x, y, z, s, half = _axis_angle(q, i)
+    d = largest - 2.0 * half
     speed = 0.0
     for c in range(3):
         speed += v[k + c] * v[k + c] + vn[k + c] * vn[k + c]
@@ -154,16 +151,25 @@ def limit_shift(limits, rows, count, beta, q):
 
 
 @inline
-def _turn_back(q, i, angle):
-    """The quaternion ``(x, y, z, w)`` at ``q[i]`` turned by ``angle`` about its own axis
-    (``θ ← θ + angle``, taken with ``w >= 0``; K26a on a cone): the rotation's axis ``a``
-    is unchanged, so the cone's gap grows by ``-angle``."""
+def _axis_angle(q, i):
+    """``(x, y, z, |(x, y, z)|, θ / 2)`` of the quaternion ``(x, y, z, w)`` at ``q[i]``
+    taken with ``w >= 0`` (the same rotation): it turns by ``θ = 2 atan2(|(x, y, z)|, w)``
+    about ``(x, y, z) / |(x, y, z)|`` (K26')."""
     x, y, z, w = q[i], q[i + 1], q[i + 2], q[i + 3]
     if w < 0.0:
         x, y, z, w = -x, -y, -z, -w
     s = math.sqrt(x * x + y * y + z * z)
+    return x, y, z, s, math.atan2(s, w)
+
+
+@inline
+def _turn_back(q, i, angle):
+    """The quaternion ``(x, y, z, w)`` at ``q[i]`` turned by ``angle`` about its own axis
+    (``θ ← θ + angle``, taken with ``w >= 0``; K26a on a cone): the rotation's axis ``a``
+    is unchanged, so the cone's gap grows by ``-angle``."""
+    x, y, z, s, half = _axis_angle(q, i)
     if s == 0.0:
         return
-    half = math.atan2(s, w) + 0.5 * angle
+    half += 0.5 * angle
     c = math.sin(half) / s
     q[i], q[i + 1], q[i + 2], q[i + 3] = c * x, c * y, c * z, math.cos(half)

@@ -46,6 +46,7 @@ from ..algorithms import _workspace as ws
 from ..algorithms.aba import aba_core
 from ..algorithms.crba import crba_core
 from ..algorithms.ltdl import ltdl, ltdl_solve
+from ..algorithms.manifold import integrate_joints
 from ..algorithms.rnea import rnea_core
 from ..algorithms.status import CONTACT_UNSOLVED, NONFINITE_RESULT, OK, SINGULAR, fault
 from ..constraints.core import _add_columns, _delassus, _world_columns, constraint_system
@@ -69,7 +70,6 @@ from ..contact.limits import (
 from ..contact.problem import normal_row
 from ..contact.solver import ADMM, PGS, solve_one
 from ..kernels.rigid import rigid_frame, rigid_rotate
-from ..multibody.joints import joint_integrate
 from .pairs import (
     carve_pairs,
     detect_pairs,
@@ -449,25 +449,16 @@ def correct_positions(m, world, qn, tmp, dq, qs):
     without a world (None: pruned). A core, as ``contact_velocity``: the scratch it takes
     holds some forty arrays, and a function with reference counts raised and dropped each
     of them at every step; the joints' exponentials are a core of their own
-    (``_shift_configuration``), called only on a step that leaves a correction."""
+    (``algorithms.manifold.integrate_joints``), called only on a step that leaves a
+    correction."""
     if world is None:
         return
     wa = world.world
     limit_shift(wa.limits, world.lrows, int(world.count[1]), wa.params[STABILIZATION], qn)
     if world.count[2] != 0.0:
-        _shift_configuration(m, world.shift, qn, tmp, dq, qs)
-
-
-@core
-def _shift_configuration(m, shift, qn, tmp, dq, qs):
-    """``qn ← qn ⊕ shift`` joint by joint (``joint_integrate``; ``qs`` and ``dq``
-    scratch)."""
-    for k in range(m.nv):
-        dq[k] = shift[k]
-    for j in range(m.n):
-        joint_integrate(m, j, qn, dq, tmp, qs)
-    for i in range(m.nq):
-        qn[i] = qs[i]
+        integrate_joints(m, qn, world.shift, 1.0, tmp, dq, qs)  # qs = qn ⊕ δ
+        for i in range(m.nq):
+            qn[i] = qs[i]
 
 
 @serial

@@ -81,7 +81,7 @@ from ..algorithms._checks import finite
 from ..algorithms._workspace import chunks
 from ..algorithms.aba import aba_core
 from ..algorithms.energy import energy_core
-from ..algorithms.manifold import free_velocity, transport
+from ..algorithms.manifold import free_velocity, integrate_joints, step_joints, transport
 from ..algorithms.rnea import rnea_core
 from ..algorithms.status import CONSTRAINTS_CONFLICT, DIVERGED, NONFINITE_RESULT, OK, fault
 from ..algorithms.work.aba import workspace_size as aba_workspace
@@ -92,7 +92,7 @@ from ..constraints.articulated import row_values
 from ..constraints.core import FORWARD, INFO, constraint_core
 from ..constraints.work.core import workspace as constraint_workspace
 from ..constraints.work.core import workspace_size as constraint_workspace_size
-from ..multibody.joints import joint_difference, joint_integrate, joint_step
+from ..multibody.joints import joint_difference
 from ..multibody.packed import unpack
 from .contact import (
     carve_scratch,
@@ -378,36 +378,15 @@ def _advance(m, q, v, h, tmp, dq, out, euler):
             out[k] = q[k] + dq[k]
         return
     if euler:
-        _step_joints(m, q, v, h, tmp, dq, out)
+        step_joints(m, q, v, h, tmp, dq, out)
     else:
-        _advance_joints(m, q, v, h, tmp, dq, out)
-
-
-@core
-def _advance_joints(m, q, v, h, tmp, dq, out):
-    """``_advance`` joint by joint (``joint_integrate``), compiled once and called: the
-    rollout's two sites and every rollout's specialisation share it instead of each
-    carrying every joint type's exponential."""
-    for k in range(m.nv):
-        dq[k] = h * v[k]
-    for j in range(m.n):
-        joint_integrate(m, j, q, dq, tmp, out)
-
-
-@core
-def _step_joints(m, q, v, h, tmp, dq, out):
-    """``_advance`` of an Euler step, joint by joint (``joint_step``), compiled once and
-    called."""
-    for k in range(m.nv):
-        dq[k] = h * v[k]
-    for j in range(m.n):
-        joint_step(m, j, q, dq, tmp, out)
+        integrate_joints(m, q, v, h, tmp, dq, out)
 
 
 @core
 def _differences(m, q, q_ref, tmp, dq):
     """``dq = q_ref ⊖ q`` joint by joint (``joint_difference``), compiled once and called
-    (as ``_advance_joints``)."""
+    (as ``algorithms.manifold.integrate_joints``)."""
     for j in range(m.n):
         joint_difference(m, j, q, q_ref, tmp, dq)
 
