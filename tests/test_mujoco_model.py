@@ -22,7 +22,8 @@ ROOT = Path(__file__).resolve().parents[1] / "robots" / "mujoco"
 GYMNASIUM = ("ant", "half_cheetah", "hopper", "humanoid", "walker2d", "reacher", "swimmer",
              "inverted_pendulum", "inverted_double_pendulum", "pusher", "humanoidstandup")
 DM_CONTROL = ("acrobot", "cartpole", "cheetah", "finger", "hopper", "humanoid", "walker",
-              "reacher", "swimmer", "pendulum", "point_mass")
+              "reacher", "swimmer", "pendulum", "point_mass", "ball_in_cup", "fish",
+              "manipulator", "quadruped", "humanoid_CMU", "stacker")
 MODELS = [f"gymnasium/{n}" for n in GYMNASIUM] + [f"dm_control/{n}" for n in DM_CONTROL]
 TOL = 1e-9
 

@@ -24,6 +24,7 @@ import argparse
 import importlib
 import os
 import sys
+import warnings
 from collections.abc import Sequence
 
 import cgadyn
@@ -68,7 +69,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help(sys.stderr)
         return 2
     try:
-        status = int(args.func(args))
+        with warnings.catch_warnings():  # restores showwarning when the command returns
+            warnings.showwarning = _show_warning
+            status = int(args.func(args))
         _compiled_total()
         return status
     except BrokenPipeError:  # `cgadyn info panda | head`: stop quietly, like other tools
@@ -81,6 +84,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _error(exc, 2)
     except Exception as exc:  # a bug of ours: still one line, and a way to see more
         return _error(exc, 3, f"internal error ({type(exc).__name__}), please report: ")
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    """A warning as one ``cgadyn: warning: ...`` line on stderr, as errors are printed
+    (a user of the command needs what it says, not the line of source that raised it)."""
+    print(f"cgadyn: warning: {message}", file=sys.stderr if file is None else file)
 
 
 def _compiled_total() -> None:

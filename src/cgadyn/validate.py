@@ -81,16 +81,18 @@ def held_feet(model) -> list:
 
 def _constraints_of(robot, model) -> tuple[list, str, float]:
     """The constraints the constrained check holds, what they are, and the proximal damping
-    it solves with: an MJCF model's equalities (``mujoco_constraints``; damped, as a planar
-    loop closed by a point has a row no joint moves), else a floating robot's feet where
+    it solves with: an MJCF model's point and frame equalities (``mujoco_constraints``;
+    damped, as a planar loop closed by a point has a row no joint moves; joint and tendon
+    couplings, which cgadyn does not hold, left out), else a floating robot's feet where
     their rows are independent (solo's two-joint legs cannot hold a point foot at every
     state: no check there)."""
     import cgadyn
 
     if mujoco_oracle.applies(robot):
         mj = mujoco_oracle.compiled(robot)
-        if mj.neq:
-            return cgadyn.mujoco_constraints(model, mj), "MJCF equalities", 1e-10
+        held = cgadyn.mujoco_constraints(model, mj, skip_couplings=True) if mj.neq else []
+        if held:
+            return held, "MJCF equalities", 1e-10
     if model.floating_base:
         feet = held_feet(model)
         J = cgadyn.constraint_jacobian(model, cgadyn.neutral(model), feet)

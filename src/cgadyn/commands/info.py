@@ -28,7 +28,8 @@ def _limits(values, j: int, idx) -> list[float]:
 
 def model_info(model) -> dict:
     """Base, sizes, joints (kind, parent, coordinates, limits, armature, damping,
-    stiffness, body mass), links (with the joint they move with), actuators, total mass and
+    stiffness, body mass), links (with the joint they move with), actuators, fixed tendons'
+    springs and dampers, total mass and
     home configuration (``Model.home``; ``home_is_neutral`` where it is the neutral one) of
     a model."""
     from ..algorithms import neutral
@@ -55,7 +56,15 @@ def model_info(model) -> dict:
             "links": [{"name": n, "joint": None if model.link_joint[i] < 0
                        else model.joint_names[model.link_joint[i]]}
                       for i, n in enumerate(model.link_names)],
-            "actuators": model.actuators, "home": [float(x) for x in model.home],
+            "actuators": model.actuators, "tendons": [
+                {"name": name, "joints": {model.joint_names[model.dof_joint[k]]: float(c[k])
+                                          for k in np.flatnonzero(c)},
+                 "stiffness": float(k_t), "damping": float(b_t),
+                 "spring_length": [float(x) for x in length]}
+                for name, c, k_t, b_t, length in zip(
+                    model.tendon_names, model.tendon_coefficients, model.tendon_stiffness,
+                    model.tendon_damping, model.tendon_spring_length, strict=True)],
+            "home": [float(x) for x in model.home],
             "home_is_neutral": bool(np.array_equal(model.home, neutral(model)))}
 
 
@@ -105,6 +114,13 @@ def format_info(info: dict) -> str:
         lines += [f"{a['name']:<28}{a['joint']:<28}{a['gear']:>9.4g}  "
                   f"{_range([a['ctrlrange'][0]], [a['ctrlrange'][1]])}"
                   for a in info["actuators"]]
+    if info.get("tendons"):
+        lines += ["", f"{'tendon (fixed)':<28}{'stiffness':>10}{'damping':>9}  relaxed length"
+                  f"  length = Σ coef q"]
+        lines += [f"{t['name']:<28}{t['stiffness']:>10.4g}{t['damping']:>9.4g}  "
+                  f"{_range([t['spring_length'][0]], [t['spring_length'][1]]):<16}"
+                  + " + ".join(f"{c:.4g} {j}" for j, c in t["joints"].items())
+                  for t in info["tendons"]]
     native = info.get("native_extension")
     if native is not None:
         lines += ["", f"C extension (fast single calls): {native['status']}"]

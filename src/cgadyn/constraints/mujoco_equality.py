@@ -79,14 +79,17 @@ def _link(model, name: str, what: str) -> int:
     return model.link_names.index(name)
 
 
-def mujoco_constraints(model, source, corrector=(0.0, 0.0)) -> list[Constraint]:
+def mujoco_constraints(model, source, corrector=(0.0, 0.0),
+                       skip_couplings: bool = False) -> list[Constraint]:
     """The active ``connect`` and ``weld`` equalities of a MuJoCo model as ``Constraint``s of
     ``model`` (its conversion, ``cgadyn.load_mujoco``), in MuJoCo's order (the module's
     docstring). ``source``: a ``mujoco.MjModel``, an MJCF path or MJCF text. ``corrector``:
-    the Baumgarte gains ``(Kp, Kd)`` of every constraint.
+    the Baumgarte gains ``(Kp, Kd)`` of every constraint. ``skip_couplings``: leave joint,
+    tendon and flex couplings out instead of refusing them (``cgadyn validate`` checks the
+    rest).
 
     Raises ``ValueError`` naming an equality that a rigid point or frame constraint cannot
-    hold (joint, tendon and flex couplings, a partial weld)."""
+    hold (joint, tendon and flex couplings, unless skipped; a partial weld)."""
     import mujoco
 
     mj = mujoco_model(source)
@@ -95,6 +98,8 @@ def mujoco_constraints(model, source, corrector=(0.0, 0.0)) -> list[Constraint]:
         kind = _type_name(mj, k)
         label = _name(mj, mujoco.mjtObj.mjOBJ_EQUALITY, k, f"equality {k}")
         if kind not in ("connect", "weld"):
+            if skip_couplings:
+                continue
             raise ValueError(f"MuJoCo model {model.name!r}: equality {label!r} is a {kind} "
                              f"constraint, which cgadyn cannot hold yet (it holds connect "
                              f"and weld equalities: points and frames)")

@@ -206,6 +206,8 @@ def with_bodies(model, collisions, bodies) -> tuple[object, CollisionModel, np.n
         spring_reference=cat(model.spring_reference, np.tile(_NEUTRAL, nb)),
         home=cat(model.home, np.concatenate([b.q for b in bodies])),
         cone_limit=cat(model.cone_limit, np.full(nb, np.inf)),
+        tendon_coefficients=np.hstack([model.tendon_coefficients,
+                                       np.zeros((len(model.tendon_names), nv))]),
     )
     links = model.nlinks + np.arange(nb)
     shapes = [*cm, *(Collision(name, b.shape, int(li), np.eye(4), friction=b.friction)

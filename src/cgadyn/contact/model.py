@@ -243,19 +243,24 @@ _MJ_NAMES = {1: "hfield", 4: "ellipsoid", 8: "sdf"}
 def _from_mujoco(model, mj, max_vertices: int) -> CollisionModel:
     """The geoms of a compiled MuJoCo model: each on the link of its body (the body's name
     in ``model.link_names``), at ``geom_pos``/``geom_quat`` in the body frame, which is the
-    link frame (``multibody.mujoco_model``)."""
+    link frame (``multibody.mujoco_model``). A geom of a type cgadyn has no shape for is
+    refused by name on a body, and left out with a warning on the world (a terrain's
+    height field: a ``World`` given to ``simulate`` replaces the static geoms anyway)."""
     import mujoco
 
     from ..multibody.mujoco_model import _pose, _rotation
 
     hull, simplified = _meshes(max_vertices)
-    out = []
+    out, left_out = [], []
     for g in range(mj.ngeom):
         gtype = int(mj.geom_type[g])
         name = mujoco.mj_id2name(mj, mujoco.mjtObj.mjOBJ_GEOM, g) or f"geom{g}"
         body = int(mj.geom_bodyid[g])
         bname = mujoco.mj_id2name(mj, mujoco.mjtObj.mjOBJ_BODY, body) or f"body{body}"
         where = f"geom {name!r} of body {bname!r}"
+        if gtype not in _MJ_GEOMS and body == 0:  # the world's: warned of, below
+            left_out.append(f"{name!r} ({_MJ_NAMES.get(gtype, gtype)})")
+            continue
         if gtype not in _MJ_GEOMS:
             raise ValueError(f"{where}: geom type {_MJ_NAMES.get(gtype, gtype)!r} is not a "
                              f"collision shape of cgadyn; expected one of "
@@ -286,6 +291,11 @@ def _from_mujoco(model, mj, max_vertices: int) -> CollisionModel:
             raise ValueError(f"{where}: its body is not a link of {model.name!r}")
         out.append(Collision(name, shape, li, placement, int(mj.geom_contype[g]),
                              int(mj.geom_conaffinity[g])))
+    if left_out:
+        warnings.warn(f"{model.name!r}: the world's geoms {', '.join(left_out)} are not "
+                      f"collision shapes of cgadyn (expected one of "
+                      f"{sorted(_MJ_GEOMS.values())}) and are left out of its static world",
+                      stacklevel=3)
     _warn_simplified(simplified, max_vertices)
     return CollisionModel(out, model)
 

@@ -53,6 +53,10 @@ _ARRAY_FIELDS = (
     "actuator_gear",
     "actuator_ctrlrange",
     "actuator_forcerange",
+    "tendon_coefficients",
+    "tendon_stiffness",
+    "tendon_damping",
+    "tendon_spring_length",
 )
 
 
@@ -163,6 +167,19 @@ class Model:
     actuator_ctrlrange, actuator_forcerange : float64 (na, 2)
         The control's range and the range of the force before the gear (``±inf``: none),
         as MuJoCo clamps them.
+    tendon_names : tuple[str, ...]
+        The fixed tendons that carry a spring or a damper (MuJoCo's ``<fixed>`` tendons
+        with ``stiffness`` or ``damping``), none by default.
+    tendon_coefficients : float64 (nt, nv)
+        Each tendon's length ``L = Σ_k c_k q_k`` over the coordinates of joints whose
+        coordinates add (MuJoCo's ``coef`` of each ``<joint>`` of the tendon).
+    tendon_stiffness, tendon_damping : float64 (nt,)
+        The tendon's spring and damper: the passive force ``-k dev(L) - b L̇`` along it,
+        ``dev(L)`` the length's distance outside ``tendon_spring_length``
+        (``cgadyn.passive_torques``, ``docs/joints.md``, P2).
+    tendon_spring_length : float64 (nt, 2)
+        The lengths between which the spring is relaxed (MuJoCo's ``springlength``, a
+        dead band; one length where the two are equal).
     """
 
     name: str
@@ -200,6 +217,11 @@ class Model:
     actuator_gear: np.ndarray | None = None
     actuator_ctrlrange: np.ndarray | None = None
     actuator_forcerange: np.ndarray | None = None
+    tendon_names: tuple = ()
+    tendon_coefficients: np.ndarray | None = None
+    tendon_stiffness: np.ndarray | None = None
+    tendon_damping: np.ndarray | None = None
+    tendon_spring_length: np.ndarray | None = None
 
     def __post_init__(self):
         nv = sum(NV[int(t)] for t in np.asarray(self.joint_types).reshape(-1))
@@ -210,9 +232,13 @@ class Model:
         defaults = {"actuator_dof": np.zeros(na, dtype=np.int64), "actuator_gear": np.ones(na),
                     "actuator_ctrlrange": np.tile([-np.inf, np.inf], (na, 1)),
                     "actuator_forcerange": np.tile([-np.inf, np.inf], (na, 1))}
+        nt = len(self.tendon_names)
+        defaults.update({"tendon_coefficients": np.zeros((nt, nv)),
+                         "tendon_stiffness": np.zeros(nt), "tendon_damping": np.zeros(nt),
+                         "tendon_spring_length": np.zeros((nt, 2))})
         for field, value in defaults.items():
             if getattr(self, field) is None:
-                object.__setattr__(self, field, value.reshape((na,) + value.shape[1:]))
+                object.__setattr__(self, field, value.reshape((len(value),) + value.shape[1:]))
         if self.cone_limit is None:
             object.__setattr__(self, "cone_limit",
                                np.full(len(np.asarray(self.joint_types).reshape(-1)), np.inf))
@@ -229,7 +255,8 @@ class Model:
             arr = np.array(arr, dtype=dtype, copy=True)
             arr.flags.writeable = False
             object.__setattr__(self, field, arr)
-        for field in ("joint_names", "joint_kinds", "link_names", "mimic", "actuator_names"):
+        for field in ("joint_names", "joint_kinds", "link_names", "mimic", "actuator_names",
+                      "tendon_names"):
             object.__setattr__(self, field, tuple(getattr(self, field)))
         self._check()
 
@@ -270,6 +297,10 @@ class Model:
             "actuator_gear": (len(self.actuator_names),),
             "actuator_ctrlrange": (len(self.actuator_names), 2),
             "actuator_forcerange": (len(self.actuator_names), 2),
+            "tendon_coefficients": (len(self.tendon_names), nv),
+            "tendon_stiffness": (len(self.tendon_names),),
+            "tendon_damping": (len(self.tendon_names),),
+            "tendon_spring_length": (len(self.tendon_names), 2),
         }
         for field, shape in shapes.items():
             got = getattr(self, field).shape
@@ -299,6 +330,7 @@ class Model:
         self._check_inertias()
         self._check_passive()
         self._check_actuators()
+        self._check_tendons()
         if np.any((self.link_joint < -1) | (self.link_joint >= n)):
             raise ValueError("link_joint entries must lie in [-1, n)")
         if len(set(self.joint_names)) != n:
@@ -366,6 +398,29 @@ class Model:
                 if not lo <= hi:
                     raise ValueError(f"actuator {name!r} has the {what} [{lo}, {hi}]; "
                                      f"expected lower <= upper")
+
+    def _check_tendons(self):
+        """Each tendon's coefficients are finite and on coordinates that add (where ``L = Σ
+        c_k q_k`` is MuJoCo's fixed tendon); its stiffness and damping finite and ``>= 0``;
+        its spring lengths finite and ordered."""
+        additive = np.zeros(self.nv, dtype=bool)
+        for j, t in enumerate(self.joint_types):
+            additive[self.joint_dofs(j)] = TYPES[int(t)].additive
+        for i, name in enumerate(self.tendon_names):
+            c = self.tendon_coefficients[i]
+            if not np.all(np.isfinite(c)) or np.any(c[~additive] != 0.0):
+                raise ValueError(f"tendon {name!r} has the coefficients {c.tolist()}; "
+                                 f"expected finite numbers, zero on the coordinates of "
+                                 f"joints whose coordinates do not add")
+            for field in ("stiffness", "damping"):
+                x = float(getattr(self, f"tendon_{field}")[i])
+                if not (np.isfinite(x) and x >= 0.0):
+                    raise ValueError(f"tendon {name!r} has the {field} {x}; expected a "
+                                     f"finite number >= 0")
+            lo, hi = self.tendon_spring_length[i]
+            if not (np.isfinite(lo) and np.isfinite(hi) and lo <= hi):
+                raise ValueError(f"tendon {name!r} has the spring lengths [{lo}, {hi}]; "
+                                 f"expected finite lengths, lower <= upper")
 
     @property
     def actuators(self) -> list[dict]:

@@ -38,6 +38,10 @@ places every body. ``from_mujoco`` reads what it compiled, whole:
   contact step enforces (``docs/contact.md``, "Joint limits", "Friction loss").
 - **Actuators**: the joint motors (``Model.actuators``: gear, control and force ranges);
   other actuators are left out with a warning.
+- **Tendons**: the springs and dampers of fixed tendons (``Model.tendon_*``, passive
+  forces along ``L = Σ coef q``); a tendon's limit and friction loss, and fluid forces,
+  are left out with a warning; a spatial tendon's spring or damper and a tendon's armature
+  are refused by name.
 
 States: ``from_mujoco_state(model, qpos, qvel)`` and ``to_mujoco_state(model, q, v)``,
 accelerations ``from_mujoco_acceleration(model, q, v, qacc)`` and
@@ -277,7 +281,8 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
             friction=joints["friction"], cone_limit=joints["cone"])
         return dataclasses.replace(model, spring_reference=table.from_mujoco(
             model, mj.qpos_spring), home=table.from_mujoco(model, mj.qpos0),
-            **_motors(mj, model, joint_of, model_name))
+            **_motors(mj, model, joint_of, model_name),
+            **_tendons(mj, model, joint_of, model_name))
     except ValueError as exc:
         raise ValueError(f"MuJoCo model {model_name!r}: {exc}") from None
 
@@ -327,6 +332,65 @@ def _motors(mj, model: Model, joint_of: dict, where: str) -> dict:
                 actuator_gear=np.array(gears, dtype=float),
                 actuator_ctrlrange=np.array(ctrl, dtype=float).reshape(na, 2),
                 actuator_forcerange=np.array(force, dtype=float).reshape(na, 2))
+
+
+def _tendons(mj, model: Model, joint_of: dict, where: str) -> dict:
+    """The ``Model.tendon_*`` fields of MuJoCo's fixed tendons that carry a spring or a
+    damper (``tendon_stiffness``, ``tendon_damping``, ``tendon_lengthspring``; the length
+    ``Σ coef qpos`` of hinges and slides: ``wrap_prm``, ``wrap_objid``). A spatial tendon
+    with a spring or damper, and a tendon's armature, are refused by name (they would change
+    the passive forces or the mass matrix); a tendon's limit and friction loss, constraints
+    that cgadyn does not hold, are warned of, as are joint and tendon couplings
+    (``<equality joint/tendon>``) and fluid forces (``density``,
+    ``viscosity``), which cgadyn does not compute."""
+    names, rows, stiffness, damping, length, loose = [], [], [], [], [], []
+    armature = getattr(mj, "tendon_armature", np.zeros(mj.ntendon))
+    k_on, b_on = float(not _disabled(mj, "SPRING")), float(not _disabled(mj, "DAMPER"))
+    for t in range(mj.ntendon):
+        name = _name(mj, _obj("TENDON"), t, f"tendon{t}")
+        adr, num = int(mj.tendon_adr[t]), int(mj.tendon_num[t])
+        fixed = bool(np.all(mj.wrap_type[adr:adr + num] == 1))  # mjWRAP_JOINT
+        k, b = k_on * float(mj.tendon_stiffness[t]), b_on * float(mj.tendon_damping[t])
+        passive = k != 0.0 or b != 0.0  # as <flag spring/damper="disable"> leave them
+        if armature[t] != 0.0:
+            raise ValueError(f"{where}: tendon {name!r} has armature {armature[t]}; cgadyn "
+                             f"models the joints' armature only")
+        if passive and not fixed:
+            raise ValueError(f"{where}: tendon {name!r} is a spatial tendon with a spring or "
+                             f"damper; cgadyn models those of fixed tendons only")
+        if mj.tendon_limited[t] or mj.tendon_frictionloss[t] != 0.0:
+            loose.append(name)
+        if not passive:
+            continue
+        row = np.zeros(model.nv)
+        for w in range(adr, adr + num):
+            row[model.joint_dofs(joint_of[int(mj.wrap_objid[w])]).start] += mj.wrap_prm[w]
+        names.append(name)
+        rows.append(row)
+        stiffness.append(k)
+        damping.append(b)
+        length.append(np.array(mj.tendon_lengthspring[t], dtype=float))
+    if loose:
+        warnings.warn(f"{where!r}: the limits and friction loss of the tendons "
+                      f"{', '.join(map(repr, loose))} are not held: cgadyn holds joint "
+                      f"limits and joint friction loss only", stacklevel=4)
+    couplings = [_name(mj, _obj("EQUALITY"), k, f"equality{k}") for k in range(mj.neq)
+                 if int(mj.eq_type[k]) in (2, 3)]  # mjEQ_JOINT, mjEQ_TENDON
+    if couplings:
+        warnings.warn(f"{where!r}: the joint and tendon couplings "
+                      f"{', '.join(map(repr, couplings))} (<equality joint/tendon>) are not "
+                      f"held: cgadyn holds connect and weld equalities only "
+                      f"(cgadyn.mujoco_constraints)", stacklevel=4)
+    if mj.opt.density != 0.0 or mj.opt.viscosity != 0.0:
+        warnings.warn(f"{where!r}: the fluid forces of density {mj.opt.density} and "
+                      f"viscosity {mj.opt.viscosity} are left out: cgadyn computes no fluid "
+                      f"forces", stacklevel=4)
+    nt = len(names)
+    return dict(tendon_names=tuple(names),
+                tendon_coefficients=np.array(rows, dtype=float).reshape(nt, model.nv),
+                tendon_stiffness=np.array(stiffness, dtype=float),
+                tendon_damping=np.array(damping, dtype=float),
+                tendon_spring_length=np.array(length, dtype=float).reshape(nt, 2))
 
 
 def load_mujoco(source, name: str | None = None, floating_base: bool | None = None,

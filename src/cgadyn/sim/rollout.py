@@ -135,6 +135,10 @@ PD, GRAVITY, PASSIVE, IMPLICIT = 1, 2, 4, 8
 passive joint torques (dampers and springs, ``cgadyn.passive_torques``), and the implicit
 step's shift of the torque by ``-dt (K_p + k) v`` (K40, ``docs/contact.md``)."""
 
+TENDON = 4
+"""Floats of a fixed tendon's row after its nv coefficients: stiffness, damping and the
+relaxed lengths ``L_lo, L_hi`` (``_tendon``)."""
+
 KP, KD, ACTUATED, SPEED_BOUND, DAMPING, STIFFNESS, SPRING, SHIFT = 0, 1, 2, 3, 4, 5, 6, 7
 COORDS = 8
 """The rows of ``coords`` (COORDS, nv), one value per velocity coordinate: the PD gains K_p
@@ -148,8 +152,8 @@ implicit step shifts the torque (K40)."""
 def closed_loop_acceleration(m, q, v, u, f, ctrl, con, fac, qdd, sc, work):
     """``qdd = ABA(q, v, u + τ_ctrl(q, v))`` (the module's first equations), or the
     constrained dynamics of that torque; ``ctrl`` the controller ``(flags, coords (COORDS,
-    nv), q_ref (nq), v_ref (nv))``, ``con`` the constraints ``(pack, settings, workspace)``
-    (``_dynamics``). A status; ``qdd`` NaN where it fails."""
+    nv), q_ref (nq), v_ref (nv), tendons (nt, nv + TENDON))``, ``con`` the constraints
+    ``(pack, settings, workspace)`` (``_dynamics``). A status; ``qdd`` NaN where it fails."""
     status = _closed_loop(m, q, v, u, f, ctrl, con, fac, qdd, sc, work)
     if status != OK:
         for k in range(m.nv):
@@ -160,7 +164,7 @@ def closed_loop_acceleration(m, q, v, u, f, ctrl, con, fac, qdd, sc, work):
 @inline
 def _closed_loop(m, q, v, u, f, ctrl, con, fac, qdd, sc, work):
     """``closed_loop_acceleration``, its ``qdd`` undefined where it fails."""
-    flags, coords, q_ref, v_ref = ctrl
+    flags, coords, q_ref, v_ref, tendons = ctrl
     if flags == 0:  # no feedback: τ = τ_ol
         return _dynamics(m, q, v, u, f, con, fac, qdd, sc, work)
     tau, g, dq, zero, none, tmp = sc.tau, sc.g, sc.dq, sc.zero, sc.none, sc.tmp
@@ -182,10 +186,31 @@ def _closed_loop(m, q, v, u, f, ctrl, con, fac, qdd, sc, work):
             if coords[STIFFNESS, k] != 0.0:
                 j = m.dof_joint[k]
                 tau[k] -= coords[STIFFNESS, k] * (q[m.iq[j] + k - m.iv[j]] - coords[SPRING, k])
+        for t in range(tendons.shape[0]):
+            _tendon(m, q, v, tendons[t], tau)
     if flags & IMPLICIT:  # the stiffnesses at q ⊕ dt v⁺, linearised (K40)
         for k in range(m.nv):
             tau[k] -= coords[SHIFT, k] * v[k]
     return _dynamics(m, q, v, tau, f, con, fac, qdd, sc, work)
+
+
+@inline
+def _tendon(m, q, v, row, tau):
+    """``tau += c (-k dev(c · q) - b c · v)``: one fixed tendon's spring and damper (P2,
+    ``algorithms.passive``); ``row`` its coefficients over the nv coordinates, then ``k, b,
+    L_lo, L_hi`` (``TENDON`` floats)."""
+    nv = m.nv
+    length, rate = 0.0, 0.0
+    for k in range(nv):
+        if row[k] != 0.0:  # coordinates that add only (Model._check_tendons)
+            j = m.dof_joint[k]
+            length += row[k] * q[m.iq[j] + k - m.iv[j]]
+            rate += row[k] * v[k]
+    lo, hi = row[nv + 2], row[nv + 3]
+    dev = length - hi if length > hi else (length - lo if length < lo else 0.0)
+    force = -row[nv] * dev - row[nv + 1] * rate
+    for k in range(nv):
+        tau[k] += row[k] * force
 
 
 @serial
@@ -469,14 +494,15 @@ def heap_size(n, nq, nv, nl, nr):
     return core_workspace_size(n, nq, nv, nl) + extra
 
 
-def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, settings, world,
-             dt, steps, every, Q, V, A, X, CF, CS, CT, CR, completed, status) -> None:
+def rollouts(packed, method, q0, v0, u, f, flags, coords, tendons, q_ref, v_ref, cons, settings,
+             world, dt, steps, every, Q, V, A, X, CF, CS, CT, CR, completed, status) -> None:
     """``B = q0.shape[0]`` rollouts of ``steps`` steps, in parallel.
 
     ``q0`` (B, nq), ``v0`` (B, nv); ``u`` the open-loop torques (1 or B, steps or 1, nv),
     one row held over every step where it has one;
     ``f`` wrenches (0, 1 or B, n, 6); ``coords`` (COORDS, nv) per velocity coordinate (``KP``,
-    ``KD``, ``ACTUATED``, ``SPEED_BOUND``); ``q_ref`` (B, nq), ``v_ref`` (B, nv); ``every``
+    ``KD``, ``ACTUATED``, ``SPEED_BOUND``); ``tendons`` (nt, nv + TENDON) the fixed tendons'
+    springs and dampers (``_tendon``); ``q_ref`` (B, nq), ``v_ref`` (B, nv); ``every``
     the states kept (``kept_row``); ``cons`` the constraints' pack (``constraints.core``;
     None for none, which compiles a loop without them) and ``settings`` their solve's (None
     with ``cons``); ``world`` the contact world (``sim.contact.world_arrays``; None, which
@@ -500,8 +526,8 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons, se
     size, csize, wsize = rollout_sizes(packed, cons, world)
 
     def run(b0: int, b1: int) -> None:
-        rollout_range(packed, b0, b1, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
-                      settings, world, dt, steps, every, Q, V, A, X, CF, CS, CT, CR,
+        rollout_range(packed, b0, b1, method, q0, v0, u, f, flags, coords, tendons, q_ref,
+                      v_ref, cons, settings, world, dt, steps, every, Q, V, A, X, CF, CS, CT, CR,
                       completed, status, np.empty(size), np.empty(csize), np.empty(wsize))
 
     in_chunks(run, q0.shape[0])
@@ -518,8 +544,8 @@ def rollout_sizes(packed, cons, world):
 
 
 @serial
-def rollout_range(packed, b0, b1, method, q0, v0, u, f, flags, coords, q_ref, v_ref, cons,
-                  settings, world, dt, steps, every, Q, V, A, X, CF, CS, CT, CR, completed,
+def rollout_range(packed, b0, b1, method, q0, v0, u, f, flags, coords, tendons, q_ref, v_ref,
+                  cons, settings, world, dt, steps, every, Q, V, A, X, CF, CS, CT, CR, completed,
                   status, buf, heap, wbuf):
     """Rollouts ``b0 .. b1 - 1`` of ``rollouts``, one after the other, in the scratch ``buf``
     (``workspace``) and the cores' workspace ``heap`` (``heap_size``: the shared one, then
@@ -562,7 +588,7 @@ def rollout_range(packed, b0, b1, method, q0, v0, u, f, flags, coords, q_ref, v_
         elif f.shape[0] > 1:
             fb = _rows(f[b], mb.n, 6)
         ctrl = (flags, _rows(coords, COORDS, mb.nv), _rows(q_ref[b], 1, mb.nq)[0],
-                _rows(v_ref[b], 1, mb.nv)[0])
+                _rows(v_ref[b], 1, mb.nv)[0], _rows(tendons, tendons.shape[0], mb.nv + TENDON))
         for k in range(mb.nq):
             q[k] = q0[b, k]
         for k in range(mb.nv):

@@ -54,6 +54,7 @@ from .rollout import (
     SPEED_BOUND,
     SPRING,
     STIFFNESS,
+    TENDON,
     energies,
     kept_row,
     kept_rows,
@@ -205,8 +206,10 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     coords[SPEED_BOUND] = speed_bounds(model, dt)
     coords[ACTUATED] = model.actuated
     flags, q_ref, v_ref = _controller(model, controller, q0, B, coords)
-    if passive and (np.any(model.damping) or np.any(model.stiffness)):
+    tendons = np.zeros((0, model.nv + TENDON))
+    if passive and (np.any(model.damping) or np.any(model.stiffness) or model.tendon_names):
         flags |= _passive(model, coords)
+        tendons = _tendons(model)
     step_model, step_inertia = packed, None
     if world is not None and flags & (PD_FLAG | PASSIVE):  # the contact step's gains implicit
         step_model, step_inertia = _implicit(packed, coords, dt)
@@ -228,9 +231,9 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     CT = pages.zeros((B, 2, model.nv if world is not None else 0, rows))
     CR = np.full((B, REPORT), np.nan)
     with PARALLEL_LOCK:
-        rollouts(step_model, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, q_ref, v_ref,
-                 cons, solve, arrays, dt, steps, every, Q, V, A, X, CF, CS, CT, CR, completed,
-                 status)
+        rollouts(step_model, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, tendons,
+                 q_ref, v_ref, cons, solve, arrays, dt, steps, every, Q, V, A, X, CF, CS, CT,
+                 CR, completed, status)
     message = _message(model, status, completed, dt, steps, batch, coords, A, p, CR)
     if message:
         warnings.warn(message, SimulationDiverged, stacklevel=2)
@@ -462,6 +465,14 @@ def _passive(model, coords: np.ndarray) -> int:
     coords[STIFFNESS] = model.stiffness
     coords[SPRING] = spring_deflection(model, np.zeros(model.nq)) * -1.0  # q_spring, by v
     return PASSIVE
+
+
+def _tendons(model) -> np.ndarray:
+    """The fixed tendons' rows for the compiled loop (``rollout._tendon``): coefficients,
+    then stiffness, damping and the relaxed lengths."""
+    return np.ascontiguousarray(np.column_stack([
+        model.tendon_coefficients, model.tendon_stiffness, model.tendon_damping,
+        model.tendon_spring_length]).reshape(-1, model.nv + TENDON))
 
 
 def _implicit(packed: np.ndarray, coords: np.ndarray, dt: float

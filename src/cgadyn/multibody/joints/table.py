@@ -104,16 +104,23 @@ def neutral_of_types(joint_types) -> np.ndarray:
                            for t in joint_types] or [np.zeros(0)])
 
 
-def spring_deflection(model, q) -> np.ndarray:
-    """``q - spring_reference`` per velocity coordinate (..., nv) for the joints whose
-    coordinates add, zero on the others (which carry no spring: ``Model._check_passive``);
-    MuJoCo's ``qpos - qpos_spring`` of hinges and slides."""
+def additive_values(model, q) -> np.ndarray:
+    """``q`` per velocity coordinate (..., nv) for the joints whose coordinates add, zero on
+    the others: what springs and fixed tendons read (MuJoCo's ``qpos`` of hinges and
+    slides)."""
     q = np.asarray(q, dtype=float)
     out = np.zeros(q.shape[:-1] + (model.nv,))
     for _, joint, s, t in joints_of(model):
         if joint.additive:
-            out[..., t] = q[..., s] - model.spring_reference[s]
+            out[..., t] = q[..., s]
     return out
+
+
+def spring_deflection(model, q) -> np.ndarray:
+    """``q - spring_reference`` per velocity coordinate (..., nv) for the joints whose
+    coordinates add, zero on the others (which carry no spring: ``Model._check_passive``);
+    MuJoCo's ``qpos - qpos_spring`` of hinges and slides."""
+    return additive_values(model, q) - additive_values(model, model.spring_reference)
 
 
 def random_configuration(model, rng: np.random.Generator, box: float) -> np.ndarray:

@@ -1,0 +1,164 @@
+"""Fixed tendons' springs and dampers (``Model.tendon_*``, ``docs/joints.md`` P2) against
+MuJoCo's ``qfrc_passive``, in ``passive_torques`` and in the compiled rollouts; what cgadyn
+does not model of a tendon refused or warned of by name."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+mujoco = pytest.importorskip("mujoco")
+
+import cgadyn  # noqa: E402
+from cgadyn.multibody.mujoco_model import from_mujoco  # noqa: E402
+
+ARM = """
+<mujoco model="tendon arm">
+  <option gravity="0 0 -9.81"/>
+  <worldbody>
+    <body name="a" pos="0 0 1">
+      <joint name="j1" type="hinge" axis="0 1 0" damping="0.05"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+      <body name="b" pos="0.3 0 0">
+        <joint name="j2" type="hinge" axis="0 1 0" ref="0.2"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+        <body name="c" pos="0.3 0 0">
+          <joint name="j3" type="slide" axis="1 0 0"/>
+          <geom type="box" size="0.05 0.05 0.05"/>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+  <tendon>
+    <fixed name="band" stiffness="3" damping="0.4" springlength="-0.1 0.2">
+      <joint joint="j1" coef="0.7"/>
+      <joint joint="j2" coef="-0.5"/>
+    </fixed>
+    <fixed name="cord" stiffness="5">
+      <joint joint="j2" coef="0.3"/>
+      <joint joint="j3" coef="1.5"/>
+    </fixed>
+    <fixed name="slack">
+      <joint joint="j1" coef="1"/>
+    </fixed>
+  </tendon>
+</mujoco>
+"""
+
+
+def _arm(text: str = ARM):
+    mj = mujoco.MjModel.from_xml_string(text)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # nothing of this model is left out
+        return from_mujoco(mj), mj
+
+
+def test_fixed_tendons_are_read():
+    model, mj = _arm()
+    assert model.tendon_names == ("band", "cord")  # "slack" has neither spring nor damper
+    np.testing.assert_array_equal(model.tendon_coefficients, [[0.7, -0.5, 0.0],
+                                                              [0.0, 0.3, 1.5]])
+    np.testing.assert_array_equal(model.tendon_stiffness, [3.0, 5.0])
+    np.testing.assert_array_equal(model.tendon_damping, [0.4, 0.0])
+    np.testing.assert_array_equal(model.tendon_spring_length[0], [-0.1, 0.2])
+    # no springlength: MuJoCo relaxes the spring at the tendon's length at qpos0
+    np.testing.assert_allclose(model.tendon_spring_length[1], mj.tendon_lengthspring[1])
+
+
+def test_disabled_springs_and_dampers_leave_the_tendons_too():
+    model, _ = _arm(ARM.replace('<option gravity="0 0 -9.81"/>',
+                                '<option><flag spring="disable"/></option>'))
+    np.testing.assert_array_equal(model.tendon_stiffness, [0.0])  # "cord" has a spring only
+    assert model.tendon_names == ("band",) and model.tendon_damping[0] == 0.4
+
+
+def test_passive_torques_are_mujocos_inside_and_outside_the_dead_band():
+    model, mj = _arm()
+    d = mujoco.MjData(mj)
+    rng = np.random.default_rng(3)
+    lengths = []
+    for _ in range(40):
+        d.qpos[:] = rng.uniform(-1.0, 1.0, 3)
+        d.qvel[:] = rng.normal(size=3)
+        mujoco.mj_forward(mj, d)
+        lengths.append(d.ten_length[0])
+        q, v = cgadyn.from_mujoco_state(model, d.qpos, d.qvel)
+        np.testing.assert_allclose(cgadyn.passive_torques(model, q, v), d.qfrc_passive,
+                                   rtol=0, atol=1e-12)
+    lengths = np.array(lengths)  # the band's dead band crossed both ways and entered
+    assert (lengths < -0.1).any() and (lengths > 0.2).any()
+    assert ((lengths > -0.1) & (lengths < 0.2)).any()
+
+
+def test_rollouts_apply_the_tendons():
+    """One explicit Euler step of the compiled loop is ``v + dt aba(q, v, τ_passive)``;
+    without ``passive`` the tendons are off."""
+    model, _ = _arm()
+    q0, v0 = np.array([0.6, -0.8, 0.3]), np.array([0.5, -1.0, 2.0])
+    dt = 1e-3
+    step = cgadyn.simulate(model, q0, v0, dt, 1, integrator="euler")
+    a = cgadyn.aba(model, q0, v0, cgadyn.passive_torques(model, q0, v0))
+    np.testing.assert_allclose(step.v[-1], v0 + dt * a, rtol=0, atol=1e-12)
+    untied = cgadyn.simulate(model, q0, v0, dt, 1, integrator="euler", passive=False)
+    np.testing.assert_allclose(untied.v[-1], v0 + dt * cgadyn.aba(model, q0, v0, np.zeros(3)),
+                               rtol=0, atol=1e-12)
+
+
+def test_a_tendon_spring_conserves_energy():
+    """Without gravity and dampers, kinetic energy plus the springs' ``k dev² / 2`` is
+    constant along an RK4 rollout (the tendons' forces derive from that potential), to
+    RK4's error (a dead band's kinks would cost it its order: one spring length here)."""
+    model, _ = _arm(ARM.replace('damping="0.4" ', "").replace(' damping="0.05"', "")
+                    .replace('springlength="-0.1 0.2"', 'springlength="0.05"'))
+    q0, v0 = np.array([0.9, -0.9, 0.4]), np.array([1.0, -2.0, 1.0])
+    tr = cgadyn.simulate(model, q0, v0, 1e-3, 2000, gravity=np.zeros(3))
+
+    def potential(q):
+        length = q @ model.tendon_coefficients.T  # hinges and a slide: q adds
+        lo, hi = model.tendon_spring_length.T
+        dev = np.where(length > hi, length - hi, np.where(length < lo, length - lo, 0.0))
+        return 0.5 * (model.tendon_stiffness * dev**2).sum(axis=-1)
+
+    kinetic = np.array([0.5 * v @ cgadyn.crba(model, q) @ v for q, v in zip(tr.q, tr.v,
+                                                                           strict=True)])
+    total = kinetic + potential(tr.q)
+    assert np.ptp(total) <= 1e-8 * total[0], np.ptp(total) / total[0]
+    assert np.ptp(potential(tr.q)) > 0.1 * total[0]  # the springs did work
+
+
+def test_what_a_tendon_cannot_be_is_refused_or_warned_by_name():
+    spatial = ARM.replace("<tendon>", """<tendon>
+    <spatial name="rope" stiffness="2"><site site="s1"/><site site="s2"/></spatial>""")
+    spatial = spatial.replace('<body name="a" pos="0 0 1">',
+                              '<site name="s1" pos="0 0 2"/><body name="a" pos="0 0 1">')
+    spatial = spatial.replace('<geom type="box"', '<site name="s2"/><geom type="box"')
+    with pytest.raises(ValueError, match="tendon 'rope' is a spatial tendon with a spring"):
+        from_mujoco(mujoco.MjModel.from_xml_string(spatial))
+    limited = ARM.replace('<fixed name="slack">', '<fixed name="slack" range="-1 1">')
+    with pytest.warns(UserWarning, match="tendons 'slack' are not held"):
+        from_mujoco(mujoco.MjModel.from_xml_string(limited))
+    fluid = ARM.replace('<option gravity="0 0 -9.81"/>',
+                        '<option gravity="0 0 -9.81" density="1000"/>')
+    with pytest.warns(UserWarning, match="fluid forces of density 1000.0"):
+        from_mujoco(mujoco.MjModel.from_xml_string(fluid))
+    coupled = ARM.replace("</mujoco>", """<equality><tendon name="tie" tendon1="slack"/>
+      </equality></mujoco>""")
+    with pytest.warns(UserWarning, match="couplings 'tie'"):
+        model = from_mujoco(mujoco.MjModel.from_xml_string(coupled))
+    with pytest.raises(ValueError, match="equality 'tie' is a tendon constraint"):
+        cgadyn.mujoco_constraints(model, coupled)
+    assert cgadyn.mujoco_constraints(model, coupled, skip_couplings=True) == []
+
+
+def test_model_checks_its_tendons():
+    model, _ = _arm()
+    import dataclasses
+
+    with pytest.raises(ValueError, match="tendon 'band' has the stiffness -3.0"):
+        dataclasses.replace(model, tendon_stiffness=np.array([-3.0, 5.0]))
+    with pytest.raises(ValueError, match="tendon 'cord' has the spring lengths"):
+        dataclasses.replace(model, tendon_spring_length=np.array([[0.0, 0.0], [1.0, 0.0]]))
+    with pytest.raises(ValueError, match=r"Model.tendon_coefficients has shape \(2, 2\)"):
+        dataclasses.replace(model, tendon_coefficients=np.zeros((2, 2)))
