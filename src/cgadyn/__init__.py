@@ -83,6 +83,7 @@ _LAZY = {
     "Capsule": "cgadyn.contact",
     "Box": "cgadyn.contact",
     "Cylinder": "cgadyn.contact",
+    "Ellipsoid": "cgadyn.contact",
     "Plane": "cgadyn.contact",
     "ConvexMesh": "cgadyn.contact",
     "MeshSimplified": "cgadyn.contact",

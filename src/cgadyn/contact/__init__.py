@@ -8,7 +8,17 @@ from .criteria import ContactCriteria, step_criteria
 from .model import Collision, CollisionModel, collision_distances, collision_model, collision_poses
 from .problem import contact_problem
 from .settings import ContactSettings
-from .shapes import Box, Capsule, ConvexMesh, Cylinder, MeshSimplified, Plane, Shape, Sphere
+from .shapes import (
+    Box,
+    Capsule,
+    ConvexMesh,
+    Cylinder,
+    Ellipsoid,
+    MeshSimplified,
+    Plane,
+    Shape,
+    Sphere,
+)
 from .solve import ContactSolveInfo, solve_contacts
 from .step import ContactStep, contact_step
 from .world import Contacts, World, ground_contacts
@@ -16,7 +26,8 @@ from .world import Contacts, World, ground_contacts
 __all__ = ["Body", "Box", "Capsule", "Collision", "CollisionModel", "ContactCriteria",
            "ContactSettings",
            "ContactSolveInfo", "ContactStep",
-           "Contacts", "ConvexMesh", "Cylinder", "MeshSimplified", "Plane", "Shape", "Sphere",
+           "Contacts", "ConvexMesh", "Cylinder", "Ellipsoid", "MeshSimplified", "Plane",
+           "Shape", "Sphere",
            "World", "collision_distances", "collision_model", "collision_poses",
            "contact_problem", "contact_step", "ground_contacts", "shape_distance",
            "solve_contacts", "step_criteria", "with_bodies"]

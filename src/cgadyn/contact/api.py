@@ -53,7 +53,8 @@ def explain(status: int, a: Shape, b: Shape) -> str:
     names = f"a {KIND_NAMES[a.kind]} and a {KIND_NAMES[b.kind]}"
     if status == D.PENETRATION_UNSUPPORTED:
         return (f"{names} overlap: their penetration depth is not computed (EPA, which gives "
-                f"it for polytopes, is not used on a cylinder's curved side; a cylinder "
+                f"it for polytopes, is not used on a cylinder's or an ellipsoid's curved "
+                f"surface; a cylinder "
                 f"against a plane or a sphere has it in closed form)")
     if status == D.TWO_PLANES:
         return "the distance of two planes is not defined (both are unbounded half-spaces)"

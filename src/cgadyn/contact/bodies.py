@@ -17,7 +17,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .model import Collision, CollisionModel, _collisions
-from .shapes import BOX, CAPSULE, CYLINDER, MESH, PLANE, SPHERE, Shape
+from .shapes import BOX, CAPSULE, CYLINDER, ELLIPSOID, MESH, PLANE, SPHERE, Shape
 
 __all__ = ["Body", "check_start", "empty_model", "shape_inertia", "with_bodies", "world_model"]
 
@@ -27,7 +27,8 @@ _NEUTRAL = np.array([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0])
 
 def shape_inertia(shape: Shape, mass: float) -> tuple[np.ndarray, np.ndarray]:
     """``(com, inertia about com)`` of the solid ``shape`` of uniform density and ``mass``,
-    in the shape's frame (K36): a sphere ``2/5 m r²``; a box ``m/3 (h_j² + h_k²)``; a
+    in the shape's frame (K36): a sphere ``2/5 m r²``; an ellipsoid ``m/5 (r_j² + r_k²)``; a
+    box ``m/3 (h_j² + h_k²)``; a
     cylinder ``m (3 r² + L²) / 12`` across, ``m r² / 2`` along z; a capsule its cylinder and
     its two half balls (each ``2/5 m_h r²`` about the axis, ``83/320 m_h r²`` across about
     its centroid ``3r/8`` from its flat face, moved to the centre by Steiner's rule); a
@@ -36,6 +37,9 @@ def shape_inertia(shape: Shape, mass: float) -> tuple[np.ndarray, np.ndarray]:
     kind, s = shape.kind, shape.packed_size
     if kind == SPHERE:
         return np.zeros(3), 0.4 * mass * s[0] ** 2 * np.eye(3)
+    if kind == ELLIPSOID:
+        r2 = s[:3] ** 2
+        return np.zeros(3), mass / 5.0 * np.diag([r2[1] + r2[2], r2[0] + r2[2], r2[0] + r2[1]])
     if kind == BOX:
         h2 = s[:3] ** 2
         return np.zeros(3), mass / 3.0 * np.diag([h2[1] + h2[2], h2[0] + h2[2], h2[0] + h2[1]])
@@ -55,7 +59,7 @@ def shape_inertia(shape: Shape, mass: float) -> tuple[np.ndarray, np.ndarray]:
     if kind == MESH:
         return _hull_inertia(np.asarray(shape.packed_vertices), mass)
     raise ValueError(f"no inertia for a {shape.name}: a body's shape must be a sphere, box, "
-                     f"capsule, cylinder or convex mesh")
+                     f"capsule, cylinder, ellipsoid or convex mesh")
 
 
 def _hull_inertia(vertices: np.ndarray, mass: float) -> tuple[np.ndarray, np.ndarray]:

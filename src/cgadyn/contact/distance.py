@@ -26,7 +26,7 @@ from __future__ import annotations
 import math
 
 from .._jit import serial
-from .shapes import BOX, CAPSULE, CYLINDER, MESH, PLANE, SPHERE
+from .shapes import BOX, CAPSULE, CYLINDER, ELLIPSOID, MESH, PLANE, SPHERE
 
 OK, PENETRATION_UNSUPPORTED, TWO_PLANES, UNKNOWN_KIND = 0, 1, 2, 3
 OUT = 10
@@ -119,6 +119,11 @@ def support(kind, size, vertices, T, d0, d1, d2):
             p0 = size[0] * l0 / rho
             p1 = size[0] * l1 / rho
         p2 = size[1] if l2 >= 0.0 else -size[1]
+    elif kind == ELLIPSOID:  # A² l / |A l|, A = diag(radii) (K6a)
+        a0, a1, a2 = size[0] * l0, size[1] * l1, size[2] * l2
+        norm = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+        if norm > 0.0:
+            p0, p1, p2 = size[0] * a0 / norm, size[1] * a1 / norm, size[2] * a2 / norm
     elif kind == MESH:
         best = -math.inf
         for i in range(vertices.shape[0]):
@@ -751,7 +756,7 @@ def epa(ka, sa, va, Ta, kb, sb, vb, Tb, n, work, out):
 def ordered_distance(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
     """``pair_distance`` for ``kb`` not a plane unless ``ka`` is one, a box second against
     a sphere or capsule, a cylinder second against a sphere."""
-    if ka > MESH or kb > MESH or ka < 0 or kb < 0:
+    if ka > ELLIPSOID or kb > ELLIPSOID or ka < 0 or kb < 0:
         return UNKNOWN_KIND
     if ka == PLANE:
         return TWO_PLANES
@@ -767,8 +772,8 @@ def ordered_distance(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
     if overlap:
         if ka == CAPSULE and kb == BOX:
             return capsule_box_overlap(sa, Ta, sb, Tb, out)
-        if ka == CYLINDER or kb == CYLINDER or not epa(ka, sa, va, Ta, kb, sb, vb, Tb,
-                                                       overlap, work, out):
+        if ka == CYLINDER or kb == CYLINDER or ka == ELLIPSOID or kb == ELLIPSOID or \
+                not epa(ka, sa, va, Ta, kb, sb, vb, Tb, overlap, work, out):
             return PENETRATION_UNSUPPORTED
     ra = sa[0] if (ka == SPHERE or ka == CAPSULE) else 0.0
     rb = sb[0] if (kb == SPHERE or kb == CAPSULE) else 0.0

@@ -15,8 +15,8 @@ from __future__ import annotations
 import math
 
 from .._jit import core, inline
-from .distance import plane_distance, rotate, rotate_back, to_world
-from .shapes import BOX, CAPSULE, CYLINDER, MESH, SPHERE
+from .distance import plane_distance, rotate, rotate_back, support, to_world
+from .shapes import BOX, CAPSULE, CYLINDER, ELLIPSOID, MESH, SPHERE
 
 MAX_CONTACTS = 4
 """At most this many contact points per shape and plane (the corners of a patch)."""
@@ -63,7 +63,8 @@ def _candidate(cand, c, x0, x1, x2, n0, n1, n2, delta, r):
 def candidates(kind, size, vertices, T, n0, n1, n2, delta, cand, far):
     """The shape's candidate points against the plane ``π = n + δ e∞`` (K21): a sphere's
     lowest point; a capsule's two end spheres' lowest points; a box's eight corners; on
-    each of a cylinder's two rims, the lowest point and the three a quarter-turn apart; a
+    each of a cylinder's two rims, the lowest point and the three a quarter-turn apart; an
+    ellipsoid's lowest point; a
     convex mesh's vertices closer than ``far`` (``inf``: all), each vertex's distance taken
     in the shape's frame against the plane moved there (``M̃ π M``: its normal turned back,
     its offset less the shape's origin's distance), so that only those candidates are
@@ -91,6 +92,9 @@ def candidates(kind, size, vertices, T, n0, n1, n2, delta, cand, far):
                     (-u0, -u1) if k == 2 else (u1, -u0)
                 x0, x1, x2 = to_world(T, size[0] * a0, size[0] * a1, z)
                 c = _candidate(cand, c, x0, x1, x2, n0, n1, n2, delta, 0.0)
+    elif kind == ELLIPSOID:  # its lowest point, its support along -n (K6a)
+        x0, x1, x2 = support(kind, size, vertices, T, -n0, -n1, -n2)
+        c = _candidate(cand, c, x0, x1, x2, n0, n1, n2, delta, 0.0)
     elif kind == MESH:  # the plane moved into the shape's frame, then each vertex's K1
         l0, l1, l2 = rotate_back(T, n0, n1, n2)
         dl = delta - (n0 * T[0, 3] + n1 * T[1, 3] + n2 * T[2, 3])

@@ -20,7 +20,18 @@ import numpy as np
 
 from . import distance as D
 from .api import check_rigid, explain
-from .shapes import PLANE, Box, Capsule, ConvexMesh, Cylinder, MeshSimplified, Plane, Shape, Sphere
+from .shapes import (
+    PLANE,
+    Box,
+    Capsule,
+    ConvexMesh,
+    Cylinder,
+    Ellipsoid,
+    MeshSimplified,
+    Plane,
+    Shape,
+    Sphere,
+)
 
 __all__ = ["Collision", "CollisionModel", "collision_distances", "collision_model",
            "collision_poses"]
@@ -235,9 +246,10 @@ def _from_urdf(model, xml: bytes, path, max_vertices: int) -> CollisionModel:
     return CollisionModel(out, model)
 
 
-_MJ_GEOMS = {0: "plane", 2: "sphere", 3: "capsule", 5: "cylinder", 6: "box", 7: "mesh"}
-"""MuJoCo's ``mjtGeom`` codes that are shapes here (1 hfield, 4 ellipsoid, 8 sdf are not)."""
-_MJ_NAMES = {1: "hfield", 4: "ellipsoid", 8: "sdf"}
+_MJ_GEOMS = {0: "plane", 2: "sphere", 3: "capsule", 4: "ellipsoid", 5: "cylinder", 6: "box",
+             7: "mesh"}
+"""MuJoCo's ``mjtGeom`` codes that are shapes here (1 hfield and 8 sdf are not)."""
+_MJ_NAMES = {1: "hfield", 8: "sdf"}
 
 
 def _from_mujoco(model, mj, max_vertices: int) -> CollisionModel:
@@ -274,6 +286,8 @@ def _from_mujoco(model, mj, max_vertices: int) -> CollisionModel:
                 shape = Sphere(size[0])
             elif kind == "capsule":
                 shape = Capsule(size[0], 2.0 * size[1])
+            elif kind == "ellipsoid":
+                shape = Ellipsoid(size[:3])
             elif kind == "cylinder":
                 shape = Cylinder(size[0], 2.0 * size[1])
             elif kind == "box":

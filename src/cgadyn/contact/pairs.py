@@ -31,7 +31,7 @@ from .manifold import (
     reach_bound,
     reduce_patch,
 )
-from .shapes import BOX, CAPSULE, CYLINDER, MESH, PLANE, SPHERE
+from .shapes import BOX, CAPSULE, CYLINDER, ELLIPSOID, MESH, PLANE, SPHERE
 
 __all__ = ["PAIR_CANDIDATES", "bounding_radii", "candidate_pairs", "contact_frame",
            "pair_margin",
@@ -167,7 +167,8 @@ def pair_margin(margin, radii, poses, twists, dt):
 def bounding_radii(cm) -> np.ndarray:
     """(K,) the radius of each shape's bounding sphere about its frame's origin (K39): a
     sphere's radius, a capsule's half length plus radius, a box's half diagonal, a
-    cylinder's ``sqrt(r² + (L/2)²)``, a convex mesh's farthest vertex; a plane's ``inf``."""
+    cylinder's ``sqrt(r² + (L/2)²)``, an ellipsoid's largest radius, a convex mesh's farthest
+    vertex; a plane's ``inf``."""
     out = np.empty(len(cm))
     for k, c in enumerate(cm):
         s = c.shape.packed_size
@@ -175,6 +176,7 @@ def bounding_radii(cm) -> np.ndarray:
         out[k] = (s[0] if kind == SPHERE else s[0] + s[1] if kind == CAPSULE
                   else np.linalg.norm(s[:3]) if kind == BOX
                   else np.hypot(s[0], s[1]) if kind == CYLINDER
+                  else np.max(s[:3]) if kind == ELLIPSOID
                   else np.max(np.linalg.norm(c.shape.packed_vertices, axis=1)) if kind == MESH
                   else np.inf)
     return out

@@ -2,9 +2,9 @@
 
 A sphere is the dual vector ``S = C - ½ r² e∞`` of its centre ``C`` (K2), a capsule the
 segment of its axis swept by such a sphere (K4), a plane the dual vector ``π = n + δ e∞``
-bounding the half-space ``X · π <= 0`` (K1); boxes, cylinders and convex meshes are given by
-their support points (K6). Every shape is centred on its frame's origin, with its axis (a
-capsule's, a cylinder's) along the frame's z.
+bounding the half-space ``X · π <= 0`` (K1); boxes, cylinders, ellipsoids and convex meshes
+are given by their support points (K6). Every shape is centred on its frame's origin, with
+its axis (a capsule's, a cylinder's) along the frame's z.
 
 Compiled code sees a shape as three things: its ``kind`` (an integer, the constants below),
 ``size`` (four floats) and ``vertices`` ((V, 3), empty but for a convex mesh).
@@ -16,12 +16,12 @@ import warnings
 
 import numpy as np
 
-__all__ = ["BOX", "CAPSULE", "CYLINDER", "KIND_NAMES", "MAX_VERTICES", "MESH", "PLANE",
-           "SPHERE", "Box", "Capsule", "ConvexMesh", "Cylinder", "MeshSimplified", "Plane",
-           "Shape", "Sphere"]
+__all__ = ["BOX", "CAPSULE", "CYLINDER", "ELLIPSOID", "KIND_NAMES", "MAX_VERTICES", "MESH",
+           "PLANE", "SPHERE", "Box", "Capsule", "ConvexMesh", "Cylinder", "Ellipsoid",
+           "MeshSimplified", "Plane", "Shape", "Sphere"]
 
-SPHERE, CAPSULE, BOX, CYLINDER, PLANE, MESH = range(6)
-KIND_NAMES = ("sphere", "capsule", "box", "cylinder", "plane", "convex mesh")
+SPHERE, CAPSULE, BOX, CYLINDER, PLANE, MESH, ELLIPSOID = range(7)
+KIND_NAMES = ("sphere", "capsule", "box", "cylinder", "plane", "convex mesh", "ellipsoid")
 
 MAX_VERTICES = 64
 """A convex mesh keeps at most this many vertices of its hull (its support point is a loop
@@ -154,6 +154,28 @@ class Cylinder(Shape):
 
     def __repr__(self):
         return f"Cylinder(radius={self.size[0]:g}, length={self.length:g})"
+
+
+class Ellipsoid(Shape):
+    """The solid ellipsoid ``Σ (x_i / r_i)² <= 1`` of semi-axes ``radii`` along its frame's
+    axes (MuJoCo's ellipsoid ``size``, coal's ``Ellipsoid(radii)``): the unit ball stretched
+    by ``A = diag(r)``, so its support point along a direction l of its frame is
+    ``A² l / |A l|`` (K6a)."""
+
+    kind = ELLIPSOID
+
+    def __init__(self, radii):
+        r = np.asarray(radii, dtype=float).reshape(-1)
+        if r.shape != (3,):
+            raise ValueError(f"Ellipsoid: radii must be three numbers, got {radii!r}")
+        super().__init__([_positive(x, "radius", "Ellipsoid") for x in r])
+
+    @property
+    def radii(self) -> np.ndarray:
+        return self.size[:3].copy()
+
+    def __repr__(self):
+        return f"Ellipsoid(radii={self.size[:3].tolist()})"
 
 
 class Plane(Shape):

@@ -137,15 +137,15 @@ def _joint_anchor(model, j: int) -> tuple[int, np.ndarray] | None:
     """A link that moves with joint ``j`` (the world for -1) and the joint's frame in that
     link's frame: the link whose frame is the joint's where there is one (URDF), else the
     first link of the joint (an MJCF joint may sit anywhere in its body). None for the
-    world of a robot that has no link fixed to it (a floating base)."""
+    world of a robot that has no link fixed to it (a floating base), and for a joint that
+    moves no link: one of an MJCF body's several joints but its last, whose massless body
+    has nothing to draw (``multibody.mujoco_model``)."""
     attached = [li for li in range(model.nlinks) if model.link_joint[li] == j]
     for li in attached:
         if np.allclose(model.link_placement_matrices[li], np.eye(4)):
             return li, np.eye(4)
     if not attached:
-        if j < 0:
-            return None
-        raise ValueError(f"joint {model.joint_names[j]!r} of {model.name!r} moves no link")
+        return None
     li = attached[0]
     return li, np.linalg.inv(np.asarray(model.link_placement_matrices[li], float))
 
@@ -159,8 +159,10 @@ def skeleton(model) -> list[dict]:
     r = 0.12 * (float(np.median(lengths)) if lengths else 0.5)
     out = []
     for j in range(model.njoints):
-        li, frame = _joint_anchor(model, j)
-        out.append({"link": li, "origin": frame, "kind": "sphere", "size": [r],
+        anchor = _joint_anchor(model, j)
+        if anchor is None:  # inside a body's chain of joints: drawn at the chain's last
+            continue
+        out.append({"link": anchor[0], "origin": anchor[1], "kind": "sphere", "size": [r],
                     "rgba": _SKELETON_RGBA})
         p, length = offsets[j], float(np.linalg.norm(offsets[j]))
         parent = _joint_anchor(model, int(model.parents[j]))
@@ -178,13 +180,14 @@ SHAPE_RGBA = (0.8, 0.62, 0.42, 1.0)
 
 def shape_visuals(model, source=None) -> list[dict]:
     """Visuals for the collision shapes of a model without any (an MJCF model: its geoms,
-    read through ``collision_model``): a sphere, a box, a cylinder, and a capsule as a
-    cylinder with a sphere at each end, each where its link carries it; none for a convex
+    read through ``collision_model``): a sphere, a box, a cylinder, a capsule as a
+    cylinder with a sphere at each end, and an ellipsoid as a unit sphere scaled by its
+    radii (in its static node's matrix), each where its link carries it; none for a convex
     mesh or a shape of the world (a floor), nor where the source holds no shapes."""
     import warnings
 
     from ..contact.model import collision_model
-    from ..contact.shapes import BOX, CAPSULE, CYLINDER, SPHERE
+    from ..contact.shapes import BOX, CAPSULE, CYLINDER, ELLIPSOID, SPHERE
 
     try:
         with warnings.catch_warnings():
@@ -194,12 +197,15 @@ def shape_visuals(model, source=None) -> list[dict]:
         return []
     out = []
     for c in cm:
-        if c.link < 0 or c.shape.kind not in (SPHERE, CAPSULE, BOX, CYLINDER):
+        if c.link < 0 or c.shape.kind not in (SPHERE, CAPSULE, BOX, CYLINDER, ELLIPSOID):
             continue
         T, size = np.asarray(c.placement, dtype=float), c.shape.size
         if c.shape.kind == SPHERE:
             out.append({"link": c.link, "origin": T, "kind": "sphere", "size": [size[0]],
                         "rgba": SHAPE_RGBA})
+        elif c.shape.kind == ELLIPSOID:
+            out.append({"link": c.link, "origin": T @ np.diag([*size[:3], 1.0]),
+                        "kind": "sphere", "size": [1.0], "rgba": SHAPE_RGBA})
         elif c.shape.kind == BOX:
             out.append({"link": c.link, "origin": T, "kind": "box",
                         "size": [2.0 * x for x in size[:3]], "rgba": SHAPE_RGBA})

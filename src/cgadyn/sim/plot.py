@@ -104,9 +104,8 @@ def trajectory_figure(model, traj, title: str | None = None):
     ax_e.plot(t, traj.potential, lw=1, label="potential U")
     ax_e.plot(t, traj.energy, lw=1.5, color="k", label="total T + U")
     ax_e.set_ylabel("energy (J)")
-    for ax in axes[2:]:
-        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0),
-                  borderaxespad=0.0, frameon=False)
+    ax_e.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0,
+                frameon=False)
     if contact:
         _contact_panel(axes[3], model, t, traj)
         axes[3].legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.07, 1.0),
