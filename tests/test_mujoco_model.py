@@ -197,10 +197,12 @@ def test_passive_torques_checks_its_arguments():
 
 
 @pytest.mark.parametrize("name", ["gymnasium/ant", "gymnasium/humanoid", "gymnasium/hopper",
-                                  "dm_control/cheetah", "dm_control/humanoid"])
+                                  "dm_control/cheetah", "dm_control/humanoid",
+                                  "dm_control/point_mass", "dm_control/manipulator"])
 def test_motor_torques_are_mujocos(name):
     """``actuator_torques`` of controls inside and outside ``ctrlrange`` against MuJoCo's
-    ``qfrc_actuator`` (clamped as MuJoCo clamps)."""
+    ``qfrc_actuator`` (clamped as MuJoCo clamps): joint motors, and motors pulling fixed
+    tendons (point_mass's two, manipulator's grasp)."""
     model, mj = _load(ROOT / f"{name}.xml")
     assert len(model.actuators) == mj.nu > 0
     assert [a["name"] for a in model.actuators] == [

@@ -162,3 +162,24 @@ def test_model_checks_its_tendons():
         dataclasses.replace(model, tendon_spring_length=np.array([[0.0, 0.0], [1.0, 0.0]]))
     with pytest.raises(ValueError, match=r"Model.tendon_coefficients has shape \(2, 2\)"):
         dataclasses.replace(model, tendon_coefficients=np.zeros((2, 2)))
+
+
+def test_a_motor_pulls_its_tendon_and_rollouts_take_its_controls():
+    text = ARM.replace("</mujoco>", """<actuator><motor name="pull" tendon="slack" gear="3"
+      ctrlrange="-1 1"/><motor name="turn" joint="j2"/></actuator></mujoco>""")
+    model, mj = _arm(text)
+    assert model.tendon_names == ("band", "cord", "slack")  # kept: a motor pulls it
+    pull, turn = model.actuators
+    assert (pull["tendon"], pull["joint"], pull["dof"]) == ("slack", None, None)
+    assert (turn["tendon"], turn["joint"], turn["dof"]) == (None, "j2", 1)
+    d = mujoco.MjData(mj)
+    d.ctrl[:] = [2.0, 0.5]  # the first clamped to 1
+    mujoco.mj_forward(mj, d)
+    tau = cgadyn.actuator_torques(model, [2.0, 0.5])
+    np.testing.assert_allclose(tau, d.qfrc_actuator, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(tau, [3.0, 0.5, 0.0], rtol=0, atol=1e-12)
+    ctrl = np.tile([0.7, -0.2], (5, 1))
+    by_ctrl = cgadyn.simulate(model, np.zeros(3), np.zeros(3), 1e-3, 5, ctrl=ctrl)
+    by_tau = cgadyn.simulate(model, np.zeros(3), np.zeros(3), 1e-3, 5,
+                             tau=cgadyn.actuator_torques(model, ctrl))
+    np.testing.assert_array_equal(by_ctrl.q, by_tau.q)

@@ -110,8 +110,9 @@ def format_info(info: dict) -> str:
     lines += ["", f"{'link':<36}moves with joint"]
     lines += [f"{lk['name']:<36}{lk['joint'] or '(fixed to world)'}" for lk in info["links"]]
     if info.get("actuators"):
-        lines += ["", f"{'actuator':<28}{'joint':<28}{'gear':>9}  control range"]
-        lines += [f"{a['name']:<28}{a['joint']:<28}{a['gear']:>9.4g}  "
+        lines += ["", f"{'actuator':<28}{'joint or tendon':<28}{'gear':>9}  control range"]
+        lines += [f"{a['name']:<28}{a['joint'] or 'tendon ' + a['tendon']:<28}"
+                  f"{a['gear']:>9.4g}  "
                   f"{_range([a['ctrlrange'][0]], [a['ctrlrange'][1]])}"
                   for a in info["actuators"]]
     if info.get("tendons"):

@@ -51,6 +51,7 @@ _ARRAY_FIELDS = (
     "cone_limit",
     "actuator_dof",
     "actuator_gear",
+    "actuator_tendon",
     "actuator_ctrlrange",
     "actuator_forcerange",
     "tendon_coefficients",
@@ -161,15 +162,18 @@ class Model:
         The joint motors (MuJoCo's ``<motor joint=...>``), none by default
         (``cgadyn.actuator_torques``, ``simulate(ctrl=...)``).
     actuator_dof : int64 (na,)
-        The velocity coordinate each motor drives.
+        The velocity coordinate each joint motor drives (-1 for a tendon's motor).
+    actuator_tendon : int64 (na,)
+        The fixed tendon each tendon motor pulls (its index in ``tendon_names``; MuJoCo's
+        ``<motor tendon=...>``: the torque ``gear · force · c_t``), -1 for a joint motor.
     actuator_gear : float64 (na,)
         Torque per unit of control (MuJoCo's ``gear`` times its gain).
     actuator_ctrlrange, actuator_forcerange : float64 (na, 2)
         The control's range and the range of the force before the gear (``±inf``: none),
         as MuJoCo clamps them.
     tendon_names : tuple[str, ...]
-        The fixed tendons that carry a spring or a damper (MuJoCo's ``<fixed>`` tendons
-        with ``stiffness`` or ``damping``), none by default.
+        The fixed tendons that carry a spring or a damper or that a motor pulls (MuJoCo's
+        ``<fixed>`` tendons), none by default.
     tendon_coefficients : float64 (nt, nv)
         Each tendon's length ``L = Σ_k c_k q_k`` over the coordinates of joints whose
         coordinates add (MuJoCo's ``coef`` of each ``<joint>`` of the tendon).
@@ -215,6 +219,7 @@ class Model:
     actuator_names: tuple = ()
     actuator_dof: np.ndarray | None = None
     actuator_gear: np.ndarray | None = None
+    actuator_tendon: np.ndarray | None = None
     actuator_ctrlrange: np.ndarray | None = None
     actuator_forcerange: np.ndarray | None = None
     tendon_names: tuple = ()
@@ -230,6 +235,7 @@ class Model:
                 object.__setattr__(self, field, np.zeros(nv))
         na = len(self.actuator_names)
         defaults = {"actuator_dof": np.zeros(na, dtype=np.int64), "actuator_gear": np.ones(na),
+                    "actuator_tendon": np.full(na, -1, dtype=np.int64),
                     "actuator_ctrlrange": np.tile([-np.inf, np.inf], (na, 1)),
                     "actuator_forcerange": np.tile([-np.inf, np.inf], (na, 1))}
         nt = len(self.tendon_names)
@@ -251,7 +257,7 @@ class Model:
         for field in _ARRAY_FIELDS:
             arr = getattr(self, field)
             dtype = np.int64 if field in ("joint_types", "parents", "link_joint",
-                                          "actuator_dof") else np.float64
+                                          "actuator_dof", "actuator_tendon") else np.float64
             arr = np.array(arr, dtype=dtype, copy=True)
             arr.flags.writeable = False
             object.__setattr__(self, field, arr)
@@ -295,6 +301,7 @@ class Model:
             "cone_limit": (n,),
             "actuator_dof": (len(self.actuator_names),),
             "actuator_gear": (len(self.actuator_names),),
+            "actuator_tendon": (len(self.actuator_names),),
             "actuator_ctrlrange": (len(self.actuator_names), 2),
             "actuator_forcerange": (len(self.actuator_names), 2),
             "tendon_coefficients": (len(self.tendon_names), nv),
@@ -383,11 +390,16 @@ class Model:
                                  f"on joints whose coordinates add (revolute, prismatic)")
 
     def _check_actuators(self):
-        """Each motor drives an existing velocity coordinate with a finite gear; its ranges
-        are ordered (``lower <= upper``)."""
+        """Each motor drives an existing velocity coordinate, or pulls an existing tendon
+        (its coordinate then -1), with a finite gear; its ranges are ordered (``lower <=
+        upper``)."""
         for a, name in enumerate(self.actuator_names):
-            dof = int(self.actuator_dof[a])
-            if not 0 <= dof < self.nv:
+            dof, tendon = int(self.actuator_dof[a]), int(self.actuator_tendon[a])
+            if tendon >= 0 and (tendon >= len(self.tendon_names) or dof != -1):
+                raise ValueError(f"actuator {name!r} pulls tendon {tendon} and drives "
+                                 f"coordinate {dof}; expected a tendon in [0, "
+                                 f"{len(self.tendon_names)}) and the coordinate -1")
+            if tendon < 0 and not (tendon == -1 and 0 <= dof < self.nv):
                 raise ValueError(f"actuator {name!r} drives velocity coordinate {dof}; "
                                  f"expected one in [0, {self.nv})")
             if not np.isfinite(self.actuator_gear[a]):
@@ -424,14 +436,19 @@ class Model:
 
     @property
     def actuators(self) -> list[dict]:
-        """The joint motors, one dict each: ``name``, ``joint``, ``dof`` (the velocity
-        coordinate), ``gear``, ``ctrlrange``, ``forcerange``."""
-        return [{"name": name, "joint": self.joint_names[self.dof_joint[int(dof)]],
-                 "dof": int(dof), "gear": float(gear), "ctrlrange": tuple(map(float, c)),
+        """The motors, one dict each: ``name``, ``joint`` and ``dof`` (the velocity
+        coordinate) of a joint motor, ``tendon`` of a tendon's (the others None), ``gear``,
+        ``ctrlrange``, ``forcerange``."""
+        return [{"name": name,
+                 "joint": None if t >= 0 else self.joint_names[self.dof_joint[int(dof)]],
+                 "dof": None if t >= 0 else int(dof),
+                 "tendon": self.tendon_names[t] if t >= 0 else None,
+                 "gear": float(gear), "ctrlrange": tuple(map(float, c)),
                  "forcerange": tuple(map(float, f))}
-                for name, dof, gear, c, f in zip(
-                    self.actuator_names, self.actuator_dof, self.actuator_gear,
-                    self.actuator_ctrlrange, self.actuator_forcerange, strict=True)]
+                for name, dof, t, gear, c, f in zip(
+                    self.actuator_names, self.actuator_dof, self.actuator_tendon,
+                    self.actuator_gear, self.actuator_ctrlrange, self.actuator_forcerange,
+                    strict=True)]
 
     def _check_axes(self):
         """Joint axes pass through the joint frame's origin (URDF's convention): a revolute

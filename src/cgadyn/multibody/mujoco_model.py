@@ -281,8 +281,7 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
             friction=joints["friction"], cone_limit=joints["cone"])
         return dataclasses.replace(model, spring_reference=table.from_mujoco(
             model, mj.qpos_spring), home=table.from_mujoco(model, mj.qpos0),
-            **_motors(mj, model, joint_of, model_name),
-            **_tendons(mj, model, joint_of, model_name))
+            **_motors_and_tendons(mj, model, joint_of, model_name))
     except ValueError as exc:
         raise ValueError(f"MuJoCo model {model_name!r}: {exc}") from None
 
@@ -294,30 +293,50 @@ def available() -> bool:
     return importlib.util.find_spec("mujoco") is not None
 
 
-def _motors(mj, model: Model, joint_of: dict, where: str) -> dict:
-    """The ``Model.actuator_*`` fields of MuJoCo's joint motors (a joint transmission, a
-    fixed gain of 1, no bias, no activation dynamics: ``<motor joint=...>``): the torque
-    ``gear * clamp(clamp(ctrl, ctrlrange), forcerange)`` on the joint's coordinate. Any
-    other actuator is left out, with a warning naming it."""
+def _fixed(mj, t: int) -> bool:
+    """Whether MuJoCo's tendon t is a fixed tendon (every wrap a joint: mjWRAP_JOINT)."""
+    adr, num = int(mj.tendon_adr[t]), int(mj.tendon_num[t])
+    return bool(np.all(mj.wrap_type[adr:adr + num] == 1))
+
+
+def _motors_and_tendons(mj, model: Model, joint_of: dict, where: str) -> dict:
+    """``_motors`` and ``_tendons``: the tendons that a motor pulls kept, the motors
+    pointing at them."""
+    motors, pulled = _motors(mj, model, joint_of, where)
+    tendons, kept = _tendons(mj, model, joint_of, where, pulled)
+    motors["actuator_tendon"] = np.array([kept.get(t, -1) for t in pulled], dtype=np.int64)
+    return motors | tendons
+
+
+def _motors(mj, model: Model, joint_of: dict, where: str) -> tuple[dict, list[int]]:
+    """The ``Model.actuator_*`` fields of MuJoCo's motors (a fixed gain of 1, no bias, no
+    activation dynamics: ``<motor>``) on a one-coordinate joint or a fixed tendon: the force
+    ``clamp(clamp(ctrl, ctrlrange), forcerange)`` times ``gear`` on the joint's coordinate,
+    or along the tendon (``algorithms.actuators``); and the MuJoCo tendon of each (-1 for a
+    joint). Any other actuator is left out, with a warning naming it."""
     import mujoco
 
-    names, dofs, gears, ctrl, force, skipped = [], [], [], [], [], []
+    names, dofs, gears, ctrl, force, skipped, pulled = [], [], [], [], [], [], []
     clamp = not _disabled(mj, "CLAMPCTRL")
     for a in range(mj.nu):
         name = _name(mj, _obj("ACTUATOR"), a, f"actuator{a}")
-        joint = int(mj.actuator_trnid[a, 0])
-        motor = (mj.actuator_trntype[a] == mujoco.mjtTrn.mjTRN_JOINT
+        target = int(mj.actuator_trnid[a, 0])
+        on_joint = (mj.actuator_trntype[a] == mujoco.mjtTrn.mjTRN_JOINT
+                    and target in joint_of and model.joint_dofs(joint_of[target]).stop
+                    - model.joint_dofs(joint_of[target]).start == 1)
+        on_tendon = (mj.actuator_trntype[a] == mujoco.mjtTrn.mjTRN_TENDON
+                     and _fixed(mj, target))
+        motor = ((on_joint or on_tendon)
                  and mj.actuator_gaintype[a] == mujoco.mjtGain.mjGAIN_FIXED
                  and mj.actuator_biastype[a] == mujoco.mjtBias.mjBIAS_NONE
                  and mj.actuator_dyntype[a] == mujoco.mjtDyn.mjDYN_NONE
-                 and mj.actuator_gainprm[a, 0] == 1.0 and joint in joint_of
-                 and model.joint_dofs(joint_of[joint]).stop
-                 - model.joint_dofs(joint_of[joint]).start == 1)
+                 and mj.actuator_gainprm[a, 0] == 1.0)
         if not motor:
             skipped.append(name)
             continue
         names.append(name)
-        dofs.append(model.joint_dofs(joint_of[joint]).start)
+        dofs.append(model.joint_dofs(joint_of[target]).start if on_joint else -1)
+        pulled.append(-1 if on_joint else target)
         gears.append(float(mj.actuator_gear[a, 0]))
         limited = clamp and bool(mj.actuator_ctrllimited[a])
         ctrl.append(mj.actuator_ctrlrange[a] if limited else (-np.inf, np.inf))
@@ -325,31 +344,33 @@ def _motors(mj, model: Model, joint_of: dict, where: str) -> dict:
                      else (-np.inf, np.inf))
     if skipped:
         warnings.warn(f"{where!r}: the actuators {', '.join(map(repr, skipped))} are not "
-                      f"joint motors (<motor joint=...> on a hinge or slide); cgadyn models "
-                      f"those only, so they are left out of model.actuators", stacklevel=4)
+                      f"motors (<motor joint=...> on a hinge or slide, <motor tendon=...> on "
+                      f"a fixed tendon); cgadyn models those only, so they are left out of "
+                      f"model.actuators", stacklevel=5)
     na = len(names)
     return dict(actuator_names=tuple(names), actuator_dof=np.array(dofs, dtype=np.int64),
                 actuator_gear=np.array(gears, dtype=float),
                 actuator_ctrlrange=np.array(ctrl, dtype=float).reshape(na, 2),
-                actuator_forcerange=np.array(force, dtype=float).reshape(na, 2))
+                actuator_forcerange=np.array(force, dtype=float).reshape(na, 2)), pulled
 
 
-def _tendons(mj, model: Model, joint_of: dict, where: str) -> dict:
+def _tendons(mj, model: Model, joint_of: dict, where: str, pulled: list[int]
+             ) -> tuple[dict, dict]:
     """The ``Model.tendon_*`` fields of MuJoCo's fixed tendons that carry a spring or a
-    damper (``tendon_stiffness``, ``tendon_damping``, ``tendon_lengthspring``; the length
-    ``Σ coef qpos`` of hinges and slides: ``wrap_prm``, ``wrap_objid``). A spatial tendon
+    damper or that a motor pulls (``pulled``: MuJoCo's tendon ids) (``tendon_stiffness``,
+    ``tendon_damping``, ``tendon_lengthspring``; the length ``Σ coef qpos`` of hinges and
+    slides: ``wrap_prm``, ``wrap_objid``), and MuJoCo's id -> the index kept. A spatial tendon
     with a spring or damper, and a tendon's armature, are refused by name (they would change
     the passive forces or the mass matrix); a tendon's limit and friction loss, constraints
     that cgadyn does not hold, are warned of, as are joint and tendon couplings
     (``<equality joint/tendon>``) and fluid forces (``density``,
     ``viscosity``), which cgadyn does not compute."""
-    names, rows, stiffness, damping, length, loose = [], [], [], [], [], []
+    names, rows, stiffness, damping, length, loose, kept = [], [], [], [], [], [], {}
     armature = getattr(mj, "tendon_armature", np.zeros(mj.ntendon))
     k_on, b_on = float(not _disabled(mj, "SPRING")), float(not _disabled(mj, "DAMPER"))
     for t in range(mj.ntendon):
         name = _name(mj, _obj("TENDON"), t, f"tendon{t}")
-        adr, num = int(mj.tendon_adr[t]), int(mj.tendon_num[t])
-        fixed = bool(np.all(mj.wrap_type[adr:adr + num] == 1))  # mjWRAP_JOINT
+        adr, num, fixed = int(mj.tendon_adr[t]), int(mj.tendon_num[t]), _fixed(mj, t)
         k, b = k_on * float(mj.tendon_stiffness[t]), b_on * float(mj.tendon_damping[t])
         passive = k != 0.0 or b != 0.0  # as <flag spring/damper="disable"> leave them
         if armature[t] != 0.0:
@@ -360,8 +381,9 @@ def _tendons(mj, model: Model, joint_of: dict, where: str) -> dict:
                              f"damper; cgadyn models those of fixed tendons only")
         if mj.tendon_limited[t] or mj.tendon_frictionloss[t] != 0.0:
             loose.append(name)
-        if not passive:
+        if not passive and t not in pulled:
             continue
+        kept[t] = len(names)
         row = np.zeros(model.nv)
         for w in range(adr, adr + num):
             row[model.joint_dofs(joint_of[int(mj.wrap_objid[w])]).start] += mj.wrap_prm[w]
@@ -373,24 +395,24 @@ def _tendons(mj, model: Model, joint_of: dict, where: str) -> dict:
     if loose:
         warnings.warn(f"{where!r}: the limits and friction loss of the tendons "
                       f"{', '.join(map(repr, loose))} are not held: cgadyn holds joint "
-                      f"limits and joint friction loss only", stacklevel=4)
+                      f"limits and joint friction loss only", stacklevel=5)
     couplings = [_name(mj, _obj("EQUALITY"), k, f"equality{k}") for k in range(mj.neq)
                  if int(mj.eq_type[k]) in (2, 3)]  # mjEQ_JOINT, mjEQ_TENDON
     if couplings:
         warnings.warn(f"{where!r}: the joint and tendon couplings "
                       f"{', '.join(map(repr, couplings))} (<equality joint/tendon>) are not "
                       f"held: cgadyn holds connect and weld equalities only "
-                      f"(cgadyn.mujoco_constraints)", stacklevel=4)
+                      f"(cgadyn.mujoco_constraints)", stacklevel=5)
     if mj.opt.density != 0.0 or mj.opt.viscosity != 0.0:
         warnings.warn(f"{where!r}: the fluid forces of density {mj.opt.density} and "
                       f"viscosity {mj.opt.viscosity} are left out: cgadyn computes no fluid "
-                      f"forces", stacklevel=4)
+                      f"forces", stacklevel=5)
     nt = len(names)
     return dict(tendon_names=tuple(names),
                 tendon_coefficients=np.array(rows, dtype=float).reshape(nt, model.nv),
                 tendon_stiffness=np.array(stiffness, dtype=float),
                 tendon_damping=np.array(damping, dtype=float),
-                tendon_spring_length=np.array(length, dtype=float).reshape(nt, 2))
+                tendon_spring_length=np.array(length, dtype=float).reshape(nt, 2)), kept
 
 
 def load_mujoco(source, name: str | None = None, floating_base: bool | None = None,

@@ -207,7 +207,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     coords[ACTUATED] = model.actuated
     flags, q_ref, v_ref = _controller(model, controller, q0, B, coords)
     tendons = np.zeros((0, model.nv + TENDON))
-    if passive and (np.any(model.damping) or np.any(model.stiffness) or model.tendon_names):
+    if passive and (np.any(model.damping) or np.any(model.stiffness)
+                    or np.any(model.tendon_stiffness) or np.any(model.tendon_damping)):
         flags |= _passive(model, coords)
         tendons = _tendons(model)
     step_model, step_inertia = packed, None
