@@ -319,3 +319,48 @@ def test_an_mjcf_model_is_drawn_with_its_geoms(tmp_path):
     _, cmds = _page_parts(path.read_text(encoding="utf-8"))
     drawn = sum(c["type"] == "set_object" and c["path"] != "/cgadyn/floor" for c in cmds)
     assert drawn == len(html.skeleton(model)) + len(shapes)
+
+
+@pytest.fixture(scope="module")
+def travelling_page(tmp_path_factory):
+    """The double pendulum on a free-flyer base carried 20 m along x in 2 s, swinging."""
+    model = cgadyn.load("double_pendulum", floating_base=True)
+    n = 201
+    q = np.zeros((n, model.nq))
+    q[:, 0], q[:, 6] = np.linspace(0.0, 20.0, n), 1.0
+    q[:, 7:] = _pendulum_trajectory(cgadyn.load("double_pendulum"), n)
+    path = html.write_html(model, q, 0.01, tmp_path_factory.mktemp("html") / "far.html",
+                           loop=False)
+    return model, q, path
+
+
+def test_the_camera_follows_a_robot_that_travels_far(travelling_page):
+    """The follow node's keys are the robot's shift along the ground (its x here, z never),
+    and the floor grid covers the whole path."""
+    _, q, path = travelling_page
+    meta, cmds = _page_parts(path.read_text(encoding="utf-8"))
+    assert meta["follows"]
+    (anim,) = [c for c in cmds if c["type"] == "set_animation"]
+    (clip,) = [a["clip"] for a in anim["animations"] if a["path"] == html.FOLLOW]
+    keys = np.array([k["value"] for k in clip["tracks"][0]["keys"]])
+    rows = html.animation_frames(q, 0.01)
+    np.testing.assert_allclose(keys[:, 0], q[rows, 0], atol=1e-9)
+    assert np.all(keys[:, 2] == 0.0) and np.abs(keys[:, 1]).max() < 0.1
+    (floor,) = [c for c in cmds if c.get("path") == "/cgadyn/floor"]
+    points = np.frombuffer(floor["object"]["geometries"][0]["data"]["attributes"]["position"]
+                           ["array"].data, dtype=np.float32).reshape(-1, 3)
+    assert points[:, 0].min() < 0.0 and points[:, 0].max() > 20.0
+
+
+@pytest.mark.slow
+@pytest.mark.browser
+@pytest.mark.skipif(CHROMIUM is None, reason="no chromium to render the page")
+def test_chromium_keeps_a_travelling_robot_in_view(travelling_page, tmp_path):
+    """After the 2 s clip the pendulum, 20 m from where it started, is still in the
+    picture (without the follow the last frame shows the grid alone: no yellow, 0.9 %
+    grey)."""
+    _, _, path = travelling_page
+    png = tmp_path / "far.png"
+    screenshot(path, png, budget_ms=4000)
+    px = robot_pixels(png)
+    assert px["yellow"] > 5e-4 and px["grey"] > 2e-2, px

@@ -323,7 +323,14 @@ def _commands(model, q: np.ndarray, dt: float, fps: float, urdf,
                             for t, r in zip(times, quat, strict=True)]}]
         animations.append({"path": path[li], "clip": {"fps": float(fps), "name": "default",
                                                       "tracks": tracks}})
-    framing = _framing(T, vis)
+    framing, shift = _framing(T, vis)
+    if shift is not None:  # a robot that travels far: the page's camera follows this node
+        cmds.append({"type": "set_transform", "path": FOLLOW, "matrix": IDENTITY})
+        animations.append({"path": FOLLOW, "clip": {
+            "fps": float(fps), "name": "default", "tracks": [
+                {"name": ".position", "type": "vector3",
+                 "keys": [{"time": float(t), "value": [float(x) for x in p]}
+                          for t, p in zip(times, shift, strict=True)]}]}})
     if contacts is not None:
         arrows, clips = _contact_arrows(model, contacts, rows, times, fps, framing)
         cmds += arrows
@@ -421,10 +428,22 @@ def _quaternion_y_to(d: np.ndarray) -> list[float]:
     return [float(x / norm), y, float(z / norm), float(w / norm)]
 
 
-def _framing(T: np.ndarray, vis: list[dict]) -> dict:
+FOLLOW = "/cgadyn/follow"
+"""An empty node whose animated position is the shift of the camera that follows a robot
+travelling far (``_framing``); the page moves the camera and its target by it (``_PAGE``),
+so that the user's own turns and zooms keep working."""
+IDENTITY = [1.0, 0, 0, 0, 0, 1.0, 0, 0, 0, 0, 1.0, 0, 0, 0, 0, 1.0]
+
+
+def _framing(T: np.ndarray, vis: list[dict]) -> tuple[dict, np.ndarray | None]:
     """Centre and radius (metres) for the camera: the box swept by the visuals' origins,
-    or the first frame's box when the robot travels more than three times its own size;
-    and the height of the floor grid: z = 0 where that is near, else under the robot."""
+    or, when the robot travels more than three times its own size, the box they sweep
+    about the camera that follows it;
+    and the height of the floor grid: z = 0 where that is near, else under the robot; and
+    the extent of the grid in x and y (``floor_box``: its corners). For a robot that
+    travels far, also the camera's shift at each frame (F, 3): how far the centre of its
+    box has moved in x and y since the first frame, so that the camera follows it across
+    a grid that covers its path (None otherwise)."""
     pts = np.stack([(T[:, v["link"]] @ v["origin"])[:, :3, 3] for v in vis], axis=1)
 
     def box(p):
@@ -433,29 +452,39 @@ def _framing(T: np.ndarray, vis: list[dict]) -> dict:
 
     center, radius = box(pts.reshape(-1, 3))
     c0, r0 = box(pts[0])
-    framed = pts
-    if radius > 3 * r0:
-        center, radius, framed = c0, r0, pts[:1]
+    framed, shift = pts, None
+    if radius > 3 * r0:  # framed as the following camera sees it: its shift taken out
+        shift = 0.5 * (pts.min(axis=1) + pts.max(axis=1)) - c0
+        shift[:, 2] = 0.0  # along the ground: the camera does not bob with the robot
+        framed = pts - shift[:, None, :]
+        center, radius = box(framed.reshape(-1, 3))
     near = center[2] - 3 * radius <= 0.0 <= center[2] + radius  # the world's z = 0 in view
     floor = 0.0 if near else float(framed[..., 2].min())
-    return {"center": [float(c) for c in center], "radius": radius, "floor": floor}
+    path = center[:2] + (np.zeros((1, 2)) if shift is None else shift[:, :2])
+    return {"center": [float(c) for c in center], "radius": radius, "floor": floor,
+            "floor_box": [[float(x) for x in path.min(axis=0)],
+                          [float(x) for x in path.max(axis=0)]],
+            "follows": shift is not None}, shift
 
 
 def _floor(framing: dict) -> list[dict]:
-    """A floor grid under the robot, sized to it, in place of meshcat's 20 m one: some of
+    """A floor grid under the robot, sized to it (and long enough for its path where the
+    camera follows it: ``floor_box``), in place of meshcat's 20 m one: some of
     that one's lines always pass behind the camera, and renderers that drop such lines
     instead of clipping them (headless Chromium's) drew only its far edge, which looked
     like a ceiling seen from below."""
     g, _ = require_viewer()
-    c, r = framing["center"], framing["radius"]
+    (xl, yl), (xh, yh) = framing["floor_box"]  # the robot's centre: one point or its path
+    r = framing["radius"]
     cell = _nice_step(r / 3.0)
     n = int(math.ceil(1.6 * r / cell))
-    x0, y0 = (round(v / cell) * cell for v in c[:2])
-    ticks = np.arange(-n, n + 1) * cell
+    x0, x1 = math.floor(xl / cell) - n, math.ceil(xh / cell) + n  # in cells
+    y0, y1 = math.floor(yl / cell) - n, math.ceil(yh / cell) + n
     lines = []
-    for t in ticks:
-        lines += [(x0 + t, y0 - n * cell), (x0 + t, y0 + n * cell),
-                  (x0 - n * cell, y0 + t), (x0 + n * cell, y0 + t)]
+    for i in range(x0, x1 + 1):
+        lines += [(i * cell, y0 * cell), (i * cell, y1 * cell)]
+    for i in range(y0, y1 + 1):
+        lines += [(x0 * cell, i * cell), (x1 * cell, i * cell)]
     points = np.array([[x, y, framing["floor"]] for x, y in lines], dtype=np.float32).T
     grid = g.LineSegments(g.PointsGeometry(points), g.LineBasicMaterial(color=0x8a8a8a))
     return [{"type": "set_property", "path": "/Grid", "property": "visible", "value": False},
@@ -495,6 +524,22 @@ viewer.controls.target.set(c[0], c[2], -c[1]);
 viewer.camera.position.set(c[0] + 2.0 * r, h, -c[1] + 1.5 * r);
 viewer.controls.update();
 viewer.set_dirty();
+// a robot that travels far: camera and target move by the follow node's shift (z-up, so
+// world (dx, dy) is (dx, -dy) in the camera's y-up frame), the user's turns kept
+if (meta.follows) {{
+  var follow = viewer.scene_tree.find(["cgadyn", "follow"]).object, last = [0.0, 0.0];
+  (function track() {{
+    var dx = follow.position.x - last[0], dy = follow.position.y - last[1];
+    if (dx !== 0 || dy !== 0) {{
+      last = [follow.position.x, follow.position.y];
+      viewer.camera.position.x += dx; viewer.camera.position.z -= dy;
+      viewer.controls.target.x += dx; viewer.controls.target.z -= dy;
+      viewer.controls.update();
+      viewer.set_dirty();
+    }}
+    requestAnimationFrame(track);
+  }})();
+}}
 </script>
 </body>
 </html>
