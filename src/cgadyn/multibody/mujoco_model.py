@@ -374,11 +374,11 @@ def _tendons(mj, model: Model, joint_of: dict, where: str, pulled: list[int]
         k, b = k_on * float(mj.tendon_stiffness[t]), b_on * float(mj.tendon_damping[t])
         passive = k != 0.0 or b != 0.0  # as <flag spring/damper="disable"> leave them
         if armature[t] != 0.0:
-            raise ValueError(f"{where}: tendon {name!r} has armature {armature[t]}; cgadyn "
-                             f"models the joints' armature only")
+            raise ValueError(f"tendon {name!r} has armature {armature[t]}; cgadyn models "
+                             f"the joints' armature only")
         if passive and not fixed:
-            raise ValueError(f"{where}: tendon {name!r} is a spatial tendon with a spring or "
-                             f"damper; cgadyn models those of fixed tendons only")
+            raise ValueError(f"tendon {name!r} is a spatial tendon with a spring or damper; "
+                             f"cgadyn models those of fixed tendons only")
         if mj.tendon_limited[t] or mj.tendon_frictionloss[t] != 0.0:
             loose.append(name)
         if not passive and t not in pulled:
