@@ -343,3 +343,19 @@ def test_the_ant_falls_and_is_pushed_around_by_random_controls(capsys):
     assert out["completed"] == 100 and out["seed"] == 3 and out["energy_drift"] is None
     assert max(out["contact_count"]) > 0
     np.testing.assert_array_equal(outs[0]["q"], outs[1]["q"])
+
+
+def test_the_dm_control_quadruped_stands_under_pd(capsys):
+    """dm_control's quadruped (its hips' yaw joints carry no link: each is the first of a
+    body's chain of joints) under the command's PD on the ground: the gains take each
+    joint's own frame, and the robot is held up by its legs (its base above its start's
+    half height after 0.3 s)."""
+    argv = ["simulate", "dm_control:quadruped", "--ground", "--controller", "pd",
+            "--seconds", "0.3", "--json", "--no-progress"]
+    assert cli.main(argv) == 0
+    captured = capsys.readouterr()
+    out = strict_json(captured.out)  # what the model leaves out: one line each on stderr
+    assert "cgadyn: warning: 'dm_control:quadruped': the actuators" in captured.err
+    assert out["completed"] == 300 and max(out["contact_count"]) > 0
+    z = np.asarray(out["q"])[:, 2]
+    assert z[-1] > 0.5 * z[0]

@@ -306,7 +306,8 @@ def pd_gains(model, q_ref: np.ndarray, wn: float, support=()) -> tuple[np.ndarra
     joint to the centre of mass, ``m |p_j - c|²``. Such a leg also swings in the air, where
     the same gains meet its subtree alone: stable at any step, because a step with a world
     takes the gains at its end (K40)."""
-    from ..algorithms import center_of_mass, crba, link_placements
+    from ..algorithms import center_of_mass, crba, forward_kinematics
+    from ..cga.conventions import matrix_from_motor
 
     M = np.asarray(crba(model, q_ref))
     inertia = np.diag(M).copy()
@@ -320,11 +321,10 @@ def pd_gains(model, q_ref: np.ndarray, wn: float, support=()) -> tuple[np.ndarra
         legs = np.array([int(model.dof_joint[k]) in joints for k in range(model.nv)])
         legs &= np.asarray(model.actuated)
         c = np.asarray(center_of_mass(model, q_ref))
-        origin = np.asarray(link_placements(model, q_ref))[:, :3, 3]
-        child = {int(j): li for li, j in reversed(list(enumerate(model.link_joint)))}
+        joints_at = np.asarray(matrix_from_motor(forward_kinematics(model, q_ref)[0]))
         mass = float(np.sum(model.body_mass))
-        for k in np.flatnonzero(legs):  # the joint frame is its child link's frame
-            p = origin[child[int(model.dof_joint[k])]]
+        for k in np.flatnonzero(legs):  # from the joint frame's origin (one may carry no
+            p = joints_at[int(model.dof_joint[k]), :3, 3]  # link: an MJCF body's chain)
             inertia[k] += mass * float(np.sum((p - c) ** 2))
     m = np.where(model.actuated, inertia, 0.0)
     return m * wn**2, 2.0 * m * wn
