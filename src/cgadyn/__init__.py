@@ -95,6 +95,8 @@ _LAZY = {
     "collision_distances": "cgadyn.contact",
     "World": "cgadyn.contact",
     "Body": "cgadyn.contact",
+    "Obstacle": "cgadyn.contact",
+    "static_world": "cgadyn.contact",
     "with_bodies": "cgadyn.contact",
     "Contacts": "cgadyn.contact",
     "ground_contacts": "cgadyn.contact",

@@ -8,8 +8,9 @@
                     [--seed N] [--json] [--plot F.png]
                     [--html F.html] [--no-progress]
 
-``--ground`` puts a level ground at z = 0 under the robot, touched by the collision shapes
-of its URDF or MJCF (``cgadyn.collision_model``; meshes as their convex hulls): the run is
+``--ground`` puts a level ground at z = 0 under the robot (an MJCF's own floor and static
+geoms where it has them, ``cgadyn.static_world``), touched by the collision shapes of its
+URDF or MJCF (``cgadyn.collision_model``; meshes as their convex hulls): the run is
 then the contact step of ``docs/contact.md`` (semi-implicit Euler with frictional contact
 impulses). A floating robot starts resting on it, its lowest shape at the ground, or
 ``--drop H`` metres above it. ``--soft K`` makes the links it stands on touch the ground
@@ -127,7 +128,8 @@ def add_parser(sub) -> None:
                    help="initial velocity, nv numbers (default zero)")
     p.add_argument("--ground", action="store_true",
                    help="a level ground at z = 0 touched by the robot's collision shapes, "
-                        "with Coulomb friction 1; a floating robot starts resting on it")
+                        "with Coulomb friction 1 (an MJCF's own floor and static geoms, "
+                        "where it has them); a floating robot starts resting on it")
     p.add_argument("--drop", type=_height, default=None, metavar="H",
                    help="start a floating robot with its lowest shape H metres above the "
                         "ground (implies --ground)")
@@ -449,7 +451,7 @@ def run(args: argparse.Namespace) -> int:
         from ..sim.html import write_html
 
         write_html(model, traj.q, args.dt * every, html, urdf=_urdf(args.robot, registry),
-                   contacts=traj.contacts if ground else None)
+                   contacts=traj.contacts if ground else None, world=world)
     if args.json:
         arrays = {k: getattr(traj, k) for k in ("t", "q", "v", "a", "kinetic", "potential",
                                                 "energy")}
@@ -499,6 +501,7 @@ def _ground(model, args, q0: np.ndarray, given: bool, registry):
     0) above the ground (a ``q0`` given by ``--q0`` is moved only by ``--drop``), and the
     links it will stand on (``pd_gains``' support)."""
     from ..contact import MeshSimplified, World, collision_model, ground_contacts
+    from ..contact.static_world import default_world
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", MeshSimplified)  # hulls of at most 64 vertices
@@ -509,7 +512,9 @@ def _ground(model, args, q0: np.ndarray, given: bool, registry):
     if len(collisions) == 0:
         raise UsageError(f"--ground: {model.name!r} has no collision shapes in its file, so "
                          f"nothing of it can touch the ground")
-    world = World()
+    own = default_world(collisions)  # an MJCF's floor and geoms (K44)
+    world = own if own is not None and own.ground else World(
+        obstacles=() if own is None else own.obstacles)
     q0 = q0.copy()
     found = ground_contacts(model, collisions, q0, world, margin=1e9)
     if len(found) == 0:

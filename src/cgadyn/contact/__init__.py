@@ -6,6 +6,7 @@ from .api import shape_distance
 from .bodies import Body, with_bodies
 from .criteria import ContactCriteria, step_criteria
 from .model import Collision, CollisionModel, collision_distances, collision_model, collision_poses
+from .obstacles import Obstacle
 from .problem import contact_problem
 from .settings import ContactSettings
 from .shapes import (
@@ -20,14 +21,15 @@ from .shapes import (
     Sphere,
 )
 from .solve import ContactSolveInfo, solve_contacts
+from .static_world import static_world
 from .step import ContactStep, contact_step
 from .world import Contacts, World, ground_contacts
 
 __all__ = ["Body", "Box", "Capsule", "Collision", "CollisionModel", "ContactCriteria",
            "ContactSettings",
            "ContactSolveInfo", "ContactStep",
-           "Contacts", "ConvexMesh", "Cylinder", "Ellipsoid", "MeshSimplified", "Plane",
+           "Contacts", "ConvexMesh", "Cylinder", "Ellipsoid", "MeshSimplified", "Obstacle", "Plane",
            "Shape", "Sphere",
            "World", "collision_distances", "collision_model", "collision_poses",
            "contact_problem", "contact_step", "ground_contacts", "shape_distance",
-           "solve_contacts", "step_criteria", "with_bodies"]
+           "solve_contacts", "static_world", "step_criteria", "with_bodies"]

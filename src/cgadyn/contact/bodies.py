@@ -17,6 +17,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .model import Collision, CollisionModel, _collisions
+from .obstacles import placement, pose_matrix, scene_collisions
 from .shapes import BOX, CAPSULE, CYLINDER, ELLIPSOID, MESH, PLANE, SPHERE, Shape
 
 __all__ = ["Body", "check_start", "empty_model", "shape_inertia", "with_bodies", "world_model"]
@@ -117,26 +118,12 @@ class Body:
                 raise ValueError(f"{who}: inertia must be a symmetric positive definite 3x3 "
                                  f"matrix (about the centre of mass), got {self.inertia!r}")
             com = np.zeros(3) if self.shape.kind != MESH else com
-        p = np.asarray(self.position, dtype=float)
-        quat = np.asarray(self.orientation, dtype=float)
-        if p.shape != (3,) or not np.all(np.isfinite(p)):
-            raise ValueError(f"{who}: position must be three finite numbers, got "
-                             f"{self.position!r}")
-        if quat.shape != (4,) or not np.all(np.isfinite(quat)) or np.linalg.norm(quat) < 1e-9:
-            raise ValueError(f"{who}: orientation must be a nonzero quaternion (x, y, z, w), "
-                             f"got {self.orientation!r}")
-        if self.friction is not None and (isinstance(self.friction, bool) or not isinstance(
-                self.friction, numbers.Real) or not np.isfinite(self.friction)
-                or self.friction < 0):
-            raise ValueError(f"{who}: friction must be None or a finite number >= 0, got "
-                             f"{self.friction!r}")
-        if self.name is not None and not isinstance(self.name, str):
-            raise ValueError(f"{who}: name must be a string or None, got {self.name!r}")
+        p, quat = placement(who, self.position, self.orientation, self.friction, self.name)
         object.__setattr__(self, "mass", float(self.mass))
         object.__setattr__(self, "inertia", inertia)
         object.__setattr__(self, "com", com)
-        object.__setattr__(self, "position", tuple(p.tolist()))
-        object.__setattr__(self, "orientation", tuple((quat / np.linalg.norm(quat)).tolist()))
+        object.__setattr__(self, "position", p)
+        object.__setattr__(self, "orientation", quat)
 
     @property
     def q(self) -> np.ndarray:
@@ -225,14 +212,20 @@ loop of ``contact_step`` calls builds the model once."""
 
 
 def world_model(model, collisions, world) -> tuple[object, CollisionModel, np.ndarray]:
-    """``with_bodies(model, collisions, world.bodies)``, built once per model, collisions and
-    bodies (a cache of the last few)."""
-    key = (id(model), id(collisions), tuple(id(b) for b in world.bodies))
+    """``with_bodies(model, scene, world.bodies)`` where ``scene`` is ``collisions`` (None:
+    none) with the world's obstacles in place of their own world shapes
+    (``obstacles.scene_collisions``, K44): the model, the collision model and the bodies'
+    start coordinates of a step or a rollout in ``world``, built once per model, collisions,
+    bodies and obstacles (a cache of the last few)."""
+    key = (id(model), id(collisions), tuple(id(b) for b in world.bodies),
+           tuple(id(o) for o in world.obstacles))
     hit = _EXTENDED.get(key)
     if hit is None:
         if len(_EXTENDED) >= 8:
             _EXTENDED.pop(next(iter(_EXTENDED)))
-        hit = (with_bodies(model, collisions, world.bodies), model, collisions, world.bodies)
+        cm = CollisionModel([], model) if collisions is None else _collisions(collisions, model)
+        hit = (with_bodies(model, scene_collisions(cm, world, model), world.bodies), model,
+               collisions, world.bodies, world.obstacles)
         _EXTENDED[key] = hit
     return hit[0]
 
@@ -245,15 +238,13 @@ def check_start(world) -> None:
     """Raise ``ValueError`` naming a body of ``world`` that starts more than
     ``INSIDE_GROUND`` inside its ground (a penetration the step would throw it out of): its
     deepest point against the ground's plane (``distance.against_plane``, K5)."""
-    from ..cga.conventions import matrix_from_motor, motor_from_quaternion
     from .distance import OUT, against_plane
 
     if not world.ground:
         return
     out = np.empty(OUT)
     for b, name in zip(world.bodies, body_names(world.bodies), strict=True):
-        x, y, z, w = b.orientation
-        pose = matrix_from_motor(motor_from_quaternion((w, x, y, z), b.position))
+        pose = pose_matrix(b.position, b.orientation)
         against_plane(b.shape.kind, b.shape.packed_size, b.shape.packed_vertices, pose,
                       world.plane.packed_size, np.eye(4), out)
         if out[0] < -INSIDE_GROUND:

@@ -257,19 +257,30 @@ def _from_mujoco(model, mj, max_vertices: int) -> CollisionModel:
     in ``model.link_names``), at ``geom_pos``/``geom_quat`` in the body frame, which is the
     link frame (``multibody.mujoco_model``). A geom of a type cgadyn has no shape for is
     refused by name on a body, and left out with a warning on the world (a terrain's
-    height field: a ``World`` given to ``simulate`` replaces the static geoms anyway)."""
+    height field: a ``World`` given to ``simulate`` replaces the static geoms anyway). The
+    world's geoms are the model's own static world (``contact.static_world``, K44), each
+    with its friction; a model whose MJCF turns contacts off (``<flag contact="disable">``
+    or ``constraint="disable"``, as dm_control's cartpole, whose cart slides inside its
+    rails) has none: they are left out, with a warning, and a ``World`` says what the
+    robot touches."""
     import mujoco
 
     from ..multibody.mujoco_model import _pose, _rotation
 
     hull, simplified = _meshes(max_vertices)
     out, left_out = [], []
+    off = int(mj.opt.disableflags) & int(mujoco.mjtDisableBit.mjDSBL_CONTACT
+                                         | mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
+    dropped = []
     for g in range(mj.ngeom):
         gtype = int(mj.geom_type[g])
         name = mujoco.mj_id2name(mj, mujoco.mjtObj.mjOBJ_GEOM, g) or f"geom{g}"
         body = int(mj.geom_bodyid[g])
         bname = mujoco.mj_id2name(mj, mujoco.mjtObj.mjOBJ_BODY, body) or f"body{body}"
         where = f"geom {name!r} of body {bname!r}"
+        if off and body == 0:  # no static world where MuJoCo computes no contact
+            dropped.append(repr(name))
+            continue
         if gtype not in _MJ_GEOMS and body == 0:  # the world's: warned of, below
             left_out.append(f"{name!r} ({_MJ_NAMES.get(gtype, gtype)})")
             continue
@@ -304,11 +315,18 @@ def _from_mujoco(model, mj, max_vertices: int) -> CollisionModel:
         if body != 0 and li < 0:
             raise ValueError(f"{where}: its body is not a link of {model.name!r}")
         out.append(Collision(name, shape, li, placement, int(mj.geom_contype[g]),
-                             int(mj.geom_conaffinity[g])))
+                             int(mj.geom_conaffinity[g]),
+                             # the world's friction: its floor's, an obstacle's own (K44)
+                             float(mj.geom_friction[g, 0]) if li < 0 else None))
     if left_out:
         warnings.warn(f"{model.name!r}: the world's geoms {', '.join(left_out)} are not "
                       f"collision shapes of cgadyn (expected one of "
                       f"{sorted(_MJ_GEOMS.values())}) and are left out of its static world",
+                      stacklevel=3)
+    if dropped:
+        warnings.warn(f"{model.name!r}: its MJCF turns contacts off, so its world's geoms "
+                      f"{', '.join(dropped)} are left out of its collision shapes (it has no "
+                      f"static world); pass a cgadyn.World for what it should touch",
                       stacklevel=3)
     _warn_simplified(simplified, max_vertices)
     return CollisionModel(out, model)

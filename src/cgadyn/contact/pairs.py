@@ -186,8 +186,9 @@ def candidate_pairs(cm, robot_joints: int, self_collision: bool = False) -> np.n
     """(P, 2) the pairs of shapes of ``cm`` that may touch (K38): shapes of different
     bodies (joints), at least one of which moves, neither a plane (the ground is the
     World's), allowed by ``contype``/``conaffinity``; a free body's shape (a joint at or
-    after ``robot_joints``) with every other shape; two of the robot's only with
-    ``self_collision``, and then not on a parent and its child (``adjacent``)."""
+    after ``robot_joints``) or a shape of the world itself (link -1: an obstacle, K44) with
+    every other shape; two of the robot's only with ``self_collision``, and then not on a
+    parent and its child (``adjacent``)."""
     pairs = []
     for i in range(len(cm)):
         for j in range(i + 1, len(cm)):
@@ -195,7 +196,8 @@ def candidate_pairs(cm, robot_joints: int, self_collision: bool = False) -> np.n
             if a == b or (a < 0 and b < 0) or PLANE in (cm.kinds[i], cm.kinds[j]) \
                     or not cm.can_touch(i, j):
                 continue
-            robot = a < robot_joints and b < robot_joints
+            world = cm.links[i] < 0 or cm.links[j] < 0
+            robot = not world and a < robot_joints and b < robot_joints
             if robot and (not self_collision or cm.adjacent(i, j)):
                 continue
             pairs.append((i, j))

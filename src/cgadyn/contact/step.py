@@ -76,8 +76,9 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
                  contact: ContactSettings | None = None, passive: bool = True,
                  joint_limits: bool = True, friction_loss: bool = True) -> ContactStep:
     """One step of length ``dt`` from ``(q, v)`` under the joint torques ``tau`` (nv,)
-    with the ground of ``world`` (default ``World()``) touched by the shapes of
-    ``collisions`` (``collision_model(model, ...)``; None: no shapes, for a
+    with the ground and obstacles of ``world`` (default: the static world of an MJCF's
+    collisions, its floor and geoms, ``contact.static_world``, else ``World()``) touched
+    by the shapes of ``collisions`` (``collision_model(model, ...)``; None: no shapes, for a
     ``World(ground=False)`` only), the joints' limits (``joint_limits``) and their friction
     loss (``friction_loss``). With ``World(bodies=[...])`` the bodies are links of the
     model (``bodies.with_bodies``, built once): ``q`` and ``v`` are then the whole model's
@@ -130,6 +131,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         step_moved_velocity,
     )
     from ..algorithms.passive import passive_torques
+    from .bodies import world_model
     from .inputs import checked_collisions, checked_settings, checked_world
     from .limits import (
         LIMIT_COLUMNS,
@@ -143,9 +145,11 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         limit_shift,
     )
     from .limits import joint_limits as joint_limits_of
-    from .model import CollisionModel, _collisions
     from .solve import solve_contacts
+    from .static_world import default_world
 
+    if world is None:  # an MJCF's own floor and geoms (K44), where collisions hold them
+        world = default_world(collisions)
     world = checked_world(world, "contact_step")
     contact = checked_settings(contact, "contact_step")
     margin, stabilization = contact.margin, contact.stabilization
@@ -157,11 +161,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         raise ValueError(f"dt must be a finite number > 0, got {dt!r}")
     cm = checked_collisions(model, collisions, world, "contact_step")
     robot_joints, robot_nv = model.njoints, model.nv
-    if world.bodies:  # the bodies are links of the model (K36)
-        from .bodies import world_model
-
-        model, extended = world_model(model, None if collisions is None else cm, world)[:2]
-        cm = CollisionModel([], model) if extended is None else _collisions(extended, model)
+    # the bodies are links of the model (K36), the obstacles shapes of the world (K44)
+    model, cm = world_model(model, None if collisions is None else cm, world)[:2]
     q = np.asarray(q, dtype=float)
     v, tau = np.asarray(v, dtype=float), np.asarray(tau, dtype=float)
     if tau.shape == (robot_nv,) and robot_nv != model.nv:  # the bodies are not actuated

@@ -17,8 +17,8 @@ import numpy as np
 from . import manifold as C
 from .shapes import Plane
 
-__all__ = ["Contacts", "World", "ground_contacts", "shape_friction", "shape_twists",
-           "touches_ground", "world_contacts"]
+__all__ = ["Contacts", "World", "ground_contacts", "shape_friction",
+           "shape_twists", "touches_ground", "world_contacts"]
 
 
 @dataclass(frozen=True)
@@ -30,7 +30,10 @@ class World:
     ground. ``bodies``: free rigid bodies (``cgadyn.Body``) appended to the robot's model as
     free-flyer roots (``contact.bodies.with_bodies``), touching the ground, the robot and
     each other; ``self_collision``: the robot's shapes touch each other too (never those on
-    one body, or on a parent and its child)."""
+    one body, or on a parent and its child); ``obstacles``: shapes fixed in the world
+    (``cgadyn.Obstacle``: a table, a step, a wall) that the robot's moving shapes and the
+    bodies touch (``contact.obstacles``, K44). A World given to a step or a rollout replaces
+    an MJCF's own static geoms (``contact.static_world``)."""
 
     ground: bool = True
     ground_normal: tuple = (0.0, 0.0, 1.0)
@@ -38,9 +41,11 @@ class World:
     friction: float = 1.0
     bodies: tuple = ()
     self_collision: bool = False
+    obstacles: tuple = ()
 
     def __post_init__(self):
         from .bodies import Body
+        from .obstacles import Obstacle
 
         try:
             bodies = tuple(self.bodies)
@@ -54,6 +59,15 @@ class World:
             raise ValueError(f"World: self_collision must be True or False, got "
                              f"{self.self_collision!r}")
         object.__setattr__(self, "bodies", bodies)
+        try:
+            obstacles = tuple(self.obstacles)
+        except TypeError:
+            raise ValueError(f"World: obstacles must be a list of cgadyn.Obstacle, got "
+                             f"{self.obstacles!r}") from None
+        for o in obstacles:
+            if not isinstance(o, Obstacle):
+                raise ValueError(f"World: obstacles must be cgadyn.Obstacle records, got {o!r}")
+        object.__setattr__(self, "obstacles", obstacles)
         n = np.asarray(self.ground_normal, dtype=float)
         if n.shape != (3,) or not np.all(np.isfinite(n)) or np.linalg.norm(n) < 1e-9:
             raise ValueError(f"World: ground_normal must be a finite nonzero 3-vector, got "

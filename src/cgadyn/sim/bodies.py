@@ -36,7 +36,14 @@ def robot_and_bodies(model, world, collisions, q0, v0, tau, f_ext, controller):
     from ..contact.world import World
 
     n = model.njoints
-    if not isinstance(world, World) or not world.bodies:  # a bad world: named later
+    if not isinstance(world, World):  # None, or a bad world: named later
+        return model, collisions, q0, v0, tau, f_ext, controller, n
+    if not world.bodies:  # the obstacles alone: shapes of the world (K44)
+        if collisions is not None:
+            try:
+                collisions = world_model(model, collisions, world)[1]
+            except (TypeError, ValueError, AttributeError):
+                pass  # not a collision model of the robot: named by the world's checks
         return model, collisions, q0, v0, tau, f_ext, controller, n
     check_start(world)
     robot = model

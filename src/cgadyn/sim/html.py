@@ -187,7 +187,6 @@ def shape_visuals(model, source=None) -> list[dict]:
     import warnings
 
     from ..contact.model import collision_model
-    from ..contact.shapes import BOX, CAPSULE, CYLINDER, ELLIPSOID, SPHERE
 
     try:
         with warnings.catch_warnings():
@@ -195,29 +194,35 @@ def shape_visuals(model, source=None) -> list[dict]:
             cm = collision_model(model, source)
     except (ValueError, FileNotFoundError, OSError):
         return []
-    out = []
-    for c in cm:
-        if c.link < 0 or c.shape.kind not in (SPHERE, CAPSULE, BOX, CYLINDER, ELLIPSOID):
-            continue
-        T, size = np.asarray(c.placement, dtype=float), c.shape.size
-        if c.shape.kind == SPHERE:
-            out.append({"link": c.link, "origin": T, "kind": "sphere", "size": [size[0]],
+    return [v for c in cm if c.link >= 0 for v in _shape_visual(c.shape, c.placement, c.link)]
+
+
+def _shape_visual(shape, placement, link: int) -> list[dict]:
+    """The visuals of one collision ``shape`` at ``placement`` (4x4) in the frame of
+    ``link`` (-1: the world): a sphere, a box, a cylinder, a capsule as a cylinder with a
+    sphere at each end, an ellipsoid as a unit sphere scaled by its radii; none for a
+    convex mesh or a plane."""
+    from ..contact.shapes import BOX, CAPSULE, CYLINDER, ELLIPSOID, SPHERE
+
+    T, size, kind = np.asarray(placement, dtype=float), shape.size, shape.kind
+    if kind == SPHERE:
+        return [{"link": link, "origin": T, "kind": "sphere", "size": [size[0]],
+                 "rgba": SHAPE_RGBA}]
+    if kind == ELLIPSOID:
+        return [{"link": link, "origin": T @ np.diag([*size[:3], 1.0]), "kind": "sphere",
+                 "size": [1.0], "rgba": SHAPE_RGBA}]
+    if kind == BOX:
+        return [{"link": link, "origin": T, "kind": "box",
+                 "size": [2.0 * x for x in size[:3]], "rgba": SHAPE_RGBA}]
+    if kind not in (CYLINDER, CAPSULE):
+        return []
+    out = [{"link": link, "origin": T, "kind": "cylinder",  # along z, length 2 size[1]
+            "size": [size[0], 2.0 * size[1]], "rgba": SHAPE_RGBA}]
+    if kind == CAPSULE:
+        for z in (-size[1], size[1]):
+            end = T @ np.array([[1.0, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, z], [0, 0, 0, 1]])
+            out.append({"link": link, "origin": end, "kind": "sphere", "size": [size[0]],
                         "rgba": SHAPE_RGBA})
-        elif c.shape.kind == ELLIPSOID:
-            out.append({"link": c.link, "origin": T @ np.diag([*size[:3], 1.0]),
-                        "kind": "sphere", "size": [1.0], "rgba": SHAPE_RGBA})
-        elif c.shape.kind == BOX:
-            out.append({"link": c.link, "origin": T, "kind": "box",
-                        "size": [2.0 * x for x in size[:3]], "rgba": SHAPE_RGBA})
-        else:  # cylinder and capsule: along z, length 2 size[1]
-            out.append({"link": c.link, "origin": T, "kind": "cylinder",
-                        "size": [size[0], 2.0 * size[1]], "rgba": SHAPE_RGBA})
-            if c.shape.kind == CAPSULE:
-                for z in (-size[1], size[1]):
-                    end = T @ np.array([[1.0, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, z],
-                                        [0, 0, 0, 1]])
-                    out.append({"link": c.link, "origin": end, "kind": "sphere",
-                                "size": [size[0]], "rgba": SHAPE_RGBA})
     return out
 
 
@@ -294,7 +299,7 @@ def animation_frames(q: np.ndarray, dt: float, fps: float = FPS) -> np.ndarray:
 
 
 def _commands(model, q: np.ndarray, dt: float, fps: float, urdf,
-              loop: bool, contacts=None) -> tuple[list[dict], dict]:
+              loop: bool, contacts=None, world=None) -> tuple[list[dict], dict]:
     from ..algorithms.api import link_placements
 
     vis = visuals(model, urdf) or skeleton(model) + shape_visuals(model, urdf)
@@ -339,8 +344,29 @@ def _commands(model, q: np.ndarray, dt: float, fps: float, urdf,
                  "options": {"play": True, "repetitions": 1_000_000 if loop else 1}})
     cmds.append({"type": "set_property", "path": "/Axes", "property": "visible",
                  "value": False})
+    if world is not None:
+        cmds += _obstacles(world)
+        if world.ground:  # the grid on the World's ground (level: a tilted one at its z)
+            framing["floor"] = float(world.ground_height)
     cmds += _floor(framing)
     return cmds, framing
+
+
+def _obstacles(world) -> list[dict]:
+    """Static nodes for the World's obstacles (``contact.obstacles``), each shape drawn
+    where it stands (``_shape_visual``; a convex mesh is not drawn)."""
+    from ..contact.obstacles import obstacle_names
+
+    cmds: list[dict] = []
+    for k, (o, name) in enumerate(zip(world.obstacles, obstacle_names(world.obstacles),
+                                      strict=True)):
+        label = "".join(ch if ch.isalnum() or ch in "_-" else "_" for ch in name)
+        for i, v in enumerate(_shape_visual(o.shape, o.pose, -1)):
+            node = f"/cgadyn/world/{k}_{label}/visual_{i}"
+            cmds.append({"type": "set_object", "path": node, "object": _object(v)})
+            cmds.append({"type": "set_transform", "path": node,
+                         "matrix": [float(x) for x in _visual_matrix(v).T.ravel()]})
+    return cmds
 
 
 CONTACT_RGBA = (0.85, 0.15, 0.1, 1.0)
@@ -547,12 +573,15 @@ if (meta.follows) {{
 
 
 def write_html(model, q, dt: float, path: str | os.PathLike, urdf=None, fps: float = FPS,
-               loop: bool = True, title: str | None = None, contacts=None) -> Path:
+               loop: bool = True, title: str | None = None, contacts=None,
+               world=None) -> Path:
     """Write a self-contained HTML page that animates ``model`` through the states ``q``.
 
     ``q`` : (T, nq) configurations ``dt`` seconds apart (a trajectory's ``q``).
     ``contacts`` : the contacts of state k as ``contacts(k)`` (a trajectory's ``contacts``,
     of a rollout with a world): drawn as arrows of their forces on the robot.
+    ``world`` : the ``cgadyn.World`` of the rollout: its obstacles drawn where they stand,
+    the floor grid at its ground's height.
     ``urdf`` : the URDF file (or text) ``model`` was loaded from, to find its visuals;
     default: the registry's file for ``model.name``.
     ``fps`` : animation frames per second (the states nearest those instants are shown).
@@ -575,7 +604,12 @@ def write_html(model, q, dt: float, path: str | os.PathLike, urdf=None, fps: flo
         raise FileNotFoundError(f"cannot write {str(out)!r}: directory {str(out.parent)!r} "
                                 f"does not exist")
     _, umsgpack = require_viewer()
-    cmds, framing = _commands(model, q, float(dt), float(fps), urdf, loop, contacts)
+    if world is not None:
+        from ..contact.world import World
+
+        if not isinstance(world, World):
+            raise ValueError(f"world must be a cgadyn.World, got {world!r}")
+    cmds, framing = _commands(model, q, float(dt), float(fps), urdf, loop, contacts, world)
     blobs = [base64.b64encode(umsgpack.packb(c)).decode("ascii") for c in cmds]
     duration = (len(q) - 1) * dt
     meta = {"robot": model.name, "fps": fps, "frames": int(len(animation_frames(q, dt, fps))),

@@ -32,6 +32,7 @@ from ..algorithms.status import (
 )
 from ..constraints.model import pack
 from ..constraints.operators import checked_settings
+from ..contact.static_world import default_world
 from ..multibody.joints.table import spring_deflection
 from ..multibody.packed import DEFAULT_GRAVITY, with_armature
 from . import pages
@@ -114,13 +115,16 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     integration back (``docs/constraints.md``, "Rollouts"); ``damping``: as in
     ``constrained_dynamics`` (0: a direct solve, a singular set stops the rollout; > 0:
     proximal iterations, the least-norm forces of a redundant set). ``world``: None, or a
-    ``cgadyn.World`` whose ground the shapes of ``collisions`` (``cgadyn.collision_model``)
-    touch: every step is then ``cgadyn.contact_step``'s (semi-implicit Euler with contact
-    impulses; docs/contact.md, "Rollouts with contact"; a PD's gains and the joints'
-    dampers and springs taken at the end of the step, K40), with the margin, stabilization,
-    solvers, tolerance, warm start and ``accept`` of ``contact`` (a
-    ``cgadyn.ContactSettings``, default ``ContactSettings()``); a step whose solvers end
-    with a residual above ``accept`` stops the rollout, naming the residuals.
+    ``cgadyn.World`` whose ground and obstacles the shapes of ``collisions``
+    (``cgadyn.collision_model``) touch (None with the collisions of an MJCF whose world
+    body holds geoms: the world of those, its floor and static geoms,
+    ``contact.static_world``; a World given replaces them): every step is then
+    ``cgadyn.contact_step``'s (semi-implicit Euler with contact impulses; docs/contact.md,
+    "Rollouts with contact"; a PD's gains and the joints' dampers and springs taken at
+    the end of the step, K40), with the margin, stabilization, solvers, tolerance, warm
+    start and ``accept`` of ``contact`` (a ``cgadyn.ContactSettings``, default
+    ``ContactSettings()``); a step whose solvers end with a residual above ``accept``
+    stops the rollout, naming the residuals.
     ``joint_limits``: with a world (the default there, None), the limits of the joints of
     one coordinate (``Model.lower``, ``Model.upper``) are unilateral constraints of the same
     step (docs/contact.md, "Joint limits", K26); ``False`` turns them off. Without a world
@@ -155,6 +159,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
                              f"{len(model.actuator_names)}) or (B, steps, na), got "
                              f"{np.shape(ctrl)}")
         tau = u_ctrl if tau is None else np.asarray(tau, dtype=float) + u_ctrl
+    if world is None:  # an MJCF's own floor and geoms (K44), where collisions hold them
+        world = default_world(collisions)
     model, collisions, q0, v0, tau, f_ext, controller, robot_joints = robot_and_bodies(
         model, world, collisions, q0, v0, tau, f_ext, controller)  # the bodies: links
     if integrator not in INTEGRATORS:

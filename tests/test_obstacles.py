@@ -1,0 +1,204 @@
+"""Static shapes of the world (contact/obstacles.py; docs/contact.md, "The static world",
+K44): a ball resting on a table and an arm falling onto a step, both where geometry says
+and where MuJoCo's own simulation of the same MJCF puts them; an MJCF's floor and geoms
+as the default world of ``simulate``, replaced by a ``World`` given; the pairs an obstacle
+forms; the energy of a fall onto an obstacle; bad input named."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+import cgadyn
+from cgadyn.contact.bodies import empty_model
+from cgadyn.contact.obstacles import Obstacle, scene_collisions
+from cgadyn.contact.pairs import candidate_pairs
+from cgadyn.contact.static_world import static_world
+
+mujoco = pytest.importorskip("mujoco")
+
+DT = 1e-3
+SIE = "semi_implicit_euler"
+
+SCENE = """
+<mujoco>
+  <option timestep="0.001" integrator="Euler"/>
+  <worldbody>
+    <geom name="floor" type="plane" pos="0 0 0.2" size="2 2 .1" friction="0.7"/>
+    <geom name="table" type="box" pos="0.3 0 0.6" size="0.3 0.3 0.02" friction="0.9"/>
+    <geom name="step" type="box" pos="-0.2 0 0.7" size="0.1 0.2 0.1"/>
+    <body name="ball" pos="0.3 0 1.0">
+      <freejoint/>
+      <geom name="ball" type="sphere" size="0.05" mass="1"/>
+    </body>
+    <body name="stone" pos="1.2 0 0.5">
+      <freejoint/>
+      <geom name="stone" type="sphere" size="0.04" mass="0.5"/>
+    </body>
+    <body name="arm" pos="-0.5 0 1.0">
+      <joint name="hinge" type="hinge" axis="0 1 0"/>
+      <geom name="arm" type="capsule" fromto="0 0 0 0.5 0 0" size="0.02" mass="0.3"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+"""A ball dropped onto a table (its top at z = 0.62), a stone beside it onto the floor
+(z = 0.2), and an arm hinged at (-0.5, 0, 1) falling onto a step (its top at z = 0.8,
+from x = -0.3 to -0.1)."""
+
+ARM_REST = np.arctan2(0.2, 0.4) - np.arcsin(0.02 / np.hypot(0.2, 0.4))
+"""The hinge's angle at rest: the arm's capsule (radius 0.02) on the step's far top edge,
+0.4 m out and 0.2 m down from the hinge."""
+
+
+@pytest.fixture(scope="module")
+def scene():
+    mj = mujoco.MjModel.from_xml_string(SCENE)
+    model = cgadyn.from_mujoco(mj)
+    return model, cgadyn.collision_model(model, mj), mj
+
+
+def _rest(model, collisions, world=None, steps=1500):
+    q0 = model.home.copy()
+    return cgadyn.simulate(model, q0, np.zeros(model.nv), DT, steps, integrator=SIE,
+                           world=world, collisions=collisions)
+
+
+def test_the_mjcf_world_is_its_floor_and_geoms(scene):
+    """``static_world`` of the scene's collisions: the floor plane the ground at its height
+    and friction, the table and the step obstacles at their placements with their
+    friction; the robot's shapes are not part of it."""
+    model, cm, _ = scene
+    world = static_world(cm)
+    assert world.ground and world.ground_height == pytest.approx(0.2, abs=1e-12)
+    assert np.allclose(world.ground_normal, (0, 0, 1)) and world.friction == 0.7
+    assert [o.name for o in world.obstacles] == ["table", "step"]
+    table = world.obstacles[0]
+    assert np.allclose(table.position, (0.3, 0, 0.6)) and table.friction == 0.9
+    assert np.allclose(table.shape.size[:3], (0.3, 0.3, 0.02))
+    assert world.obstacles[1].friction == 1.0  # MuJoCo's default
+
+
+def test_resting_on_the_static_world_where_geometry_and_mujoco_say(scene):
+    """Without ``world=``, the scene's own floor and geoms are the world: the ball rests on
+    the table (z = 0.62 + 0.05), the stone on the floor at 0.2 (z = 0.24) and the arm on
+    the step's edge (``ARM_REST``), each to 1e-4 after 1.5 s; MuJoCo's simulation of the
+    same file (soft contacts, which sink a little) agrees to 2e-3 m and 1e-2 rad."""
+    model, cm, mj = scene
+    traj = _rest(model, cm)
+    assert traj.completed == 1500
+    q = traj.q[-1]
+    ball, stone = (model.joint_names.index(f"{b}_joint0") for b in ("ball", "stone"))
+    z_ball, z_stone = q[model.idx_q[ball] + 2], q[model.idx_q[stone] + 2]
+    angle = q[model.idx_q[model.joint_names.index("hinge")]]
+    assert z_ball == pytest.approx(0.67, abs=1e-4)
+    assert z_stone == pytest.approx(0.24, abs=1e-4)
+    assert angle == pytest.approx(ARM_REST, abs=1e-4)
+    assert np.abs(traj.v[-1]).max() < 1e-3
+    d = mujoco.MjData(mj)
+    for _ in range(1500):
+        mujoco.mj_step(mj, d)
+    qpos = d.qpos
+    assert qpos[2] == pytest.approx(z_ball, abs=2e-3)
+    assert qpos[9] == pytest.approx(z_stone, abs=2e-3)
+    assert qpos[14] == pytest.approx(angle, abs=1e-2)
+
+
+def test_a_world_given_replaces_the_static_geoms(scene):
+    """``World()`` in place of the scene's own: a level ground at z = 0 and no table, so
+    the ball falls past where the table was and rests on that ground (z = 0.05)."""
+    model, cm, _ = scene
+    traj = _rest(model, cm, cgadyn.World(), steps=1200)
+    ball = model.joint_names.index("ball_joint0")
+    assert traj.q[-1, model.idx_q[ball] + 2] == pytest.approx(0.05, abs=1e-4)
+
+
+def test_a_ball_dropped_on_an_obstacle_rests_without_gaining_energy():
+    """A ``World`` with an ``Obstacle`` table (no MJCF): a free ball dropped on it rests
+    at the table's top plus its radius to 1e-4, and its energy never rises above the
+    start's (1e-9 relative)."""
+    table = Obstacle(cgadyn.Box((0.4, 0.4, 0.02)), position=(0, 0, 0.5),
+                     orientation=(0, 0, np.sin(0.3), np.cos(0.3)))
+    ball = cgadyn.Body(cgadyn.Sphere(0.05), 1.0, position=(0.1, 0.0, 0.8))
+    world = cgadyn.World(bodies=[ball], obstacles=[table])
+    traj = cgadyn.simulate(empty_model(), np.zeros(0), np.zeros(0), DT, 1000, integrator=SIE,
+                           world=world)
+    assert traj.q[-1, 2] == pytest.approx(0.57, abs=1e-4)
+    assert np.allclose(traj.q[-1, :2], (0.1, 0.0), atol=1e-6)
+    assert np.max(traj.energy) <= traj.energy[0] + 1e-9 * abs(traj.energy[0])
+
+
+def test_an_obstacle_pairs_with_every_moving_shape(scene):
+    """An obstacle forms a pair with each moving shape its filter allows, without
+    ``self_collision``; never with another shape of the world, nor with one whose
+    ``contype``/``conaffinity`` exclude it; the MJCF's own world shapes touch nothing once
+    a World replaces them."""
+    model, cm, _ = scene
+    shy = Obstacle(cgadyn.Sphere(0.1), position=(2, 2, 2), contype=0, conaffinity=0,
+                   name="shy")
+    world = cgadyn.World(obstacles=[Obstacle(cgadyn.Sphere(0.1), name="rock"), shy])
+    sc = scene_collisions(cm, world, model)
+    names = sc.names
+    pairs = {tuple(sorted((names[i], names[j]))) for i, j in candidate_pairs(sc, model.njoints)}
+    assert pairs == {("ball", "rock"), ("rock", "stone"), ("arm", "rock")}
+    own = static_world(cm)
+    sc = scene_collisions(cm, own, model)
+    pairs = {tuple(sorted((sc.names[i], sc.names[j])))
+             for i, j in candidate_pairs(sc, model.njoints)}
+    assert ("ball", "table") in pairs and ("arm", "step") in pairs and len(pairs) == 6
+
+
+def test_bad_obstacles_are_named():
+    with pytest.raises(ValueError, match="a plane is the World's ground"):
+        Obstacle(cgadyn.Plane((0, 0, 1), 0.0))
+    with pytest.raises(ValueError, match="position must be three finite numbers"):
+        Obstacle(cgadyn.Sphere(0.1), position=(0, np.nan, 0))
+    with pytest.raises(ValueError, match="orientation must be a nonzero quaternion"):
+        Obstacle(cgadyn.Sphere(0.1), orientation=(0, 0, 0, 0))
+    with pytest.raises(ValueError, match="contype must be an integer bit mask"):
+        Obstacle(cgadyn.Sphere(0.1), contype=-1)
+    with pytest.raises(ValueError, match="obstacles must be cgadyn.Obstacle records"):
+        cgadyn.World(obstacles=[cgadyn.Sphere(0.1)])
+
+
+def test_walls_are_left_out_with_a_warning_and_contactless_models_have_no_world():
+    """dm_control's quadruped: its floor the ground, its four wall planes named in a
+    warning; dm_control's cartpole turns contacts off: its world's geoms (the floor and the
+    rails its cart slides in) are left out, with a warning, and ``simulate`` with its
+    collisions and no World names what is missing."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # its actuators, couplings and height field
+        model = cgadyn.load("dm_control:quadruped")
+        cm = cgadyn.collision_model(model)
+    with pytest.warns(UserWarning, match="'wall_px', 'wall_py', 'wall_nx', 'wall_ny'"):
+        world = static_world(cm)
+    assert world.ground and world.ground_height == 0.0 and world.obstacles == ()
+    cart = cgadyn.load("dm_control:cartpole")
+    with pytest.warns(UserWarning, match="turns contacts off.*'floor', 'rail1', 'rail2'"):
+        cm = cgadyn.collision_model(cart)
+    assert all(c.link >= 0 for c in cm)
+    with pytest.raises(ValueError, match="collisions given without a world"):
+        cgadyn.simulate(cart, cart.home, np.zeros(cart.nv), DT, 2, integrator=SIE,
+                        collisions=cm)
+
+
+def test_the_page_draws_the_obstacles_and_the_ground(scene, tmp_path):
+    """``write_html(..., world=)``: a static node per obstacle (the table's box sized as it
+    is, the step's) and the floor grid at the ground's height; a bad world is named."""
+    pytest.importorskip("meshcat")
+    from cgadyn.sim import html
+
+    model, cm, _ = scene
+    world = static_world(cm)
+    q = np.tile(model.home, (3, 1))
+    cmds, framing = html._commands(model, q, 0.01, 30.0, SCENE, True, None, world)
+    nodes = {c["path"]: c for c in cmds if c["type"] == "set_object"}
+    assert "/cgadyn/world/0_table/visual_0" in nodes and "/cgadyn/world/1_step/visual_0" in nodes
+    table = [c for c in cmds if c["type"] == "set_transform"
+             and c["path"] == "/cgadyn/world/0_table/visual_0"][0]
+    assert np.allclose(np.reshape(table["matrix"], (4, 4)).T[:3, 3], (0.3, 0, 0.6))
+    assert framing["floor"] == pytest.approx(0.2)
+    page = html.write_html(model, q, 0.01, tmp_path / "scene.html", SCENE, world=world)
+    assert page.stat().st_size > 0
+    with pytest.raises(ValueError, match="world must be a cgadyn.World"):
+        html.write_html(model, q, 0.01, tmp_path / "bad.html", world="floor")
