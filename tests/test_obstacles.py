@@ -95,6 +95,13 @@ def test_resting_on_the_static_world_where_geometry_and_mujoco_say(scene):
     assert z_stone == pytest.approx(0.24, abs=1e-4)
     assert angle == pytest.approx(ARM_REST, abs=1e-4)
     assert np.abs(traj.v[-1]).max() < 1e-3
+    # the table and the floor carry the ball and the stone: the forces on them, upwards
+    contacts = traj.contacts(1499)
+    on = {c.link: 0.0 for c in contacts}
+    for c in contacts:
+        on[c.link] += c.force[2]
+    assert on["ball"] == pytest.approx(9.81 * 1.0, rel=1e-6)
+    assert on["stone"] == pytest.approx(9.81 * 0.5, rel=1e-6)
     d = mujoco.MjData(mj)
     for _ in range(1500):
         mujoco.mj_step(mj, d)

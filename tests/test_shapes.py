@@ -109,12 +109,45 @@ def _sphere_in_cylinder(sa, Ta, sb, Tb, sphere_first: bool):
     return (d, p_sphere, p_cyl, n) if sphere_first else (d, p_cyl, p_sphere, -n)
 
 
-def _deep(a: str, b: str) -> bool:
-    """Whether the pair's penetration depth is computed: all but a cylinder's overlaps with
-    anything but a plane or a sphere, and an ellipsoid's with anything but a plane."""
-    if "plane" in (a, b):
-        return True
-    return "ellipsoid" not in (a, b) and ("cylinder" not in (a, b) or "sphere" in (a, b))
+def _support(shape, T: np.ndarray, N: np.ndarray) -> np.ndarray:
+    """The support function ``h(n) = max_{x in shape} x · n`` of a shape at pose ``T``
+    along the unit rows of ``N`` (k, 3), in closed form (independent of cgadyn's code)."""
+    R, t = T[:3, :3], T[:3, 3]
+    local = N @ R  # the directions in the shape's frame
+    s = shape.size
+    if shape.kind == S.SPHERE:
+        h = s[0] * np.ones(len(N))
+    elif shape.kind == S.CAPSULE:
+        h = s[1] * np.abs(local[:, 2]) + s[0]
+    elif shape.kind == S.BOX:
+        h = np.abs(local) @ s[:3]
+    elif shape.kind == S.CYLINDER:
+        h = s[1] * np.abs(local[:, 2]) + s[0] * np.hypot(local[:, 0], local[:, 1])
+    elif shape.kind == S.ELLIPSOID:
+        h = np.linalg.norm(local * s[:3], axis=1)
+    else:
+        h = np.max(local @ shape.vertices.T, axis=1)
+    return N @ t + h
+
+
+def _support_depth(a, Ta, b, Tb) -> float:
+    """The penetration depth of two convex shapes, ``min_n h_a(n) + h_b(-n)`` over unit
+    ``n`` (negative: they are apart), by 20000 sampled directions and Nelder-Mead from the
+    three best: the reference for overlaps of curved shapes, where coal's EPA may stop on a
+    face of its polytope short of the surface."""
+    from scipy.optimize import minimize
+
+    N = np.random.default_rng(0).normal(size=(20000, 3))
+    N /= np.linalg.norm(N, axis=1)[:, None]
+    values = _support(a, Ta, N) + _support(b, Tb, -N)
+
+    def f(x):
+        n = (x / np.linalg.norm(x))[None]
+        return float(_support(a, Ta, n)[0] + _support(b, Tb, -n)[0])
+
+    return min(minimize(f, N[i], method="Nelder-Mead",
+                        options={"xatol": 1e-12, "fatol": 1e-15, "maxiter": 5000}).fun
+               for i in np.argsort(values)[:3])
 
 
 @pytest.mark.parametrize("a,b", PAIRS, ids=[f"{a}-{b}" for a, b in PAIRS])
@@ -124,8 +157,11 @@ def test_distance_agrees_with_coal(a, b):
     both libraries iterate to a tolerance and GJK converges slowly (its support points jump
     around the rim): the distance to 1e-6, the points to 1e-4 (the distance is stationary
     along the surface: its error is about the square of theirs).
-    The same for an ellipsoid's curved surface. A cylinder overlapping anything but a plane
-    or a sphere, an ellipsoid anything but a plane, is refused, never answered wrongly."""
+    The same for an ellipsoid's curved surface. Where a cylinder or an ellipsoid overlaps a
+    shape other than a plane or a sphere, EPA then its refinement (K9a) give the depth
+    to 1e-6 of the least support function (``_support_depth``; coal's EPA is not the
+    reference there: it may stop on its polytope short of a curved surface), or refuse it
+    (a few of 60 poses at most), never answer wrongly."""
     rng = np.random.default_rng(RNG_SEED + PAIRS.index((a, b)))
     sa, sb = SHAPES[a], SHAPES[b]
     closed = "plane" in (a, b) or (a, b) in CLOSED or (b, a) in CLOSED
@@ -138,9 +174,17 @@ def test_distance_agrees_with_coal(a, b):
         try:
             d, pa, pb, n = cgadyn.shape_distance(sa, Ta, sb, Tb)
         except ValueError as exc:
-            assert not _deep(a, b) and "penetration depth is not computed" in str(exc)
-            assert _coal_distance(sa, Ta, sb, Tb)[0] < 1e-9  # they do overlap
+            assert curved and "penetration depth is not computed" in str(exc)
+            assert _support_depth(sa, Ta, sb, Tb) > 0.0  # they do overlap
             refused += 1
+            continue
+        np.testing.assert_allclose(pb - pa, d * n, atol=1e-12)
+        assert np.linalg.norm(n) == pytest.approx(1.0, abs=1e-12)
+        if curved and d < 0.0:  # EPA and its refinement: the depth, the witnesses' support
+            assert -d == pytest.approx(_support_depth(sa, Ta, sb, Tb), abs=1e-6)
+            assert pa @ n == pytest.approx(_support(sa, Ta, n[None])[0], abs=1e-6)
+            compared += 1
+            penetrating += 1
             continue
         dc, pac, pbc, nc = _coal_distance(sa, Ta, sb, Tb)
         if {a, b} == {"sphere", "cylinder"} and _centre_in_cylinder(Ta, Tb, a == "sphere"):
@@ -148,15 +192,42 @@ def test_distance_agrees_with_coal(a, b):
         assert d == pytest.approx(dc, abs=distance_tol)
         np.testing.assert_allclose(pa, pac, atol=point_tol)
         np.testing.assert_allclose(pb, pbc, atol=point_tol)
-        np.testing.assert_allclose(pb - pa, d * n, atol=1e-12)
-        assert np.linalg.norm(n) == pytest.approx(1.0, abs=1e-12)
         if abs(d) > 1e-3:
             np.testing.assert_allclose(n, nc, atol=point_tol / abs(d) + 1e-9)
         compared += 1
         penetrating += d < 0
-    assert compared >= 20
-    if _deep(a, b):
-        assert penetrating >= 3 and refused == 0
+    assert compared >= 20 and penetrating >= 2
+    assert refused <= (3 if curved else 0)
+
+
+def test_curved_overlaps_a_few_millimetres_deep():
+    """The overlaps of contact: a cylinder or an ellipsoid pressed 10 µm to 10 mm into a
+    box, a capsule, a cylinder or a convex mesh along the normal of their distance, as a
+    step leaves them; the depth to 1e-6 of ``_support_depth``, refused in 5 of 40 poses at
+    most (EPA's polytope and its refinement do not meet at a rim there)."""
+    rng = np.random.default_rng(3)
+    for a, b in [("cylinder", "box"), ("cylinder", "capsule"), ("cylinder", "cylinder"),
+                 ("cylinder", "mesh"), ("ellipsoid", "box"), ("ellipsoid", "mesh")]:
+        sa, sb = SHAPES[a], SHAPES[b]
+        tried = refused = 0
+        while tried < 40:
+            Ta, Tb = _pose(rng, 0.6), _pose(rng, 0.6)
+            try:
+                d, _, _, n = cgadyn.shape_distance(sa, Ta, sb, Tb)
+            except ValueError:  # an overlap to begin with
+                continue
+            if d <= 0.0:
+                continue
+            depth = 10.0 ** rng.uniform(-5, -2)
+            Tb[:3, 3] -= (d + depth) * n
+            tried += 1
+            try:
+                d = cgadyn.shape_distance(sa, Ta, sb, Tb)[0]
+            except ValueError:
+                refused += 1
+                continue
+            assert -d == pytest.approx(_support_depth(sa, Ta, sb, Tb), abs=1e-6), (a, b)
+        assert refused <= 5, (a, b, refused)
 
 
 def test_the_distances_are_inner_products():
@@ -266,8 +337,6 @@ def test_bad_input_is_refused():
          "two planes"),
         (lambda: cgadyn.shape_distance(cgadyn.Sphere(1), np.ones((4, 4)), cgadyn.Sphere(1),
                                        None), "not a rigid transform"),
-        (lambda: cgadyn.shape_distance(cgadyn.Box([1, 1, 1]), None, cgadyn.Cylinder(1, 1),
-                                       _at([0.5, 0, 0])), "penetration depth is not computed"),
     ]:
         with pytest.raises(ValueError, match=words):
             make()

@@ -52,10 +52,11 @@ def _shape(shape, what: str) -> Shape:
 def explain(status: int, a: Shape, b: Shape) -> str:
     names = f"a {KIND_NAMES[a.kind]} and a {KIND_NAMES[b.kind]}"
     if status == D.PENETRATION_UNSUPPORTED:
-        return (f"{names} overlap: their penetration depth is not computed (EPA, which gives "
-                f"it for polytopes, is not used on a cylinder's or an ellipsoid's curved "
-                f"surface; a cylinder "
-                f"against a plane or a sphere has it in closed form)")
+        return (f"{names} overlap: their penetration depth is not computed here (EPA could "
+                f"not grow its polytope, or, on a cylinder's or an ellipsoid's curved "
+                f"surface, its depth and the refined one do not meet within "
+                f"{D.DEPTH_GAP:g} m or {D.DEPTH_SLACK:.0%} of the depth; a few overlaps in a "
+                f"hundred; a cylinder against a plane or a sphere has it in closed form)")
     if status == D.TWO_PLANES:
         return "the distance of two planes is not defined (both are unbounded half-spaces)"
     return f"unknown shape kind in {names}"

@@ -16,9 +16,10 @@ its radius, so its distance is its core's less the radius (K4). Closed forms: ev
 against a plane by its support point (K5, K6), sphere and capsule pairs by the closest
 points of two segments (K7), sphere-box and sphere-cylinder by the closest point of the
 box or cylinder, capsule-box, where the segment enters the box, by separating axes (K8).
-Any other pair of convex shapes: GJK on the cores, and EPA where they overlap (K9); EPA is
-not used on a cylinder, whose other overlapping pairs get ``PENETRATION_UNSUPPORTED``,
-which Python words.
+Any other pair of convex shapes: GJK on the cores, and EPA where they overlap (K9); on a
+cylinder's or an ellipsoid's curved surface EPA's depth is refined down the support
+function and kept where its bounds meet (K9a, ``refine``); an overlap whose depth is not
+known so gets ``PENETRATION_UNSUPPORTED``, which Python words.
 """
 
 from __future__ import annotations
@@ -588,7 +589,7 @@ def gjk(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
 # --- EPA: the depth of overlapping cores (K9) ------------------------------------------------
 
 EPA_VERTICES = 128
-EPA_FACES = 256
+EPA_FACES = 2 * EPA_VERTICES + 64  # a closed polytope of V vertices has 2V - 4 faces
 EPA_EDGES = 128
 EPA_TOLERANCE = 1e-12
 _V0 = 80
@@ -633,6 +634,16 @@ def _edge(E, ne, a, b):
 
 
 @serial
+def _known(V, nv, W, tol):
+    """Whether the support point ``W[0]`` is within ``tol`` of a vertex of the polytope."""
+    for v in range(nv):
+        x0, x1, x2 = V[v, 0] - W[0, 0], V[v, 1] - W[0, 1], V[v, 2] - W[0, 2]
+        if x0 * x0 + x1 * x1 + x2 * x2 <= tol * tol:
+            return True
+    return False
+
+
+@serial
 def epa(ka, sa, va, Ta, kb, sb, vb, Tb, n, work, out):
     """The penetration depth of overlapping cores: the expanding polytope algorithm (van
     den Bergen 2001). From GJK's simplex around the origin (blown up to a tetrahedron by
@@ -640,8 +651,8 @@ def epa(ka, sa, va, Ta, kb, sb, vb, Tb, n, work, out):
     difference nearest the origin is pushed out by the support point along its normal until
     it no longer moves: its normal ``n`` is the direction that separates the cores fastest,
     its distance ``δ`` the depth, ``p_a - p_b = δ n``. Exact on polytopes (points, segments,
-    boxes, convex meshes); not used on a cylinder, whose curved side it approaches too
-    slowly. Returns False where it cannot build or grow the polytope."""
+    boxes, convex meshes); on a cylinder's or an ellipsoid's curved surface a lower bound,
+    which ``refine`` polishes. Returns False where it cannot build or grow the polytope."""
     W = work[:40].reshape((4, 10))
     V = work[_V0:_F0].reshape((EPA_VERTICES, 9))
     F = work[_F0:_E0].reshape((EPA_FACES, 8))
@@ -684,7 +695,8 @@ def epa(ka, sa, va, Ta, kb, sb, vb, Tb, n, work, out):
             _face(V, F, nf, i, k, j)
         nf += 1
     nv = 4
-    best = 0
+    m0 = m1 = m2 = depth = 0.0
+    i = j = k = 0
     for _ in range(EPA_VERTICES):
         best = -1
         for f in range(nf):
@@ -692,40 +704,53 @@ def epa(ka, sa, va, Ta, kb, sb, vb, Tb, n, work, out):
                 best = f
         if best < 0:
             return False
+        # the nearest face, kept: its slot may take a new face below
         m0, m1, m2, depth = F[best, 3], F[best, 4], F[best, 5], F[best, 6]
+        i, j, k = int(F[best, 0]), int(F[best, 1]), int(F[best, 2])
         if nv == EPA_VERTICES:
             break
         _add(W, 0, ka, sa, va, Ta, kb, sb, vb, Tb, m0, m1, m2)
         reach = m0 * W[0, 0] + m1 * W[0, 1] + m2 * W[0, 2]
-        if reach - depth <= EPA_TOLERANCE * max(1.0, abs(depth)):
+        tol = EPA_TOLERANCE * max(1.0, abs(depth))
+        if reach - depth <= tol:
+            break
+        if _known(V, nv, W, tol):  # a vertex already there: a flat patch, no progress
             break
         for c in range(9):
             V[nv, c] = W[0, c]
         ne = 0
         for f in range(nf):  # the faces that see the new vertex go; their rim stays
             if F[f, 7] > 0.0:
-                i, j, k = int(F[f, 0]), int(F[f, 1]), int(F[f, 2])
-                if F[f, 3] * (V[nv, 0] - V[i, 0]) + F[f, 4] * (V[nv, 1] - V[i, 1]) + \
-                        F[f, 5] * (V[nv, 2] - V[i, 2]) > 0.0:
+                a, b, e = int(F[f, 0]), int(F[f, 1]), int(F[f, 2])
+                if F[f, 3] * (V[nv, 0] - V[a, 0]) + F[f, 4] * (V[nv, 1] - V[a, 1]) + \
+                        F[f, 5] * (V[nv, 2] - V[a, 2]) > tol:  # coplanar ones stay
                     F[f, 7] = 0.0
-                    ne = _edge(E, ne, i, j)
+                    ne = _edge(E, ne, a, b)
                     if ne >= 0:
-                        ne = _edge(E, ne, j, k)
+                        ne = _edge(E, ne, b, e)
                     if ne >= 0:
-                        ne = _edge(E, ne, k, i)
+                        ne = _edge(E, ne, e, a)
                     if ne < 0:
                         return False
-        if ne == 0 or nf + ne > EPA_FACES:
+        alive = 0
+        for f in range(nf):
+            alive += F[f, 7] > 0.0
+        if ne == 0 or alive + ne > EPA_FACES:
             break
-        for e in range(ne):
-            if _face(V, F, nf, int(E[e, 0]), int(E[e, 1]), nv):
+        slot, closed = 0, True  # the new faces fill the slots of dead ones, then the end
+        for h in range(ne):
+            while slot < nf and F[slot, 7] > 0.0:
+                slot += 1
+            if slot == nf:
+                F[nf, 7] = 0.0
                 nf += 1
+            closed = _face(V, F, slot, int(E[h, 0]), int(E[h, 1]), nv) and closed
+        if not closed:  # a degenerate face would leave a hole: the last polytope's answer
+            break
         nv += 1
-    m0, m1, m2, depth = F[best, 3], F[best, 4], F[best, 5], F[best, 6]
     if not depth >= -EPA_TOLERANCE:  # the origin outside the polytope: not grown right
         return False
     depth = max(depth, 0.0)  # the origin on a face, to rounding: the cores touch
-    i, j, k = int(F[best, 0]), int(F[best, 1]), int(F[best, 2])
     # barycentric weights of δ n, the face's point nearest the origin
     x0, x1, x2 = depth * m0 - V[i, 0], depth * m1 - V[i, 1], depth * m2 - V[i, 2]
     ab0, ab1, ab2 = V[j, 0] - V[i, 0], V[j, 1] - V[i, 1], V[j, 2] - V[i, 2]
@@ -747,6 +772,126 @@ def epa(ka, sa, va, Ta, kb, sb, vb, Tb, n, work, out):
     b2 = u * V[i, 8] + v * V[j, 8] + w * V[k, 8]
     write(out, -depth, a0, a1, a2, b0, b1, b2, m0, m1, m2)
     return True
+
+
+REFINE_ITERATIONS = 60
+"""The most steps of each descent of ``refine``."""
+DEPTH_GAP = 1e-7
+"""Metres: the largest gap between EPA's depth, a lower bound on a curved shape, and the
+refined one, an upper bound, that ``refine`` accepts (its answer's error is at most that)."""
+DEPTH_SLACK = 0.05
+"""Where EPA's polytope stops short of a curved surface, its depth is a loose lower bound:
+the refined depth is kept if the gap is at most this fraction of it (its error at most
+that; exact to ``DEPTH_GAP`` in the tests, ``tests/test_shapes.py``)."""
+CREASE = 1e-2
+"""How near (in ``|n · e|``) a normal that stops descending must lie to a crease of the
+support function (``n`` orthogonal to a box's axis ``e`` or a cylinder's) to be put on it."""
+
+
+@serial
+def _project(A, na, n0, n1, n2):
+    """``n`` with its components along the orthonormal rows ``A[:na]`` removed."""
+    for i in range(na):
+        c = n0 * A[i, 0] + n1 * A[i, 1] + n2 * A[i, 2]
+        n0, n1, n2 = n0 - c * A[i, 0], n1 - c * A[i, 1], n2 - c * A[i, 2]
+    return n0, n1, n2
+
+
+@serial
+def _descend(ka, sa, va, Ta, kb, sb, vb, Tb, W, A, na, lower, n0, n1, n2):
+    """Steps ``n - α g`` down the support function ``f`` of the difference from the unit
+    ``n``, kept orthogonal to the rows ``A[:na]`` (a crease, K9a), until ``f`` is within
+    ``DEPTH_GAP`` of ``lower`` or stops falling: returns the last ``n`` and ``f``, with
+    ``W[0]`` its support point."""
+    _add(W, 0, ka, sa, va, Ta, kb, sb, vb, Tb, n0, n1, n2)
+    f = n0 * W[0, 0] + n1 * W[0, 1] + n2 * W[0, 2]
+    g0, g1, g2 = _project(A, na, W[0, 0] - f * n0, W[0, 1] - f * n1, W[0, 2] - f * n2)
+    alpha = 1.0
+    for _ in range(REFINE_ITERATIONS):
+        if f - lower <= DEPTH_GAP:
+            break
+        gg = g0 * g0 + g1 * g1 + g2 * g2
+        moved = False
+        f1 = f
+        m0, m1, m2 = n0, n1, n2
+        for _ in range(40):  # halve α until f falls
+            m0, m1, m2 = _project(A, na, n0 - alpha * g0, n1 - alpha * g1, n2 - alpha * g2)
+            r = math.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
+            m0, m1, m2 = m0 / r, m1 / r, m2 / r
+            _add(W, 1, ka, sa, va, Ta, kb, sb, vb, Tb, m0, m1, m2)
+            f1 = m0 * W[1, 0] + m1 * W[1, 1] + m2 * W[1, 2]
+            if f1 < f - 1e-4 * alpha * gg:
+                moved = True
+                break
+            alpha *= 0.5
+        if not moved:
+            break
+        h0, h1, h2 = _project(A, na, W[1, 0] - f1 * m0, W[1, 1] - f1 * m1,
+                              W[1, 2] - f1 * m2)
+        d0, d1, d2 = m0 - n0, m1 - n1, m2 - n2
+        y0, y1, y2 = h0 - g0, h1 - g1, h2 - g2
+        dy = d0 * y0 + d1 * y1 + d2 * y2
+        alpha = (d0 * d0 + d1 * d1 + d2 * d2) / dy if dy > 0.0 else 2.0 * alpha
+        n0, n1, n2, f, g0, g1, g2 = m0, m1, m2, f1, h0, h1, h2
+        for c in range(9):
+            W[0, c] = W[1, c]
+    return n0, n1, n2, f
+
+
+@serial
+def _creases(k, T, A, na, n0, n1, n2):
+    """Add to the orthonormal rows ``A[:na]`` each axis ``e`` of shape ``k`` (a box's three,
+    a cylinder's) on whose crease ``n`` nearly lies (``|n · e| < CREASE``), made orthogonal
+    to those before; returns the new count (at most 2: then ``n`` is fixed)."""
+    axes = 3 if k == BOX else 1 if k == CYLINDER else 0
+    for j in range(axes):
+        c = 2 if k == CYLINDER else j
+        e0, e1, e2 = T[0, c], T[1, c], T[2, c]
+        if na >= 2 or abs(n0 * e0 + n1 * e1 + n2 * e2) >= CREASE:
+            continue
+        e0, e1, e2 = _project(A, na, e0, e1, e2)
+        r = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+        if r > 1e-9:
+            A[na, 0], A[na, 1], A[na, 2] = e0 / r, e1 / r, e2 / r
+            na += 1
+    return na
+
+
+@serial
+def refine(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
+    """Polish EPA's answer in ``out`` where a shape is curved (a cylinder, an ellipsoid), on
+    which EPA's inscribed polytope approaches the surface slowly (K9a): the depth is the
+    least value of the support function ``f(n) = h_A(n) + h_B(-n)`` of the Minkowski
+    difference over unit ``n``, whose gradient on the sphere is ``g = s(n) - f(n) n``
+    (``s`` the support point along ``n``); from EPA's normal, steps ``n - α g`` (α by
+    Barzilai and Borwein, halved until ``f`` falls) bring ``f`` down to the depth. ``f`` has
+    creases (``n`` orthogonal to a box's axis, where two faces meet, or to a cylinder's,
+    where its side meets a rim), on which the least value often lies (a cylinder's side on
+    a face, a box's edge across a cylinder): a descent that stops near one goes on along
+    it. EPA's depth is a lower bound on the depth (its polytope lies inside the
+    difference), each ``f(n)`` an upper bound: the answer is kept where the two meet within
+    ``DEPTH_GAP`` (or ``DEPTH_SLACK`` of the depth, where EPA stopped short), with the
+    support points along the last ``n`` as witnesses. Returns False otherwise (the depth
+    is then not known to that accuracy)."""
+    W = work[:40].reshape((4, 10))
+    A = work[40:46].reshape((2, 3))  # the creases followed (GJK's copy is not needed here)
+    lower = -out[0]
+    n0, n1, n2, f = _descend(ka, sa, va, Ta, kb, sb, vb, Tb, W, A, 0, lower,
+                             out[7], out[8], out[9])
+    if f - lower > DEPTH_GAP:  # stopped short: on a crease?
+        na = _creases(kb, Tb, A, _creases(ka, Ta, A, 0, n0, n1, n2), n0, n1, n2)
+        if na > 0:
+            m0, m1, m2 = _project(A, na, n0, n1, n2)
+            r = math.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
+            m0, m1, m2, f1 = _descend(ka, sa, va, Ta, kb, sb, vb, Tb, W, A, na, lower,
+                                      m0 / r, m1 / r, m2 / r)
+            if f1 < f:
+                n0, n1, n2, f = m0, m1, m2, f1
+            else:
+                _add(W, 0, ka, sa, va, Ta, kb, sb, vb, Tb, n0, n1, n2)
+    a0, a1, a2 = W[0, 3], W[0, 4], W[0, 5]
+    write(out, -f, a0, a1, a2, a0 - f * n0, a1 - f * n1, a2 - f * n2, n0, n1, n2)
+    return f - lower <= DEPTH_GAP + DEPTH_SLACK * f and f >= lower - DEPTH_GAP
 
 
 # --- the entry ------------------------------------------------------------------------------
@@ -772,8 +917,10 @@ def ordered_distance(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
     if overlap:
         if ka == CAPSULE and kb == BOX:
             return capsule_box_overlap(sa, Ta, sb, Tb, out)
-        if ka == CYLINDER or kb == CYLINDER or ka == ELLIPSOID or kb == ELLIPSOID or \
-                not epa(ka, sa, va, Ta, kb, sb, vb, Tb, overlap, work, out):
+        if not epa(ka, sa, va, Ta, kb, sb, vb, Tb, overlap, work, out):
+            return PENETRATION_UNSUPPORTED
+        curved = ka == CYLINDER or kb == CYLINDER or ka == ELLIPSOID or kb == ELLIPSOID
+        if curved and not refine(ka, sa, va, Ta, kb, sb, vb, Tb, work, out):
             return PENETRATION_UNSUPPORTED
     ra = sa[0] if (ka == SPHERE or ka == CAPSULE) else 0.0
     rb = sb[0] if (kb == SPHERE or kb == CAPSULE) else 0.0

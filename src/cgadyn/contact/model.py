@@ -359,7 +359,7 @@ def collision_distances(collisions, poses, pairs=None, overlap: str = "raise"):
     its child (``CollisionModel.adjacent``), not two planes) at ``poses`` (K, 4, 4) from
     :func:`collision_poses`: ``(pairs, distance (P,), point_a (P, 3), point_b (P, 3),
     normal (P, 3))`` in one compiled call. Overlapping shapes whose penetration depth is
-    not computed (a cylinder and a shape other than a plane or a sphere) raise
+    not computed (a few overlaps in a hundred of a cylinder with a box or a mesh, K9a) raise
     ``ValueError`` naming them, or with
     ``overlap="nan"`` get NaN (distance, points and normal); two planes always raise."""
     if overlap not in ("raise", "nan"):

@@ -188,7 +188,9 @@ def candidate_pairs(cm, robot_joints: int, self_collision: bool = False) -> np.n
     World's), allowed by ``contype``/``conaffinity``; a free body's shape (a joint at or
     after ``robot_joints``) or a shape of the world itself (link -1: an obstacle, K44) with
     every other shape; two of the robot's only with ``self_collision``, and then not on a
-    parent and its child (``adjacent``)."""
+    parent and its child (``adjacent``). A shape that does not move (the world's, or on a
+    link welded to it) is the second of its pair (``b``: the contact's point, link and
+    force are the moving shape's)."""
     pairs = []
     for i in range(len(cm)):
         for j in range(i + 1, len(cm)):
@@ -200,7 +202,7 @@ def candidate_pairs(cm, robot_joints: int, self_collision: bool = False) -> np.n
             robot = not world and a < robot_joints and b < robot_joints
             if robot and (not self_collision or cm.adjacent(i, j)):
                 continue
-            pairs.append((i, j))
+            pairs.append((j, i) if a < 0 else (i, j))  # the one that does not move second
     return np.array(pairs, dtype=np.int64).reshape(-1, 2)
 
 
