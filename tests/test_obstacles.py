@@ -209,3 +209,30 @@ def test_the_page_draws_the_obstacles_and_the_ground(scene, tmp_path):
     assert page.stat().st_size > 0
     with pytest.raises(ValueError, match="world must be a cgadyn.World"):
         html.write_html(model, q, 0.01, tmp_path / "bad.html", world="floor")
+
+
+def test_an_arm_falls_onto_a_table_and_stays_on_it():
+    """The panda (fixed base, its links' convex hulls), held by joint dampers alone, sags
+    from 0.36 m above a table obstacle onto it: after 2 s it rests (joint speeds below
+    1e-3 rad/s) with its hand within 10 cm of the table's top, its links touching the
+    table and nothing else, none more than 1e-4 m into it."""
+    panda = cgadyn.load("panda")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", cgadyn.MeshSimplified)
+        cm = cgadyn.collision_model(panda)
+    q0 = np.array([0.0, 0.3, 0.0, -1.2, 0.0, 1.5, 0.8, 0.02, 0.02])
+    table = Obstacle(cgadyn.Box([0.3, 0.4, 0.02]), position=(0.6, 0.0, 0.25), name="table")
+    inertia = np.diag(cgadyn.crba(panda, q0))
+    traj = cgadyn.simulate(panda, q0, np.zeros(panda.nv), DT, 2000, integrator=SIE,
+                           world=cgadyn.World(obstacles=[table]), collisions=cm,
+                           controller=cgadyn.PD(0.0 * inertia, 2.0 * inertia, q_ref=q0,
+                                                gravity_compensation=False),
+                           contact=cgadyn.ContactSettings(accept=1e-4))
+    assert traj.completed == 2000
+    hand = panda.link_index("panda_hand")
+    z = [cgadyn.link_placements(panda, q)[hand][2, 3] for q in (traj.q[0], traj.q[-1])]
+    assert z[0] > 0.6 and 0.27 < z[1] < 0.37
+    assert np.abs(traj.v[-1]).max() < 1e-3
+    contacts = traj.contacts(1999)
+    assert contacts and {c.other for c in contacts} == {"table"}
+    assert min(c.distance for c in contacts) > -1e-4
