@@ -33,17 +33,17 @@ def robot_and_bodies(model, world, collisions, q0, v0, tau, f_ext, controller):
     the bodies of ``world`` appended (the module's docstring); the inputs unchanged where
     the world has none."""
     from ..contact.bodies import check_start, world_model
+    from ..contact.model import Collision
     from ..contact.world import World
 
     n = model.njoints
     if not isinstance(world, World):  # None, or a bad world: named later
         return model, collisions, q0, v0, tau, f_ext, controller, n
     if not world.bodies:  # the obstacles alone: shapes of the world (K44)
-        if collisions is not None:
-            try:
-                collisions = world_model(model, collisions, world)[1]
-            except (TypeError, ValueError, AttributeError):
-                pass  # not a collision model of the robot: named by the world's checks
+        if isinstance(collisions, (list, tuple)) and all(
+                isinstance(c, Collision) and c.link < model.nlinks for c in collisions):
+            # (anything else is named by the world's checks, checked_collisions)
+            collisions = world_model(model, collisions, world)[1]
         return model, collisions, q0, v0, tau, f_ext, controller, n
     check_start(world)
     robot = model
