@@ -191,7 +191,8 @@ def test_walls_are_left_out_with_a_warning_and_contactless_models_have_no_world(
 
 def test_the_page_draws_the_obstacles_and_the_ground(scene, tmp_path):
     """``write_html(..., world=)``: a static node per obstacle (the table's box sized as it
-    is, the step's) and the floor grid at the ground's height; a bad world is named."""
+    is, the step's; a convex mesh's hull as triangles) and the floor grid at the ground's
+    height; a bad world is named."""
     pytest.importorskip("meshcat")
     from cgadyn.sim import html
 
@@ -205,6 +206,15 @@ def test_the_page_draws_the_obstacles_and_the_ground(scene, tmp_path):
              and c["path"] == "/cgadyn/world/0_table/visual_0"][0]
     assert np.allclose(np.reshape(table["matrix"], (4, 4)).T[:3, 3], (0.3, 0, 0.6))
     assert framing["floor"] == pytest.approx(0.2)
+    rock = Obstacle(cgadyn.ConvexMesh(np.random.default_rng(2).normal(size=(20, 3))),
+                    name="rock")
+    hull = html._obstacles(cgadyn.World(obstacles=[rock]))[0]["object"]
+    data = hull["geometries"][0]["data"]
+    faces = np.frombuffer(data["index"]["array"].data, dtype=np.uint32).reshape(-1, 3)
+    corners = np.frombuffer(data["attributes"]["position"]["array"].data,
+                            dtype=np.float32).reshape(-1, 3)
+    assert len(faces) >= 4 and faces.max() < len(corners)
+    assert len(faces) == 2 * len(corners) - 4  # a closed triangulated convex hull
     page = html.write_html(model, q, 0.01, tmp_path / "scene.html", SCENE, world=world)
     assert page.stat().st_size > 0
     with pytest.raises(ValueError, match="world must be a cgadyn.World"):

@@ -181,9 +181,10 @@ SHAPE_RGBA = (0.8, 0.62, 0.42, 1.0)
 def shape_visuals(model, source=None) -> list[dict]:
     """Visuals for the collision shapes of a model without any (an MJCF model: its geoms,
     read through ``collision_model``): a sphere, a box, a cylinder, a capsule as a
-    cylinder with a sphere at each end, and an ellipsoid as a unit sphere scaled by its
-    radii (in its static node's matrix), each where its link carries it; none for a convex
-    mesh or a shape of the world (a floor), nor where the source holds no shapes."""
+    cylinder with a sphere at each end, an ellipsoid as a unit sphere scaled by its radii
+    (in its static node's matrix), a convex mesh as its hull's triangles, each where its
+    link carries it; none for a shape of the world (a floor: ``write_html``'s ``world``
+    draws the obstacles), nor where the source holds no shapes."""
     import warnings
 
     from ..contact.model import collision_model
@@ -200,9 +201,9 @@ def shape_visuals(model, source=None) -> list[dict]:
 def _shape_visual(shape, placement, link: int) -> list[dict]:
     """The visuals of one collision ``shape`` at ``placement`` (4x4) in the frame of
     ``link`` (-1: the world): a sphere, a box, a cylinder, a capsule as a cylinder with a
-    sphere at each end, an ellipsoid as a unit sphere scaled by its radii; none for a
-    convex mesh or a plane."""
-    from ..contact.shapes import BOX, CAPSULE, CYLINDER, ELLIPSOID, SPHERE
+    sphere at each end, an ellipsoid as a unit sphere scaled by its radii, a convex mesh
+    as its hull's triangles; none for a plane."""
+    from ..contact.shapes import BOX, CAPSULE, CYLINDER, ELLIPSOID, MESH, SPHERE
 
     T, size, kind = np.asarray(placement, dtype=float), shape.size, shape.kind
     if kind == SPHERE:
@@ -214,6 +215,9 @@ def _shape_visual(shape, placement, link: int) -> list[dict]:
     if kind == BOX:
         return [{"link": link, "origin": T, "kind": "box",
                  "size": [2.0 * x for x in size[:3]], "rgba": SHAPE_RGBA}]
+    if kind == MESH:
+        return [{"link": link, "origin": T, "kind": "hull", "rgba": SHAPE_RGBA,
+                 **_hull_triangles(np.asarray(shape.vertices))}]
     if kind not in (CYLINDER, CAPSULE):
         return []
     out = [{"link": link, "origin": T, "kind": "cylinder",  # along z, length 2 size[1]
@@ -224,6 +228,21 @@ def _shape_visual(shape, placement, link: int) -> list[dict]:
             out.append({"link": link, "origin": end, "kind": "sphere", "size": [size[0]],
                         "rgba": SHAPE_RGBA})
     return out
+
+
+def _hull_triangles(vertices: np.ndarray) -> dict:
+    """The triangles of the convex hull of ``vertices`` (trimesh, i.e. qhull), each turned
+    to face outwards (its normal away from the centroid), as ``{"vertices", "faces"}`` for
+    three.js."""
+    import trimesh
+
+    hull = trimesh.convex.convex_hull(vertices)
+    vertices, faces = np.asarray(hull.vertices, dtype=float), np.array(hull.faces)
+    centre = vertices.mean(axis=0)
+    a, b, c = (vertices[faces[:, i]] for i in range(3))
+    inward = np.einsum("ij,ij->i", np.cross(b - a, c - a), a - centre) < 0.0
+    faces[inward] = faces[inward][:, ::-1]
+    return {"vertices": vertices.astype(np.float32), "faces": faces.astype(np.uint32)}
 
 
 def _bone(p: np.ndarray, length: float) -> np.ndarray:
@@ -264,6 +283,8 @@ def _object(vis: dict) -> dict:
         geometry = g.Box(vis["size"])
     elif vis["kind"] == "sphere":
         geometry = g.Sphere(vis["size"][0])
+    elif vis["kind"] == "hull":  # a convex mesh: its hull's triangles
+        geometry = g.TriangularMeshGeometry(vis["vertices"], vis["faces"])
     else:  # three.js cylinders lie along y, URDF's along z: turned in _visual_matrix
         geometry = g.Cylinder(vis["size"][1], vis["size"][0])
     return g.Mesh(geometry, material).lower()
