@@ -13,6 +13,7 @@ import pytest
 
 import cgadyn
 from cgadyn.contact import shapes as S
+from cgadyn.contact.distance import DEPTH_SLACK
 
 coal = pytest.importorskip("coal")
 
@@ -159,7 +160,8 @@ def test_distance_agrees_with_coal(a, b):
     along the surface: its error is about the square of theirs).
     The same for an ellipsoid's curved surface. Where a cylinder or an ellipsoid overlaps a
     shape other than a plane or a sphere, EPA then its refinement (K9a) give the depth
-    to 1e-6 of the least support function (``_support_depth``; coal's EPA is not the
+    within its certified bound of the least support function (``_support_depth``; 1e-7
+    m, or 5 % of the depth where EPA stopped short; coal's EPA is not the
     reference there: it may stop on its polytope short of a curved surface), or refuse it
     (a few of 60 poses at most), never answer wrongly."""
     rng = np.random.default_rng(RNG_SEED + PAIRS.index((a, b)))
@@ -181,7 +183,8 @@ def test_distance_agrees_with_coal(a, b):
         np.testing.assert_allclose(pb - pa, d * n, atol=1e-12)
         assert np.linalg.norm(n) == pytest.approx(1.0, abs=1e-12)
         if curved and d < 0.0:  # EPA and its refinement: the depth, the witnesses' support
-            assert -d == pytest.approx(_support_depth(sa, Ta, sb, Tb), abs=1e-6)
+            reference = _support_depth(sa, Ta, sb, Tb)  # within the certified bound (K9a)
+            assert abs(-d - reference) <= 1e-6 + DEPTH_SLACK * reference
             assert pa @ n == pytest.approx(_support(sa, Ta, n[None])[0], abs=1e-6)
             compared += 1
             penetrating += 1
@@ -203,13 +206,15 @@ def test_distance_agrees_with_coal(a, b):
 def test_curved_overlaps_a_few_millimetres_deep():
     """The overlaps of contact: a cylinder or an ellipsoid pressed 10 µm to 10 mm into a
     box, a capsule, a cylinder or a convex mesh along the normal of their distance, as a
-    step leaves them; the depth to 1e-6 of ``_support_depth``, refused in 5 of 40 poses at
-    most (EPA's polytope and its refinement do not meet at a rim there)."""
+    step leaves them; the depth within its certified bound of ``_support_depth`` (1e-7 m,
+    or 5 % of the depth where EPA stopped short) and to 1e-6 in 9 cases of 10 at least;
+    refused in 5 of 40 poses at most (EPA's polytope and its refinement do not meet at a
+    rim there)."""
     rng = np.random.default_rng(3)
     for a, b in [("cylinder", "box"), ("cylinder", "capsule"), ("cylinder", "cylinder"),
                  ("cylinder", "mesh"), ("ellipsoid", "box"), ("ellipsoid", "mesh")]:
         sa, sb = SHAPES[a], SHAPES[b]
-        tried = refused = 0
+        tried = refused = exact = 0
         while tried < 40:
             Ta, Tb = _pose(rng, 0.6), _pose(rng, 0.6)
             try:
@@ -226,8 +231,11 @@ def test_curved_overlaps_a_few_millimetres_deep():
             except ValueError:
                 refused += 1
                 continue
-            assert -d == pytest.approx(_support_depth(sa, Ta, sb, Tb), abs=1e-6), (a, b)
+            reference = _support_depth(sa, Ta, sb, Tb)
+            assert abs(-d - reference) <= 1e-6 + DEPTH_SLACK * reference, (a, b)
+            exact += abs(-d - reference) <= 1e-6
         assert refused <= 5, (a, b, refused)
+        assert exact >= 0.9 * (tried - refused), (a, b, exact)
 
 
 def test_the_distances_are_inner_products():
@@ -503,3 +511,72 @@ print(json.dumps(out))
         results.append(np.array(json.loads(done.stdout.strip().splitlines()[-1])))
     assert (results[0][:, 0] < 0).sum() >= 3  # EPA and separating axes ran
     np.testing.assert_allclose(results[0], results[1], atol=1e-12)
+
+
+def test_placed_shapes_are_the_shapes_moved():
+    """A sphere's ``center``, a capsule between two points ``a`` and ``b``, a box's
+    ``placement``: each shape's distance equals the centred shape's at the moved pose
+    (to 1e-12), and a capsule from ``a`` to ``b`` has its length and middle there."""
+    rng = np.random.default_rng(4)
+    T = _pose(rng, 1.0)
+    other, pose = cgadyn.Box([0.2, 0.3, 0.1]), _pose(rng, 0.5)
+    for placed, centred in [
+            (cgadyn.Sphere(0.2, center=T[:3, 3]), (cgadyn.Sphere(0.2), _at(T[:3, 3]))),
+            (cgadyn.Box([0.1, 0.2, 0.3], placement=T), (cgadyn.Box([0.1, 0.2, 0.3]), T)),
+            (cgadyn.Ellipsoid([0.1, 0.2, 0.3], placement=T),
+             (cgadyn.Ellipsoid([0.1, 0.2, 0.3]), T))]:
+        d1 = cgadyn.shape_distance(placed, None, other, pose)
+        d2 = cgadyn.shape_distance(*centred, other, pose)
+        for x, y in zip(d1, d2, strict=True):
+            np.testing.assert_allclose(x, y, atol=1e-12)
+    a, b = np.array([0.1, 0.2, 0.3]), np.array([0.5, -0.2, 0.9])
+    capsule = cgadyn.Capsule(0.05, a, b)
+    assert capsule.length == pytest.approx(np.linalg.norm(b - a), abs=1e-15)
+    np.testing.assert_allclose(capsule.placement[:3, 3], 0.5 * (a + b), atol=1e-15)
+    np.testing.assert_allclose(capsule.placement[:3, 2], (b - a) / np.linalg.norm(b - a),
+                               atol=1e-15)
+    d, pa, _, _ = cgadyn.shape_distance(capsule, None, cgadyn.Plane((0, 0, 1), 0.0), None)
+    assert d == pytest.approx(0.3 - 0.05, abs=1e-12) and pa[2] == pytest.approx(0.25)
+    for make, words in [
+            (lambda: cgadyn.Sphere(0.1, center=(0, 0, 0), placement=np.eye(4)), "not both"),
+            (lambda: cgadyn.Capsule(0.1, (0, 0, 0), (0, 0, 0)), "must differ"),
+            (lambda: cgadyn.Box([1, 1, 1], placement=2 * np.eye(4)), "rigid 4x4"),
+            (lambda: cgadyn.Sphere(0.1, center=(0, np.nan, 0)), "center must be three"),
+            (lambda: cgadyn.Body(cgadyn.Sphere(0.1, center=(0, 0, 1)), 1.0), "centred")]:
+        with pytest.raises(ValueError, match=words):
+            make()
+
+
+def test_hand_made_shapes_on_links():
+    """``CollisionModel.with_shapes``: solo12's four foot hulls replaced by balls of 2 cm
+    at the foot frames (each then the one shape of its foot, touching the ground at one
+    point 2 cm under the frame), or added beside them (``replace=False``); ``shapes``
+    gives each link's shapes placed in its frame, and a model made again from them
+    places every shape where it was; unknown links and planes are named."""
+    model = cgadyn.load("solo12")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", cgadyn.MeshSimplified)
+        cm = cgadyn.collision_model(model)
+    feet = [n for n in model.link_names if n.endswith("_FOOT")]
+    balls = cm.with_shapes({f: [cgadyn.Sphere(0.02, center=(0, 0, 0))] for f in feet})
+    assert len(balls) == len(cm) and all(len(balls.on(f)) == 1 for f in feet)
+    assert all(balls.on(f)[0].shape.kind == cgadyn.Sphere(1).kind for f in feet)
+    assert len(cm.with_shapes({"FL_FOOT": cgadyn.Sphere(0.02)}, replace=False)) == len(cm) + 1
+    q = model.home.copy()
+    q[2] = 1.0
+    frames = cgadyn.link_placements(model, q)
+    found = cgadyn.ground_contacts(model, balls, q, margin=10.0)
+    for f in feet:
+        rows = found.link == model.link_names.index(f)
+        assert rows.sum() == 1
+        z = frames[model.link_names.index(f)][2, 3]
+        assert found.distance[rows][0] == pytest.approx(z - 0.02, abs=1e-12)
+    again = cgadyn.CollisionModel([], model).with_shapes(
+        {link: list(shapes) for link, shapes in balls.shapes.items()})
+    np.testing.assert_allclose(np.sort(cgadyn.collision_poses(model, again, q), axis=0),
+                               np.sort(cgadyn.collision_poses(model, balls, q), axis=0),
+                               atol=1e-12)
+    with pytest.raises(ValueError, match="no link 'paw'"):
+        cm.with_shapes({"paw": [cgadyn.Sphere(0.02)]})
+    with pytest.raises(ValueError, match="other than a plane"):
+        cm.with_shapes({"FL_FOOT": [cgadyn.Plane()]})

@@ -74,7 +74,8 @@ def shape_distance(shape_a: Shape, pose_a, shape_b: Shape, pose_b):
     yet).
     """
     a, b = _shape(shape_a, "shape_a"), _shape(shape_b, "shape_b")
-    Ta, Tb = pose_matrix(pose_a, "pose_a"), pose_matrix(pose_b, "pose_b")
+    Ta = pose_matrix(pose_a, "pose_a") @ a.placement  # a placed shape's own frame
+    Tb = pose_matrix(pose_b, "pose_b") @ b.placement
     out, work = np.empty(D.OUT), np.empty(D.WORK)
     status = D.pair_distance(a.kind, a.packed_size, a.packed_vertices, Ta, b.kind,
                              b.packed_size, b.packed_vertices, Tb, work, out)

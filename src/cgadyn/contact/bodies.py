@@ -107,6 +107,9 @@ class Body:
         if not isinstance(self.shape, Shape) or self.shape.kind == PLANE:
             raise ValueError(f"{who}: shape must be a cgadyn Sphere, Box, Capsule, Cylinder or "
                              f"ConvexMesh, got {self.shape!r}")
+        if self.shape.placed:
+            raise ValueError(f"{who}: a body's shape is centred on the body (it carries no "
+                             f"placement); give the body's position and orientation instead")
         if isinstance(self.mass, bool) or not isinstance(self.mass, numbers.Real) or \
                 not np.isfinite(self.mass) or self.mass <= 0:
             raise ValueError(f"{who}: mass must be a finite number > 0 (kg), got {self.mass!r}")

@@ -782,7 +782,7 @@ refined one, an upper bound, that ``refine`` accepts (its answer's error is at m
 DEPTH_SLACK = 0.05
 """Where EPA's polytope stops short of a curved surface, its depth is a loose lower bound:
 the refined depth is kept if the gap is at most this fraction of it (its error at most
-that; exact to ``DEPTH_GAP`` in the tests, ``tests/test_shapes.py``)."""
+that; ``tests/test_shapes.py`` measures it)."""
 CREASE = 1e-2
 """How near (in ``|n · e|``) a normal that stops descending must lie to a crease of the
 support function (``n`` orthogonal to a box's axis ``e`` or a cylinder's) to be put on it."""

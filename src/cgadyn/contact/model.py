@@ -59,12 +59,19 @@ class Collision:
     stiffness: float = 0.0
     damping: float = 0.0
 
+    @property
+    def pose(self) -> np.ndarray:
+        """The shape's frame in its link's: ``placement`` composed with the shape's own
+        placement (``Shape.placement``, the identity for shapes read from files)."""
+        return np.asarray(self.placement, dtype=float) @ self.shape.placement
+
 
 class CollisionModel(tuple):
     """The collisions of a model (``model``, whose links they name), a tuple of
     :class:`Collision` with the arrays compiled code reads: ``kinds`` (K,), ``sizes``
     (K, 4), ``vertices`` (every mesh's hull, stacked) and ``offsets`` (K + 1,), ``links``
-    (K,), ``placements`` (K, 4, 4); ``bodies`` (K,), the joint moving each shape;
+    (K,), ``placements`` (K, 4, 4, each ``Collision.pose``); ``bodies`` (K,), the joint
+    moving each shape;
     ``compliance`` (K, 2), each shape's normal stiffness and damping (K41)."""
 
     def __new__(cls, collisions=(), model=None):
@@ -86,7 +93,7 @@ class CollisionModel(tuple):
             np.int64)
         self.vertices = np.ascontiguousarray(np.concatenate([np.zeros((0, 3)), *verts]))
         self.links = np.array([c.link for c in self], dtype=np.int64)
-        self.placements = np.array([c.placement for c in self]).reshape(len(self), 4, 4)
+        self.placements = np.array([c.pose for c in self]).reshape(len(self), 4, 4)
         self.compliance = np.array([[c.stiffness, c.damping] for c in self],
                                    dtype=float).reshape(len(self), 2)
         return self
@@ -121,6 +128,55 @@ class CollisionModel(tuple):
     @property
     def names(self) -> tuple[str, ...]:
         return tuple(c.name for c in self)
+
+    @property
+    def shapes(self) -> dict[str, tuple[Shape, ...]]:
+        """Each link's shapes (link name → shapes, the world's under ``"world"`` where the
+        model has no link of that name), each placed in its link's frame
+        (``Shape.placement``: ``Collision.pose``)."""
+        out: dict[str, list] = {}
+        for c in self:
+            name = self.link_names[c.link] if c.link >= 0 else "world"
+            out.setdefault(name, []).append(c.shape.at(c.pose))
+        return {name: tuple(shapes) for name, shapes in out.items()}
+
+    def with_shapes(self, shapes: dict, replace: bool = True) -> CollisionModel:
+        """A copy with hand-made ``shapes`` on links (``{link name or index: [shapes]}``,
+        each placed in its link's frame by its own ``placement``: ``Sphere(r,
+        center=...)``, ``Capsule(r, a, b)``, ``Box(h, placement=...)``): with ``replace``,
+        the shapes the links had (their meshes' hulls, say) are dropped; else the new ones
+        are added to them. Each new shape is named ``<link>:<i>`` and touches what MuJoCo's
+        default filter lets it (``contype = conaffinity = 1``); a plane is refused (the
+        ground is the World's). Raises ``ValueError`` naming an unknown link or a bad
+        shape."""
+        if not isinstance(shapes, dict):
+            raise ValueError(f"with_shapes: shapes must be a dict {{link: [shapes]}}, got "
+                             f"{shapes!r}")
+        if self.model is None:
+            raise ValueError("with_shapes: this collision model has no robot model; make it "
+                             "with cgadyn.collision_model(model, ...)")
+        added, links = [], set()
+        for key, given in shapes.items():
+            if isinstance(key, str):
+                if key not in self.link_names:
+                    raise ValueError(f"with_shapes: no link {key!r} in {self.model.name!r} "
+                                     f"(links: {', '.join(self.link_names[:8])} ...)")
+                li = self.link_names.index(key)
+            elif isinstance(key, (int, np.integer)) and 0 <= key < len(self.link_names):
+                li = int(key)
+            else:
+                raise ValueError(f"with_shapes: {key!r} is not a link of "
+                                 f"{self.model.name!r} (a name or an index)")
+            given = [given] if isinstance(given, Shape) else list(given)
+            for i, shape in enumerate(given):
+                if not isinstance(shape, Shape) or shape.kind == PLANE:
+                    raise ValueError(f"with_shapes: the shapes of link "
+                                     f"{self.link_names[li]!r} must be cgadyn shapes other "
+                                     f"than a plane (the ground is the World's), got {shape!r}")
+                added.append(Collision(f"{self.link_names[li]}:{i}", shape, li, np.eye(4)))
+            links.add(li)
+        kept = [c for c in self if not (replace and c.link in links)]
+        return CollisionModel([*kept, *added], self.model)
 
     def on(self, link: str | int) -> CollisionModel:
         """The collisions of one link (by name or index)."""

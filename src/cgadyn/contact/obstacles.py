@@ -67,7 +67,8 @@ def pose_matrix(position, orientation) -> np.ndarray:
 class Obstacle:
     """A collision ``shape`` (a ``Sphere``, ``Box``, ``Capsule``, ``Cylinder``,
     ``Ellipsoid`` or ``ConvexMesh``; a plane is the World's ground) fixed in the world, its
-    frame at ``position`` turned by ``orientation`` (a quaternion ``(x, y, z, w)``,
+    frame (the shape's, moved by its own ``placement``, if any) at ``position`` turned by
+    ``orientation`` (a quaternion ``(x, y, z, w)``,
     normalised here); ``friction`` (its Coulomb coefficient; None: the World's; a contact
     takes the smaller of its two surfaces', K38), MuJoCo's ``contype`` and ``conaffinity``
     (which of the robot's shapes it touches), and ``name`` (None: ``obstacle<i>`` by its

@@ -4,7 +4,9 @@ A sphere is the dual vector ``S = C - ½ r² e∞`` of its centre ``C`` (K2), a 
 segment of its axis swept by such a sphere (K4), a plane the dual vector ``π = n + δ e∞``
 bounding the half-space ``X · π <= 0`` (K1); boxes, cylinders, ellipsoids and convex meshes
 are given by their support points (K6). Every shape is centred on its frame's origin, with
-its axis (a capsule's, a cylinder's) along the frame's z.
+its axis (a capsule's, a cylinder's) along the frame's z; a shape made for a link
+(``CollisionModel.with_shapes``) may carry a ``placement`` of that frame in the link's
+(``placement=``, a sphere's ``center=``, a capsule between two points ``a`` and ``b``).
 
 Compiled code sees a shape as three things: its ``kind`` (an integer, the constants below),
 ``size`` (four floats) and ``vertices`` ((V, 3), empty but for a convex mesh).
@@ -43,16 +45,32 @@ def _positive(value, what: str, shape: str) -> float:
 
 
 class Shape:
-    """A convex collision shape in its own frame (see the module's docstring)."""
+    """A convex collision shape in its own frame (see the module's docstring), placed by
+    ``placement`` (4x4, rigid; default the identity) in the frame of what carries it."""
 
     kind: int = -1
 
-    def __init__(self, size=(0.0, 0.0, 0.0, 0.0), vertices=None):
+    def __init__(self, size=(0.0, 0.0, 0.0, 0.0), vertices=None, placement=None):
         size = np.zeros(4) if size is None else np.asarray(size, dtype=float)
         # the arrays compiled code reads (writable, so that every shape has one numba type)
         self.packed_size = np.concatenate([size, np.zeros(4 - size.size)])
         self.packed_vertices = np.zeros((0, 3)) if vertices is None else \
             np.array(vertices, dtype=float, order="C")
+        self.placement = _placement(placement, type(self).__name__)
+        self.placement.flags.writeable = False
+
+    @property
+    def placed(self) -> bool:
+        """Whether its placement is not the identity."""
+        return not np.array_equal(self.placement, np.eye(4))
+
+    def at(self, placement) -> Shape:
+        """A copy of the shape with ``placement`` (4x4) in place of its own."""
+        out = object.__new__(type(self))
+        out.__dict__.update(self.__dict__)
+        out.placement = _placement(placement, type(self).__name__)
+        out.placement.flags.writeable = False
+        return out
 
     @property
     def size(self) -> np.ndarray:
@@ -80,10 +98,38 @@ class Shape:
 
     def __eq__(self, other):
         return (type(other) is type(self) and np.array_equal(self.size, other.size)
-                and np.array_equal(self.vertices, other.vertices))
+                and np.array_equal(self.vertices, other.vertices)
+                and np.array_equal(self.placement, other.placement))
 
     def __hash__(self):
-        return hash((self.kind, self.size.tobytes(), self.vertices.tobytes()))
+        return hash((self.kind, self.size.tobytes(), self.vertices.tobytes(),
+                     self.placement.tobytes()))
+
+
+def _placement(placement, shape: str) -> np.ndarray:
+    """``placement`` (None: the identity) as a rigid 4x4 matrix, checked."""
+    if placement is None:
+        return np.eye(4)
+    try:
+        T = np.array(placement, dtype=float)
+    except (TypeError, ValueError):
+        T = np.full(1, np.nan)
+    if T.shape != (4, 4) or not np.all(np.isfinite(T)) or \
+            not np.allclose(T[:3, :3] @ T[:3, :3].T, np.eye(3), atol=1e-9) or \
+            np.linalg.det(T[:3, :3]) < 0 or not np.allclose(T[3], [0, 0, 0, 1]):
+        raise ValueError(f"{shape}: placement must be a rigid 4x4 homogeneous matrix "
+                         f"(a rotation and a translation), got {placement!r}")
+    return T
+
+
+def _point(x, what: str, shape: str) -> np.ndarray:
+    try:
+        p = np.asarray(x, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        p = np.full(1, np.nan)
+    if p.shape != (3,) or not np.all(np.isfinite(p)):
+        raise ValueError(f"{shape}: {what} must be three finite numbers, got {x!r}")
+    return p
 
 
 class Sphere(Shape):
@@ -91,8 +137,15 @@ class Sphere(Shape):
 
     kind = SPHERE
 
-    def __init__(self, radius: float):
-        super().__init__([_positive(radius, "radius", "Sphere")])
+    def __init__(self, radius: float, center=None, placement=None):
+        """``center``: where its centre lies in the carrier's frame (a placement's
+        translation; not with ``placement``)."""
+        if center is not None:
+            if placement is not None:
+                raise ValueError("Sphere: give center or placement, not both")
+            placement = np.eye(4)
+            placement[:3, 3] = _point(center, "center", "Sphere")
+        super().__init__([_positive(radius, "radius", "Sphere")], placement=placement)
 
     def __repr__(self):
         return f"Sphere(radius={self.size[0]:g})"
@@ -105,9 +158,21 @@ class Capsule(Shape):
 
     kind = CAPSULE
 
-    def __init__(self, radius: float, length: float):
+    def __init__(self, radius: float, length, b=None, placement=None):
+        """``Capsule(radius, length)``, or ``Capsule(radius, a, b)``: the segment from the
+        point ``a`` to the point ``b`` of the carrier's frame (its placement then puts the
+        segment's middle at ``(a + b) / 2`` and its z along ``b - a``)."""
+        if b is not None:
+            if placement is not None:
+                raise ValueError("Capsule: give the points a and b or a placement, not both")
+            a, b = _point(length, "a", "Capsule"), _point(b, "b", "Capsule")
+            axis = b - a
+            length = float(np.linalg.norm(axis))
+            if not length > 0.0:
+                raise ValueError(f"Capsule: the points a and b must differ, got {a} twice")
+            placement = _frame_along(axis / length, 0.5 * (a + b))
         super().__init__([_positive(radius, "radius", "Capsule"),
-                          0.5 * _positive(length, "length", "Capsule")])
+                          0.5 * _positive(length, "length", "Capsule")], placement=placement)
 
     @property
     def length(self) -> float:
@@ -123,11 +188,11 @@ class Box(Shape):
 
     kind = BOX
 
-    def __init__(self, half_extents):
+    def __init__(self, half_extents, placement=None):
         h = np.asarray(half_extents, dtype=float).reshape(-1)
         if h.shape != (3,):
             raise ValueError(f"Box: half_extents must be three numbers, got {half_extents!r}")
-        super().__init__([_positive(x, "half extent", "Box") for x in h])
+        super().__init__([_positive(x, "half extent", "Box") for x in h], placement=placement)
 
     @property
     def half_extents(self) -> np.ndarray:
@@ -144,9 +209,9 @@ class Cylinder(Shape):
 
     kind = CYLINDER
 
-    def __init__(self, radius: float, length: float):
+    def __init__(self, radius: float, length: float, placement=None):
         super().__init__([_positive(radius, "radius", "Cylinder"),
-                          0.5 * _positive(length, "length", "Cylinder")])
+                          0.5 * _positive(length, "length", "Cylinder")], placement=placement)
 
     @property
     def length(self) -> float:
@@ -164,11 +229,11 @@ class Ellipsoid(Shape):
 
     kind = ELLIPSOID
 
-    def __init__(self, radii):
+    def __init__(self, radii, placement=None):
         r = np.asarray(radii, dtype=float).reshape(-1)
         if r.shape != (3,):
             raise ValueError(f"Ellipsoid: radii must be three numbers, got {radii!r}")
-        super().__init__([_positive(x, "radius", "Ellipsoid") for x in r])
+        super().__init__([_positive(x, "radius", "Ellipsoid") for x in r], placement=placement)
 
     @property
     def radii(self) -> np.ndarray:
@@ -217,7 +282,8 @@ class ConvexMesh(Shape):
 
     kind = MESH
 
-    def __init__(self, vertices, max_vertices: int = MAX_VERTICES, name: str = "mesh"):
+    def __init__(self, vertices, max_vertices: int = MAX_VERTICES, name: str = "mesh",
+                 placement=None):
         v = np.asarray(vertices, dtype=float)
         if v.ndim != 2 or v.shape[1] != 3 or len(v) < 4:
             raise ValueError(f"ConvexMesh: vertices must be an array (V >= 4, 3), got shape "
@@ -233,7 +299,7 @@ class ConvexMesh(Shape):
                           f"{len(kept)} (ConvexMesh's max_vertices = {max_vertices})",
                           MeshSimplified, stacklevel=2)
             hull = _hull(kept, name)
-        super().__init__(None, hull)
+        super().__init__(None, hull, placement=placement)
 
     @classmethod
     def from_file(cls, path, scale=(1.0, 1.0, 1.0), max_vertices: int = MAX_VERTICES):
@@ -247,6 +313,16 @@ class ConvexMesh(Shape):
 
     def __repr__(self):
         return f"ConvexMesh({len(self.vertices)} vertices)"
+
+
+def _frame_along(z: np.ndarray, origin: np.ndarray) -> np.ndarray:
+    """A frame at ``origin`` whose z axis is the unit vector ``z``."""
+    x = np.cross(z, [1.0, 0.0, 0.0] if abs(z[0]) < 0.9 else [0.0, 1.0, 0.0])
+    x /= np.linalg.norm(x)
+    T = np.eye(4)
+    T[:3, :3] = np.column_stack([x, np.cross(z, x), z])
+    T[:3, 3] = origin
+    return T
 
 
 def _hull(v: np.ndarray, name: str) -> np.ndarray:

@@ -29,8 +29,8 @@ def static_world(collisions, friction: float | None = None) -> World:
 
     own = [c for c in collisions if c.link < 0]
     planes = [c for c in own if c.shape.kind == PLANE]
-    up = [c for c in planes if c.placement[2, 2] > 1e-6]
-    ground = max(up, key=lambda c: c.placement[2, 2]) if up else None  # the first of ties
+    up = [c for c in planes if c.pose[2, 2] > 1e-6]
+    ground = max(up, key=lambda c: c.pose[2, 2]) if up else None  # the first of ties
     walls = [c.name for c in planes if c is not ground]
     if walls:
         warnings.warn(f"the model's planes {', '.join(map(repr, walls))} are left out of its "
@@ -41,12 +41,13 @@ def static_world(collisions, friction: float | None = None) -> World:
     for c in own:
         if c.shape.kind == PLANE:
             continue
-        w, x, y, z = quaternion_from_motor(motor_from_matrix(c.placement))
-        obstacles.append(Obstacle(c.shape, tuple(c.placement[:3, 3]), (x, y, z, w),
+        T = c.pose
+        w, x, y, z = quaternion_from_motor(motor_from_matrix(T))
+        obstacles.append(Obstacle(c.shape.at(None), tuple(T[:3, 3]), (x, y, z, w),
                                   c.friction, c.contype, c.conaffinity, c.name))
     if ground is None:
         return World(ground=False, obstacles=tuple(obstacles))
-    n, point = ground.placement[:3, 2], ground.placement[:3, 3]
+    n, point = ground.pose[:3, 2], ground.pose[:3, 3]
     mu = ground.friction if friction is None else friction
     return World(ground_normal=tuple(n), ground_height=float(n @ point / n[2]),
                  friction=1.0 if mu is None else float(mu), obstacles=tuple(obstacles))

@@ -195,7 +195,7 @@ def shape_visuals(model, source=None) -> list[dict]:
             cm = collision_model(model, source)
     except (ValueError, FileNotFoundError, OSError):
         return []
-    return [v for c in cm if c.link >= 0 for v in _shape_visual(c.shape, c.placement, c.link)]
+    return [v for c in cm if c.link >= 0 for v in _shape_visual(c.shape, c.pose, c.link)]
 
 
 def _shape_visual(shape, placement, link: int) -> list[dict]:
@@ -382,7 +382,7 @@ def _obstacles(world) -> list[dict]:
     for k, (o, name) in enumerate(zip(world.obstacles, obstacle_names(world.obstacles),
                                       strict=True)):
         label = "".join(ch if ch.isalnum() or ch in "_-" else "_" for ch in name)
-        for i, v in enumerate(_shape_visual(o.shape, o.pose, -1)):
+        for i, v in enumerate(_shape_visual(o.shape, o.pose @ o.shape.placement, -1)):
             node = f"/cgadyn/world/{k}_{label}/visual_{i}"
             cmds.append({"type": "set_object", "path": node, "object": _object(v)})
             cmds.append({"type": "set_transform", "path": node,
