@@ -246,3 +246,21 @@ def test_an_arm_falls_onto_a_table_and_stays_on_it():
     contacts = traj.contacts(1999)
     assert contacts and {c.other for c in contacts} == {"table"}
     assert min(c.distance for c in contacts) > -1e-4
+
+
+def test_one_contact_step_in_the_mjcf_world(scene):
+    """``contact_step`` without ``world=`` steps in the scene's own world too: from the
+    rest the rollout reached, the ball held by the table (its contacts' forces on it
+    summing to its weight, its speed after the step below 1e-6 m/s) and the arm by the
+    step."""
+    model, cm, _ = scene
+    traj = _rest(model, cm)
+    step = cgadyn.contact_step(model, cm, traj.q[-1], traj.v[-1], np.zeros(model.nv), DT)
+    ball = model.link_names.index("ball")
+    on_ball = step.contacts.link == ball
+    names = np.asarray(step.collisions.names)  # the step's shapes: the obstacles appended
+    assert on_ball.any() and set(names[step.contacts.other[on_ball]]) == {"table"}
+    assert step.forces[on_ball, 2].sum() == pytest.approx(9.81, rel=1e-6)
+    assert np.abs(step.v[:6]).max() < 1e-6
+    arm = step.contacts.link == model.link_names.index("arm")
+    assert set(names[step.contacts.other[arm]]) == {"step"}

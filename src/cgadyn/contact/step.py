@@ -49,7 +49,10 @@ class ContactStep:
     and which solver gave the forces (``solver``); ``velocities`` (K, 3), each contact's
     velocity after the step in its frame ``(t₁, t₂, n)`` with the gap's term of K23 (an
     open gap's ``d / dt``),
-    ``σ = G λ + g`` (K11), and ``criteria``, the step's physical criteria (K31-K34)."""
+    ``σ = G λ + g`` (K11), and ``criteria``, the step's physical criteria (K31-K34);
+    ``collisions``, the collision model of the step (the robot's shapes, then the World's
+    bodies' and obstacles', K36, K44) whose indices ``contacts.collision`` and
+    ``contacts.other`` are."""
 
     q: np.ndarray
     v: np.ndarray
@@ -60,6 +63,7 @@ class ContactStep:
     info: object = None
     solver: str = ""
     velocities: np.ndarray = field(repr=False, default=None)
+    collisions: object = field(repr=False, default=None)
 
     @property
     def criteria(self):
@@ -189,7 +193,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         return ContactStep(step_moved_configuration(model, q, step * v_free),
                            step_moved_velocity(model, v_free, step), contacts,
                            np.zeros((0, 3)), np.zeros(model.nv), np.zeros(model.nv),
-                           velocities=np.zeros((0, 3)))
+                           velocities=np.zeros((0, 3)), collisions=cm)
     frames = np.array([ground_frame(n) for n in contacts.normal]).reshape(nc, 3, 3)  # K37
     J = np.zeros((3 * nc + nl + nf, model.nv))
     n1 = 3 * nc + nl  # the first friction row
@@ -242,5 +246,5 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
                     gravity=np.zeros(3))
         q_next = integrate(model, q_next, shift)
     return ContactStep(q_next, step_moved_velocity(model, v_next, step), contacts, forces,
-                       limit_torques, friction_torques, info, used, sigma)
+                       limit_torques, friction_torques, info, used, sigma, cm)
 
