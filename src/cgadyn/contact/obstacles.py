@@ -19,7 +19,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .model import Collision, CollisionModel
-from .shapes import PLANE, Shape
+from .shapes import PLANE, Shape, three_numbers
 
 __all__ = ["Obstacle", "obstacle_names", "own_world", "placement", "pose_matrix",
            "scene_collisions"]
@@ -30,10 +30,11 @@ def placement(who: str, position, orientation, friction, name) -> tuple[tuple, t
     quaternion ``(x, y, z, w)``, normalised) of a ``Body`` or an ``Obstacle`` named ``who``,
     with its ``friction`` (None or a finite number >= 0) and ``name`` (None or a string)
     checked too; ``ValueError`` names the field and what was expected."""
-    p = np.asarray(position, dtype=float) if _numeric(position) else np.full(1, np.nan)
-    quat = np.asarray(orientation, dtype=float) if _numeric(orientation) else np.full(1, np.nan)
-    if p.shape != (3,) or not np.all(np.isfinite(p)):
-        raise ValueError(f"{who}: position must be three finite numbers, got {position!r}")
+    p = three_numbers(position, "position", who)
+    try:
+        quat = np.asarray(orientation, dtype=float)
+    except (TypeError, ValueError):
+        quat = np.full(1, np.nan)
     if quat.shape != (4,) or not np.all(np.isfinite(quat)) or np.linalg.norm(quat) < 1e-9:
         raise ValueError(f"{who}: orientation must be a nonzero quaternion (x, y, z, w), "
                          f"got {orientation!r}")
@@ -44,14 +45,6 @@ def placement(who: str, position, orientation, friction, name) -> tuple[tuple, t
     if name is not None and not isinstance(name, str):
         raise ValueError(f"{who}: name must be a string or None, got {name!r}")
     return tuple(p.tolist()), tuple((quat / np.linalg.norm(quat)).tolist())
-
-
-def _numeric(x) -> bool:
-    try:
-        np.asarray(x, dtype=float)
-    except (TypeError, ValueError):
-        return False
-    return True
 
 
 def pose_matrix(position, orientation) -> np.ndarray:

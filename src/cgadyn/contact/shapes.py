@@ -122,7 +122,8 @@ def _placement(placement, shape: str) -> np.ndarray:
     return T
 
 
-def _point(x, what: str, shape: str) -> np.ndarray:
+def three_numbers(x, what: str, shape: str) -> np.ndarray:
+    """``x`` as three finite floats; ``ValueError`` naming ``shape``'s ``what`` else."""
     try:
         p = np.asarray(x, dtype=float).reshape(-1)
     except (TypeError, ValueError):
@@ -144,7 +145,7 @@ class Sphere(Shape):
             if placement is not None:
                 raise ValueError("Sphere: give center or placement, not both")
             placement = np.eye(4)
-            placement[:3, 3] = _point(center, "center", "Sphere")
+            placement[:3, 3] = three_numbers(center, "center", "Sphere")
         super().__init__([_positive(radius, "radius", "Sphere")], placement=placement)
 
     def __repr__(self):
@@ -165,12 +166,12 @@ class Capsule(Shape):
         if b is not None:
             if placement is not None:
                 raise ValueError("Capsule: give the points a and b or a placement, not both")
-            a, b = _point(length, "a", "Capsule"), _point(b, "b", "Capsule")
+            a, b = three_numbers(length, "a", "Capsule"), three_numbers(b, "b", "Capsule")
             axis = b - a
             length = float(np.linalg.norm(axis))
             if not length > 0.0:
                 raise ValueError(f"Capsule: the points a and b must differ, got {a} twice")
-            placement = _frame_along(axis / length, 0.5 * (a + b))
+            placement = frame_along(axis / length, 0.5 * (a + b))
         super().__init__([_positive(radius, "radius", "Capsule"),
                           0.5 * _positive(length, "length", "Capsule")], placement=placement)
 
@@ -315,7 +316,7 @@ class ConvexMesh(Shape):
         return f"ConvexMesh({len(self.vertices)} vertices)"
 
 
-def _frame_along(z: np.ndarray, origin: np.ndarray) -> np.ndarray:
+def frame_along(z: np.ndarray, origin: np.ndarray) -> np.ndarray:
     """A frame at ``origin`` whose z axis is the unit vector ``z``."""
     x = np.cross(z, [1.0, 0.0, 0.0] if abs(z[0]) < 0.9 else [0.0, 1.0, 0.0])
     x /= np.linalg.norm(x)

@@ -47,27 +47,11 @@ class World:
         from .bodies import Body
         from .obstacles import Obstacle
 
-        try:
-            bodies = tuple(self.bodies)
-        except TypeError:
-            raise ValueError(f"World: bodies must be a list of cgadyn.Body, got "
-                             f"{self.bodies!r}") from None
-        for b in bodies:
-            if not isinstance(b, Body):
-                raise ValueError(f"World: bodies must be cgadyn.Body records, got {b!r}")
+        for what, kind in (("bodies", Body), ("obstacles", Obstacle)):
+            object.__setattr__(self, what, _records(getattr(self, what), what, kind))
         if not isinstance(self.self_collision, bool):
             raise ValueError(f"World: self_collision must be True or False, got "
                              f"{self.self_collision!r}")
-        object.__setattr__(self, "bodies", bodies)
-        try:
-            obstacles = tuple(self.obstacles)
-        except TypeError:
-            raise ValueError(f"World: obstacles must be a list of cgadyn.Obstacle, got "
-                             f"{self.obstacles!r}") from None
-        for o in obstacles:
-            if not isinstance(o, Obstacle):
-                raise ValueError(f"World: obstacles must be cgadyn.Obstacle records, got {o!r}")
-        object.__setattr__(self, "obstacles", obstacles)
         n = np.asarray(self.ground_normal, dtype=float)
         if n.shape != (3,) or not np.all(np.isfinite(n)) or np.linalg.norm(n) < 1e-9:
             raise ValueError(f"World: ground_normal must be a finite nonzero 3-vector, got "
@@ -88,6 +72,20 @@ class World:
         """The ground as a ``Plane``: ``π = n + δ e∞`` with ``δ = n · (0, 0, h)`` (K1)."""
         n = np.asarray(self.ground_normal)
         return Plane(n, n[2] * self.ground_height)
+
+
+def _records(value, what: str, kind: type) -> tuple:
+    """``value`` as a tuple of ``kind`` records; ``ValueError`` naming the World's field
+    ``what`` else."""
+    try:
+        records = tuple(value)
+    except TypeError:
+        raise ValueError(f"World: {what} must be a list of cgadyn.{kind.__name__}, got "
+                         f"{value!r}") from None
+    for r in records:
+        if not isinstance(r, kind):
+            raise ValueError(f"World: {what} must be cgadyn.{kind.__name__} records, got {r!r}")
+    return records
 
 
 @dataclass(frozen=True)

@@ -246,14 +246,11 @@ def _hull_triangles(vertices: np.ndarray) -> dict:
 
 
 def _bone(p: np.ndarray, length: float) -> np.ndarray:
-    """The frame of a cylinder from the origin to ``p`` (URDF cylinders lie along z)."""
-    z = p / length
-    x = np.cross(z, [1.0, 0, 0] if abs(z[0]) < 0.9 else [0, 1.0, 0])
-    x /= np.linalg.norm(x)
-    frame = np.eye(4)
-    frame[:3, :3] = np.column_stack([x, np.cross(z, x), z])
-    frame[:3, 3] = 0.5 * p
-    return frame
+    """The frame of a cylinder from the origin to ``p`` (URDF cylinders lie along z): a
+    capsule's between two points (``shapes.frame_along``)."""
+    from ..contact.shapes import frame_along
+
+    return frame_along(p / length, 0.5 * p)
 
 
 # --- meshcat commands ---------------------------------------------------------------------
