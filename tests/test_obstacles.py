@@ -156,8 +156,8 @@ def test_an_obstacle_pairs_with_every_moving_shape(scene):
 
 
 def test_bad_obstacles_are_named():
-    with pytest.raises(ValueError, match="a plane is the World's ground"):
-        Obstacle(cgadyn.Plane((0, 0, 1), 0.0))
+    with pytest.raises(ValueError, match="shape must be a cgadyn Sphere, .* or Plane"):
+        Obstacle("wall")
     with pytest.raises(ValueError, match="position must be three finite numbers"):
         Obstacle(cgadyn.Sphere(0.1), position=(0, np.nan, 0))
     with pytest.raises(ValueError, match="orientation must be a nonzero quaternion"):
@@ -168,18 +168,28 @@ def test_bad_obstacles_are_named():
         cgadyn.World(obstacles=[cgadyn.Sphere(0.1)])
 
 
-def test_walls_are_left_out_with_a_warning_and_contactless_models_have_no_world():
-    """dm_control's quadruped: its floor the ground, its four wall planes named in a
-    warning; dm_control's cartpole turns contacts off: its world's geoms (the floor and the
-    rails its cart slides in) are left out, with a warning, and ``simulate`` with its
-    collisions and no World names what is missing."""
+def test_walls_are_obstacles_and_contactless_models_have_no_world():
+    """dm_control's quadruped: its floor the ground, its four wall planes half-space
+    obstacles, each paired with every moving shape; dm_control's cartpole turns contacts
+    off: its world's geoms (the floor and the rails its cart slides in) are left out, with
+    a warning, and ``simulate`` with its collisions and no World names what is missing."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # its actuators, couplings and height field
         model = cgadyn.load("dm_control:quadruped")
         cm = cgadyn.collision_model(model)
-    with pytest.warns(UserWarning, match="'wall_px', 'wall_py', 'wall_nx', 'wall_ny'"):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
         world = static_world(cm)
-    assert world.ground and world.ground_height == 0.0 and world.obstacles == ()
+    assert world.ground and world.ground_height == 0.0
+    walls = ("wall_px", "wall_py", "wall_nx", "wall_ny")
+    assert tuple(o.name for o in world.obstacles) == walls
+    assert all(o.shape.kind == cgadyn.Plane.kind for o in world.obstacles)
+    sc = scene_collisions(cm, world, model)
+    wall = len(sc) - 4  # the obstacle (the model's own wall_px, before it, touches nothing)
+    moving = sum(1 for k, c in enumerate(cm) if c.link >= 0 and model.link_joint[c.link] >= 0
+                 and sc.can_touch(wall, k))
+    paired = [sc.names[j] for i, j in candidate_pairs(sc, model.njoints)]
+    assert moving > 0 and all(paired.count(w) == moving for w in walls)
     cart = cgadyn.load("dm_control:cartpole")
     with pytest.warns(UserWarning, match="turns contacts off.*'floor', 'rail1', 'rail2'"):
         cm = cgadyn.collision_model(cart)
@@ -264,3 +274,69 @@ def test_one_contact_step_in_the_mjcf_world(scene):
     assert np.abs(step.v[:6]).max() < 1e-6
     arm = step.contacts.link == model.link_names.index("arm")
     assert set(names[step.contacts.other[arm]]) == {"step"}
+
+
+WALL_SCENE = """
+<mujoco>
+  <option timestep="0.001" integrator="Euler"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="2 2 .1" friction="0.1"/>
+    <geom name="wall" type="plane" pos="0.4 0 0" zaxis="-1 0 0" size="1 1 .1" friction="0.1"/>
+    <body name="box" pos="0 0 0.05">
+      <freejoint/>
+      <geom name="box" type="box" size="0.05 0.05 0.05" mass="1" friction="0.1"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+"""A box sliding at 1.5 m/s on a floor of friction 0.1 into a wall plane at x = 0.4: it
+would slide 1.15 m, so it reaches the wall and stops against it, its centre at 0.35."""
+
+
+def test_a_box_slides_into_an_mjcf_wall_and_stops_against_it():
+    """The MJCF's second plane is a wall of its static world (K44a): the box stops flush
+    against it, its centre at x = 0.35 to 1e-4, upright, the wall's contacts a patch of
+    its face's corners pushing along -x, and it never gains energy. MuJoCo's simulation of
+    the same file stops it at the wall too, neither through it nor more than 1.5 cm short
+    of it (its soft contact bounces the box back 1.1 cm; cgadyn's rigid one does not)."""
+    mj = mujoco.MjModel.from_xml_string(WALL_SCENE)
+    model = cgadyn.from_mujoco(mj)
+    cm = cgadyn.collision_model(model, mj)
+    v0 = np.zeros(model.nv)
+    v0[0] = 1.5  # the base twist's linear part, in the box's frame (unturned: the world's)
+    traj = cgadyn.simulate(model, model.home, v0, DT, 1000, integrator=SIE, collisions=cm)
+    assert traj.completed == 1000
+    assert traj.q[-1, 0] == pytest.approx(0.35, abs=1e-4)
+    assert traj.q[-1, 2] == pytest.approx(0.05, abs=1e-4)
+    assert np.allclose(traj.q[-1, 3:], (0, 0, 0, 1), atol=1e-3)
+    assert np.max(traj.energy) <= traj.energy[0] + 1e-9 * abs(traj.energy[0])
+    wall = [c for c in traj.contacts(999) if c.other == "wall"]
+    assert len(wall) >= 3 and all(np.allclose(c.normal, (-1, 0, 0)) for c in wall)
+    assert all(c.force[0] <= 1e-9 for c in wall)
+    data = mujoco.MjData(mj)
+    data.qvel[0] = 1.5
+    for _ in range(1000):
+        mujoco.mj_step(mj, data)
+    assert 0.335 < data.qpos[0] < 0.35 + 1e-3
+
+
+def test_a_ball_rests_in_a_trough_of_two_walls():
+    """Two plane obstacles, tilted by ±0.5 rad, make a V with no ground: a ball dropped
+    into it rolls from wall to wall, then rests at its bottom after 3 s, its centre
+    r / cos(0.5) above the edge (to 1e-4), held
+    by one contact on each wall whose forces sum to its weight (1e-5 of it), and never gains
+    energy."""
+    a, r = 0.5, 0.05
+    left = Obstacle(cgadyn.Plane((np.sin(a), 0, np.cos(a)), 0.0), name="left")
+    right = Obstacle(cgadyn.Plane(), orientation=(0, -np.sin(a / 2), 0, np.cos(a / 2)),
+                     name="right")
+    ball = cgadyn.Body(cgadyn.Sphere(r), 1.0, position=(0.3, 0.0, 0.5))
+    world = cgadyn.World(ground=False, bodies=[ball], obstacles=[left, right])
+    traj = cgadyn.simulate(empty_model(), np.zeros(0), np.zeros(0), DT, 3000,
+                           integrator=SIE, world=world)
+    assert np.allclose(traj.q[-1, :3], (0, 0, r / np.cos(a)), atol=1e-4)
+    assert np.max(traj.energy) <= traj.energy[0] + 1e-9 * abs(traj.energy[0])
+    contacts = traj.contacts(2999)
+    assert sorted(c.other for c in contacts) == ["left", "right"]
+    total = np.sum([c.force for c in contacts], axis=0)
+    assert np.allclose(total, (0, 0, 9.81), atol=1e-4)

@@ -6,7 +6,9 @@ An ``Obstacle`` is one collision shape fixed in the world at a position and orie
 world (link ``-1``, moved by no joint), so that the pairs' code (K37-K39) finds its
 contacts with every moving shape of the robot and of the free bodies, whether or not
 ``self_collision`` is on; its contact rows are those of a pair whose second shape never
-moves. An MJCF's own static geoms are such a world (``contact.static_world``). A ``World``
+moves. A plane obstacle is a half-space (a wall): it touches every moving shape, its
+contacts a patch of the shape's candidates against it (K44a). An MJCF's own static geoms
+are such a world (``contact.static_world``). A ``World``
 given to a step or a rollout replaces them: ``scene_collisions`` leaves the collision
 model's own world shapes out (they touch nothing) and appends the World's obstacles.
 """
@@ -19,7 +21,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .model import Collision, CollisionModel
-from .shapes import PLANE, Shape, three_numbers
+from .shapes import Shape, three_numbers
 
 __all__ = ["Obstacle", "obstacle_names", "own_world", "placement", "pose_matrix",
            "scene_collisions"]
@@ -59,7 +61,8 @@ def pose_matrix(position, orientation) -> np.ndarray:
 @dataclass(frozen=True)
 class Obstacle:
     """A collision ``shape`` (a ``Sphere``, ``Box``, ``Capsule``, ``Cylinder``,
-    ``Ellipsoid`` or ``ConvexMesh``; a plane is the World's ground) fixed in the world, its
+    ``Ellipsoid``, ``ConvexMesh``, or a ``Plane``: a wall, the half-space behind it, K44a)
+    fixed in the world, its
     frame (the shape's, moved by its own ``placement``, if any) at ``position`` turned by
     ``orientation`` (a quaternion ``(x, y, z, w)``,
     normalised here); ``friction`` (its Coulomb coefficient; None: the World's; a contact
@@ -77,10 +80,9 @@ class Obstacle:
 
     def __post_init__(self):
         who = f"Obstacle {self.name!r}" if self.name is not None else "Obstacle"
-        if not isinstance(self.shape, Shape) or self.shape.kind == PLANE:
+        if not isinstance(self.shape, Shape):
             raise ValueError(f"{who}: shape must be a cgadyn Sphere, Box, Capsule, Cylinder, "
-                             f"Ellipsoid or ConvexMesh (a plane is the World's ground), got "
-                             f"{self.shape!r}")
+                             f"Ellipsoid, ConvexMesh or Plane, got {self.shape!r}")
         for what in ("contype", "conaffinity"):
             value = getattr(self, what)
             if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 0:

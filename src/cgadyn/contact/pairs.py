@@ -184,8 +184,9 @@ def bounding_radii(cm) -> np.ndarray:
 
 def candidate_pairs(cm, robot_joints: int, self_collision: bool = False) -> np.ndarray:
     """(P, 2) the pairs of shapes of ``cm`` that may touch (K38): shapes of different
-    bodies (joints), at least one of which moves, neither a plane (the ground is the
-    World's), allowed by ``contype``/``conaffinity``; a free body's shape (a joint at or
+    bodies (joints), at least one of which moves, a plane only where it does not move (a wall,
+    K44a: a half-space on a moving link is no shape cgadyn collides), allowed by
+    ``contype``/``conaffinity``; a free body's shape (a joint at or
     after ``robot_joints``) or a shape of the world itself (link -1: an obstacle, K44) with
     every other shape; two of the robot's only with ``self_collision``, and then not on a
     parent and its child (``adjacent``). A shape that does not move (the world's, or on a
@@ -195,8 +196,8 @@ def candidate_pairs(cm, robot_joints: int, self_collision: bool = False) -> np.n
     for i in range(len(cm)):
         for j in range(i + 1, len(cm)):
             a, b = int(cm.bodies[i]), int(cm.bodies[j])
-            if a == b or (a < 0 and b < 0) or PLANE in (cm.kinds[i], cm.kinds[j]) \
-                    or not cm.can_touch(i, j):
+            moving_plane = (cm.kinds[i] == PLANE and a >= 0) or (cm.kinds[j] == PLANE and b >= 0)
+            if a == b or (a < 0 and b < 0) or moving_plane or not cm.can_touch(i, j):
                 continue
             world = cm.links[i] < 0 or cm.links[j] < 0
             robot = not world and a < robot_joints and b < robot_joints

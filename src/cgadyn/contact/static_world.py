@@ -2,13 +2,12 @@
 
 MuJoCo's world body holds a model's floor and its static geoms; ``collision_model`` keeps
 them as shapes of no link (link -1). ``static_world(collisions)`` makes a ``World`` of
-them, its plane the ground and every other shape an ``Obstacle``; ``default_world`` is the
+them, its plane facing up the ground and every other shape an ``Obstacle`` (another
+plane a wall); ``default_world`` is the
 world a step or a rollout takes given such collisions and no ``world=``.
 """
 
 from __future__ import annotations
-
-import warnings
 
 from .obstacles import Obstacle
 from .shapes import PLANE
@@ -22,24 +21,16 @@ def static_world(collisions, friction: float | None = None) -> World:
     (``collision_model`` reads them from MuJoCo's world body): the plane facing most nearly
     up is the ground (the plane through the geom's origin, normal to its z axis, K1), its
     friction the plane's (``friction`` overrides it); every other shape an ``Obstacle`` at
-    its placement with its own friction and filter. cgadyn's ground is one plane: the
-    others (an arena's walls) are left out with a warning naming them. No plane facing up:
-    no ground."""
+    its placement with its own friction and filter, the other planes (an arena's walls)
+    half-spaces (K44a). No plane facing up: no ground."""
     from ..cga.conventions import motor_from_matrix, quaternion_from_motor
 
     own = [c for c in collisions if c.link < 0]
-    planes = [c for c in own if c.shape.kind == PLANE]
-    up = [c for c in planes if c.pose[2, 2] > 1e-6]
+    up = [c for c in own if c.shape.kind == PLANE and c.pose[2, 2] > 1e-6]
     ground = max(up, key=lambda c: c.pose[2, 2]) if up else None  # the first of ties
-    walls = [c.name for c in planes if c is not ground]
-    if walls:
-        warnings.warn(f"the model's planes {', '.join(map(repr, walls))} are left out of its "
-                      f"world: cgadyn's world has one plane, the ground"
-                      f"{f' ({ground.name!r})' if ground is not None else ''}",
-                      stacklevel=3)
     obstacles = []
     for c in own:
-        if c.shape.kind == PLANE:
+        if c is ground:
             continue
         T = c.pose
         w, x, y, z = quaternion_from_motor(motor_from_matrix(T))

@@ -176,6 +176,12 @@ def skeleton(model) -> list[dict]:
 
 SHAPE_RGBA = (0.8, 0.62, 0.42, 1.0)
 """The colour of collision shapes drawn for a model without visuals."""
+WALL_RGBA = (0.55, 0.6, 0.7, 0.35)
+"""The colour of a wall (a plane obstacle): see-through, so that it hides nothing."""
+WALL_HALF_WIDTH = 1.5
+"""Half the side of the square drawn for a wall (m): a plane has no edges of its own."""
+WALL_THICKNESS = 0.005
+"""The thickness of that square (m), drawn behind the wall's face."""
 
 
 def shape_visuals(model, source=None) -> list[dict]:
@@ -202,8 +208,9 @@ def _shape_visual(shape, placement, link: int) -> list[dict]:
     """The visuals of one collision ``shape`` at ``placement`` (4x4) in the frame of
     ``link`` (-1: the world): a sphere, a box, a cylinder, a capsule as a cylinder with a
     sphere at each end, an ellipsoid as a unit sphere scaled by its radii, a convex mesh
-    as its hull's triangles; none for a plane."""
-    from ..contact.shapes import BOX, CAPSULE, CYLINDER, ELLIPSOID, MESH, SPHERE
+    as its hull's triangles, a plane (a wall) as a square ``2 WALL_HALF_WIDTH`` wide on
+    its face."""
+    from ..contact.shapes import BOX, CAPSULE, CYLINDER, ELLIPSOID, MESH, PLANE, SPHERE, frame_along
 
     T, size, kind = np.asarray(placement, dtype=float), shape.size, shape.kind
     if kind == SPHERE:
@@ -218,6 +225,12 @@ def _shape_visual(shape, placement, link: int) -> list[dict]:
     if kind == MESH:
         return [{"link": link, "origin": T, "kind": "hull", "rgba": SHAPE_RGBA,
                  **_hull_triangles(np.asarray(shape.vertices))}]
+    if kind == PLANE:  # a wall: a thin square of it about its point nearest the frame's origin
+        n = np.asarray(shape.normal)
+        face = T @ frame_along(n, shape.offset * n)
+        face[:3, 3] -= face[:3, 2] * 0.5 * WALL_THICKNESS
+        return [{"link": link, "origin": face, "kind": "box", "rgba": WALL_RGBA,
+                 "size": [2.0 * WALL_HALF_WIDTH, 2.0 * WALL_HALF_WIDTH, WALL_THICKNESS]}]
     if kind not in (CYLINDER, CAPSULE):
         return []
     out = [{"link": link, "origin": T, "kind": "cylinder",  # along z, length 2 size[1]
