@@ -340,3 +340,35 @@ def test_a_ball_rests_in_a_trough_of_two_walls():
     assert sorted(c.other for c in contacts) == ["left", "right"]
     total = np.sum([c.force for c in contacts], axis=0)
     assert np.allclose(total, (0, 0, 9.81), atol=1e-4)
+
+
+def test_the_geoms_of_bodies_welded_to_the_world_are_the_worlds():
+    """dm_control's manipulator: the geoms of its cup and slot, bodies without a joint, are
+    shapes of the world as MuJoCo counts them (link -1, placed where MuJoCo's geom_xpos and
+    geom_xmat put them at any state, to 1e-12), obstacles of its static world that its
+    moving shapes touch without ``self_collision``."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # its actuators and couplings
+        model = cgadyn.load("dm_control:manipulator")
+        cm = cgadyn.collision_model(model)
+    from cgadyn.multibody.registry import robot_path
+
+    mj = mujoco.MjModel.from_xml_path(str(robot_path("dm_control:manipulator")))
+    static = ["slot_0", "slot_1", "slot_2", "cup_0", "cup_1", "cup_2", "cup_3"]
+    assert all(cm[cm.names.index(name)].link == -1 for name in static)
+    data = mujoco.MjData(mj)
+    rng = np.random.default_rng(5)
+    for _ in range(3):
+        data.qpos[:] = mj.qpos0 + rng.normal(scale=0.3, size=mj.nq)
+        mujoco.mj_kinematics(mj, data)
+        q, _ = cgadyn.from_mujoco_state(model, data.qpos, data.qvel)
+        poses = cgadyn.collision_poses(model, cm, q)
+        order = [mj.geom(name).id for name in cm.names]
+        np.testing.assert_allclose(poses[:, :3, 3], data.geom_xpos[order], atol=1e-12)
+        np.testing.assert_allclose(poses[:, :3, :3],
+                                   data.geom_xmat[order].reshape(-1, 3, 3), atol=1e-12)
+    world = static_world(cm)
+    assert set(static) <= {o.name for o in world.obstacles}
+    sc = scene_collisions(cm, world, model)
+    paired = {sc.names[j] for i, j in candidate_pairs(sc, model.njoints)}
+    assert set(static) <= paired

@@ -311,8 +311,11 @@ _MJ_NAMES = {1: "hfield", 8: "sdf"}
 def _from_mujoco(model, mj, max_vertices: int) -> CollisionModel:
     """The geoms of a compiled MuJoCo model: each on the link of its body (the body's name
     in ``model.link_names``), at ``geom_pos``/``geom_quat`` in the body frame, which is the
-    link frame (``multibody.mujoco_model``). A geom of a type cgadyn has no shape for is
-    refused by name on a body, and left out with a warning on the world (a terrain's
+    link frame (``multibody.mujoco_model``). The geoms of the world body and of the bodies
+    welded to it (MuJoCo's ``body_weldid`` 0: no joint between them and the world, as
+    dm_control's manipulator's cups) are the world's, as MuJoCo counts them: shapes of no
+    link, at their place in the world. A geom of a type cgadyn has no shape for is
+    refused by name on a moving body, and left out with a warning on the world (a terrain's
     height field: a ``World`` given to ``simulate`` replaces the static geoms anyway). The
     world's geoms are the model's own static world (``contact.static_world``, K44), each
     with its friction; a model whose MJCF turns contacts off (``<flag contact="disable">``
@@ -328,16 +331,19 @@ def _from_mujoco(model, mj, max_vertices: int) -> CollisionModel:
     off = int(mj.opt.disableflags) & int(mujoco.mjtDisableBit.mjDSBL_CONTACT
                                          | mujoco.mjtDisableBit.mjDSBL_CONSTRAINT)
     dropped = []
+    data = mujoco.MjData(mj)
+    mujoco.mj_kinematics(mj, data)  # a static body's pose, which no qpos changes
     for g in range(mj.ngeom):
         gtype = int(mj.geom_type[g])
         name = mujoco.mj_id2name(mj, mujoco.mjtObj.mjOBJ_GEOM, g) or f"geom{g}"
         body = int(mj.geom_bodyid[g])
         bname = mujoco.mj_id2name(mj, mujoco.mjtObj.mjOBJ_BODY, body) or f"body{body}"
         where = f"geom {name!r} of body {bname!r}"
-        if off and body == 0:  # no static world where MuJoCo computes no contact
+        static = int(mj.body_weldid[body]) == 0  # the world body, or one welded to it
+        if off and static:  # no static world where MuJoCo computes no contact
             dropped.append(repr(name))
             continue
-        if gtype not in _MJ_GEOMS and body == 0:  # the world's: warned of, below
+        if gtype not in _MJ_GEOMS and static:  # the world's: warned of, below
             left_out.append(f"{name!r} ({_MJ_NAMES.get(gtype, gtype)})")
             continue
         if gtype not in _MJ_GEOMS:
@@ -366,9 +372,11 @@ def _from_mujoco(model, mj, max_vertices: int) -> CollisionModel:
                 shape = hull((f"mesh {m}", name), lambda v=verts: ConvexMesh(v, max_vertices))
         except ValueError as exc:
             raise ValueError(f"{where}: {exc}") from None
-        li = -1 if body == 0 else _link(model, bname)  # the world body: -1
+        li = -1 if static else _link(model, bname)  # the world's: -1
         placement = _pose(mj.geom_pos[g], _rotation(mj.geom_quat[g]))
-        if body != 0 and li < 0:
+        if static:  # at its place in the world
+            placement = _pose(data.xpos[body], data.xmat[body].reshape(3, 3)) @ placement
+        elif li < 0:
             raise ValueError(f"{where}: its body is not a link of {model.name!r}")
         out.append(Collision(name, shape, li, placement, int(mj.geom_contype[g]),
                              int(mj.geom_conaffinity[g]),

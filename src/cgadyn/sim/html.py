@@ -176,7 +176,7 @@ def skeleton(model) -> list[dict]:
 
 SHAPE_RGBA = (0.8, 0.62, 0.42, 1.0)
 """The colour of collision shapes drawn for a model without visuals."""
-WALL_RGBA = (0.55, 0.6, 0.7, 0.35)
+WALL_RGBA = (0.55, 0.6, 0.7, 0.2)
 """The colour of a wall (a plane obstacle): see-through, so that it hides nothing."""
 WALL_HALF_WIDTH = 1.5
 """Half the side of the square drawn for a wall (m): a plane has no edges of its own."""
