@@ -110,9 +110,10 @@ def format_info(info: dict) -> str:
     lines += ["", f"{'link':<36}moves with joint"]
     lines += [f"{lk['name']:<36}{lk['joint'] or '(fixed to world)'}" for lk in info["links"]]
     if info.get("actuators"):
-        lines += ["", f"{'actuator':<28}{'joint or tendon':<28}{'gear':>9}  control range"]
+        lines += ["", f"{'actuator':<28}{'joint or tendon':<28}{'gear':>9}  {'kind':<24}"
+                  f"control range"]
         lines += [f"{a['name']:<28}{a['joint'] or 'tendon ' + a['tendon']:<28}"
-                  f"{a['gear']:>9.4g}  "
+                  f"{a['gear']:>9.4g}  {_kind(a):<24}"
                   f"{_range([a['ctrlrange'][0]], [a['ctrlrange'][1]])}"
                   for a in info["actuators"]]
     if info.get("tendons"):
@@ -137,3 +138,16 @@ def run(args: argparse.Namespace) -> int:
     info["native_extension"] = native_extension()
     print_json(info) if args.json else print(format_info(info))
     return 0
+
+
+def _kind(actuator: dict) -> str:
+    """An actuator's kind by its gain and bias (A1): a motor, a position servo ``kp`` (and
+    ``kv``), a velocity servo ``kv``, or its force law."""
+    gain, (b0, b1, b2) = actuator["gain"], actuator["bias"]
+    if (gain, b0, b1, b2) == (1.0, 0.0, 0.0, 0.0):
+        return "motor"
+    if b0 == 0.0 and b1 == -gain and b1 != 0.0:
+        return f"position kp {gain:.4g}" + (f" kv {-b2:.4g}" if b2 else "")
+    if b0 == 0.0 and b1 == 0.0 and b2 == -gain and b2 != 0.0:
+        return f"velocity kv {gain:.4g}"
+    return f"{gain:.4g} u{b0:+.4g}{b1:+.4g} L{b2:+.4g} L'"

@@ -51,6 +51,8 @@ _ARRAY_FIELDS = (
     "cone_limit",
     "actuator_dof",
     "actuator_gear",
+    "actuator_gain",
+    "actuator_bias",
     "actuator_tendon",
     "actuator_ctrlrange",
     "actuator_forcerange",
@@ -159,7 +161,8 @@ class Model:
         there, the hopper's torso 1.25 m up its ``rootz`` slide), the neutral configuration
         for a URDF. ``cgadyn simulate`` starts there.
     actuator_names : tuple[str, ...]
-        The joint motors (MuJoCo's ``<motor joint=...>``), none by default
+        The actuators (MuJoCo's ``<motor>``, ``<position>``, ``<velocity>`` on a joint or a
+        fixed tendon), none by default
         (``cgadyn.actuator_torques``, ``simulate(ctrl=...)``).
     actuator_dof : int64 (na,)
         The velocity coordinate each joint motor drives (-1 for a tendon's motor).
@@ -167,7 +170,13 @@ class Model:
         The fixed tendon each tendon motor pulls (its index in ``tendon_names``; MuJoCo's
         ``<motor tendon=...>``: the torque ``gear · force · c_t``), -1 for a joint motor.
     actuator_gear : float64 (na,)
-        Torque per unit of control (MuJoCo's ``gear`` times its gain).
+        The transmission's ratio (MuJoCo's ``gear``): the actuator's length is ``gear``
+        times the coordinate's (or the tendon's), its torque ``gear`` times its force.
+    actuator_gain, actuator_bias : float64 (na,), (na, 3)
+        The force ``gain · ctrl + b₀ + b₁ L + b₂ L̇`` of a control at the actuator's length
+        L and its rate (MuJoCo's fixed ``gainprm[0]`` and affine ``biasprm[:3]``): a motor
+        has gain 1 and no bias, a position servo ``kp`` and ``(0, -kp, -kv)``, a velocity
+        servo ``kv`` and ``(0, 0, -kv)`` (``algorithms.actuators``, A1).
     actuator_ctrlrange, actuator_forcerange : float64 (na, 2)
         The control's range and the range of the force before the gear (``±inf``: none),
         as MuJoCo clamps them.
@@ -219,6 +228,8 @@ class Model:
     actuator_names: tuple = ()
     actuator_dof: np.ndarray | None = None
     actuator_gear: np.ndarray | None = None
+    actuator_gain: np.ndarray | None = None
+    actuator_bias: np.ndarray | None = None
     actuator_tendon: np.ndarray | None = None
     actuator_ctrlrange: np.ndarray | None = None
     actuator_forcerange: np.ndarray | None = None
@@ -235,6 +246,7 @@ class Model:
                 object.__setattr__(self, field, np.zeros(nv))
         na = len(self.actuator_names)
         defaults = {"actuator_dof": np.zeros(na, dtype=np.int64), "actuator_gear": np.ones(na),
+                    "actuator_gain": np.ones(na), "actuator_bias": np.zeros((na, 3)),
                     "actuator_tendon": np.full(na, -1, dtype=np.int64),
                     "actuator_ctrlrange": np.tile([-np.inf, np.inf], (na, 1)),
                     "actuator_forcerange": np.tile([-np.inf, np.inf], (na, 1))}
@@ -402,9 +414,16 @@ class Model:
             if tendon < 0 and not (tendon == -1 and 0 <= dof < self.nv):
                 raise ValueError(f"actuator {name!r} drives velocity coordinate {dof}; "
                                  f"expected one in [0, {self.nv})")
-            if not np.isfinite(self.actuator_gear[a]):
-                raise ValueError(f"actuator {name!r} has the gear {self.actuator_gear[a]}; "
-                                 f"expected a finite number")
+            for what, x in (("gear", self.actuator_gear[a]), ("gain", self.actuator_gain[a]),
+                            ("bias", self.actuator_bias[a])):
+                if not np.all(np.isfinite(x)):
+                    raise ValueError(f"actuator {name!r} has the {what} {x}; expected finite "
+                                     f"numbers")
+            if np.any(self.actuator_bias[a, 1:]) and np.any(
+                    np.isfinite(self.actuator_forcerange[a])):
+                raise ValueError(f"actuator {name!r} has a force range on a force that depends "
+                                 f"on the state (bias {self.actuator_bias[a].tolist()}); "
+                                 f"cgadyn clamps only a force of the control alone")
             for what in ("ctrlrange", "forcerange"):
                 lo, hi = getattr(self, f"actuator_{what}")[a]
                 if not lo <= hi:
@@ -436,19 +455,19 @@ class Model:
 
     @property
     def actuators(self) -> list[dict]:
-        """The motors, one dict each: ``name``, ``joint`` and ``dof`` (the velocity
-        coordinate) of a joint motor, ``tendon`` of a tendon's (the others None), ``gear``,
-        ``ctrlrange``, ``forcerange``."""
+        """The actuators, one dict each: ``name``, ``joint`` and ``dof`` (the velocity
+        coordinate) of a joint's, ``tendon`` of a tendon's (the others None), ``gear``,
+        ``gain``, ``bias`` (``b₀, b₁, b₂``), ``ctrlrange``, ``forcerange``."""
         return [{"name": name,
                  "joint": None if t >= 0 else self.joint_names[self.dof_joint[int(dof)]],
                  "dof": None if t >= 0 else int(dof),
                  "tendon": self.tendon_names[t] if t >= 0 else None,
-                 "gear": float(gear), "ctrlrange": tuple(map(float, c)),
-                 "forcerange": tuple(map(float, f))}
-                for name, dof, t, gear, c, f in zip(
+                 "gear": float(gear), "gain": float(gain), "bias": tuple(map(float, b)),
+                 "ctrlrange": tuple(map(float, c)), "forcerange": tuple(map(float, f))}
+                for name, dof, t, gear, gain, b, c, f in zip(
                     self.actuator_names, self.actuator_dof, self.actuator_tendon,
-                    self.actuator_gear, self.actuator_ctrlrange, self.actuator_forcerange,
-                    strict=True)]
+                    self.actuator_gear, self.actuator_gain, self.actuator_bias,
+                    self.actuator_ctrlrange, self.actuator_forcerange, strict=True)]
 
     def _check_axes(self):
         """Joint axes pass through the joint frame's origin (URDF's convention): a revolute

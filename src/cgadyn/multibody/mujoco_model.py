@@ -36,8 +36,11 @@ places every body. ``from_mujoco`` reads what it compiled, whole:
   ``jnt_limited`` (``Model.lower``, ``Model.upper`` for a hinge or a slide,
   ``Model.cone_limit`` for a ball) and ``dof_frictionloss`` (``Model.friction``), which the
   contact step enforces (``docs/contact.md``, "Joint limits", "Friction loss").
-- **Actuators**: the joint motors (``Model.actuators``: gear, control and force ranges);
-  other actuators are left out with a warning.
+- **Actuators** with a fixed gain, an affine bias and no activation state, on a hinge, a
+  slide or a fixed tendon: motors, and position and velocity servos (``Model.actuators``:
+  gear, gain, bias, control and force ranges; a servo's force ``gain · ctrl + b₀ + b₁ L +
+  b₂ L̇`` depends on its length L); other actuators (activation dynamics, muscles, a
+  clamped servo force) are left out with a warning.
 - **Tendons**: the springs and dampers of fixed tendons (``Model.tendon_*``, passive
   forces along ``L = Σ coef q``); a tendon's limit and friction loss, and fluid forces,
   are left out with a warning; a spatial tendon's spring or damper and a tendon's armature
@@ -309,14 +312,17 @@ def _motors_and_tendons(mj, model: Model, joint_of: dict, where: str) -> dict:
 
 
 def _motors(mj, model: Model, joint_of: dict, where: str) -> tuple[dict, list[int]]:
-    """The ``Model.actuator_*`` fields of MuJoCo's motors (a fixed gain of 1, no bias, no
-    activation dynamics: ``<motor>``) on a one-coordinate joint or a fixed tendon: the force
-    ``clamp(clamp(ctrl, ctrlrange), forcerange)`` times ``gear`` on the joint's coordinate,
-    or along the tendon (``algorithms.actuators``); and the MuJoCo tendon of each (-1 for a
-    joint). Any other actuator is left out, with a warning naming it."""
+    """The ``Model.actuator_*`` fields of MuJoCo's actuators with a fixed gain, no bias or
+    an affine one and no activation dynamics (``<motor>``, ``<position>``, ``<velocity>``,
+    ``<general>`` so made) on a one-coordinate joint or a fixed tendon: the force
+    ``clamp(gain · clamp(ctrl, ctrlrange) + b₀ + b₁ L + b₂ L̇, forcerange)`` times ``gear``
+    on the joint's coordinate, or along the tendon (``algorithms.actuators``, A1); and the
+    MuJoCo tendon of each (-1 for a joint). Any other actuator is left out, with a warning
+    naming it: one with activation dynamics (``dyntype``: a state of its own), a gain that
+    depends on the state, or a force range on a force that depends on the state."""
     import mujoco
 
-    names, dofs, gears, ctrl, force, skipped, pulled = [], [], [], [], [], [], []
+    names, dofs, gears, gains, biases, ctrl, force, skipped, pulled = ([] for _ in range(9))
     clamp = not _disabled(mj, "CLAMPCTRL")
     for a in range(mj.nu):
         name = _name(mj, _obj("ACTUATOR"), a, f"actuator{a}")
@@ -326,30 +332,38 @@ def _motors(mj, model: Model, joint_of: dict, where: str) -> tuple[dict, list[in
                     - model.joint_dofs(joint_of[target]).start == 1)
         on_tendon = (mj.actuator_trntype[a] == mujoco.mjtTrn.mjTRN_TENDON
                      and _fixed(mj, target))
-        motor = ((on_joint or on_tendon)
-                 and mj.actuator_gaintype[a] == mujoco.mjtGain.mjGAIN_FIXED
-                 and mj.actuator_biastype[a] == mujoco.mjtBias.mjBIAS_NONE
-                 and mj.actuator_dyntype[a] == mujoco.mjtDyn.mjDYN_NONE
-                 and mj.actuator_gainprm[a, 0] == 1.0)
-        if not motor:
+        affine = mj.actuator_biastype[a] == mujoco.mjtBias.mjBIAS_AFFINE
+        bias = np.array(mj.actuator_biasprm[a, :3], dtype=float) if affine else np.zeros(3)
+        clamped = bool(mj.actuator_forcelimited[a])
+        kept = ((on_joint or on_tendon)
+                and mj.actuator_gaintype[a] == mujoco.mjtGain.mjGAIN_FIXED
+                and (mj.actuator_biastype[a] == mujoco.mjtBias.mjBIAS_NONE or affine)
+                and mj.actuator_dyntype[a] == mujoco.mjtDyn.mjDYN_NONE
+                and not (clamped and np.any(bias[1:])))
+        if not kept:
             skipped.append(name)
             continue
         names.append(name)
         dofs.append(model.joint_dofs(joint_of[target]).start if on_joint else -1)
         pulled.append(-1 if on_joint else target)
         gears.append(float(mj.actuator_gear[a, 0]))
+        gains.append(float(mj.actuator_gainprm[a, 0]))
+        biases.append(bias)
         limited = clamp and bool(mj.actuator_ctrllimited[a])
         ctrl.append(mj.actuator_ctrlrange[a] if limited else (-np.inf, np.inf))
-        force.append(mj.actuator_forcerange[a] if mj.actuator_forcelimited[a]
-                     else (-np.inf, np.inf))
+        force.append(mj.actuator_forcerange[a] if clamped else (-np.inf, np.inf))
     if skipped:
-        warnings.warn(f"{where!r}: the actuators {', '.join(map(repr, skipped))} are not "
-                      f"motors (<motor joint=...> on a hinge or slide, <motor tendon=...> on "
-                      f"a fixed tendon); cgadyn models those only, so they are left out of "
-                      f"model.actuators", stacklevel=5)
+        warnings.warn(f"{where!r}: the actuators {', '.join(map(repr, skipped))} are left "
+                      f"out of model.actuators: cgadyn models actuators of a fixed gain and "
+                      f"an affine bias without activation dynamics (motors, position and "
+                      f"velocity servos, their force range only where the force does not "
+                      f"depend on the state) on a hinge, a slide or a fixed tendon",
+                      stacklevel=5)
     na = len(names)
     return dict(actuator_names=tuple(names), actuator_dof=np.array(dofs, dtype=np.int64),
                 actuator_gear=np.array(gears, dtype=float),
+                actuator_gain=np.array(gains, dtype=float),
+                actuator_bias=np.array(biases, dtype=float).reshape(na, 3),
                 actuator_ctrlrange=np.array(ctrl, dtype=float).reshape(na, 2),
                 actuator_forcerange=np.array(force, dtype=float).reshape(na, 2)), pulled
 

@@ -16,7 +16,7 @@ import numpy as np
 from .. import _arrays
 from .._threads import PARALLEL_LOCK
 from ..algorithms import _inputs
-from ..algorithms.actuators import actuator_torques
+from ..algorithms.actuators import actuator_springs, control_torques, state_dependent
 from ..algorithms.api import energy as _energy
 from ..algorithms.api import link_placements
 from ..algorithms.configuration import neutral
@@ -105,9 +105,10 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     last state only; ``passive``: add the joints' damping and spring torques
     (``cgadyn.passive_torques``, ``Model.damping``, ``Model.stiffness``) at every stage,
     as MuJoCo does (``False``: the rigid-body dynamics alone); ``ctrl``: None, or controls
-    per step for the model's motors (``Model.actuators``), (steps, na) or (B, steps, na),
-    held over each step: their torques (``cgadyn.actuator_torques``, MuJoCo's clamping)
-    are added to ``tau``, so that a Gymnasium policy's actions drive the rollout unchanged;
+    per step for the model's actuators (``Model.actuators``), (steps, na) or (B, steps,
+    na), held over each step: their torques (``cgadyn.actuator_torques``, MuJoCo's
+    clamping; a position or velocity servo's at each stage's state) are added to ``tau``,
+    so that a Gymnasium policy's actions drive the rollout unchanged;
     ``constraints``: None, or a list of ``cgadyn.Constraint`` of this model (loop closures,
     feet held, ``cgadyn.mujoco_constraints`` of an MJCF's equalities): every stage's q̈ then
     solves ``M q̈ = τ - h + Jᵀ λ``, ``J q̈ = -γ`` (``cgadyn.constrained_dynamics``, C6), γ
@@ -152,8 +153,10 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     """
     dt = _positive(dt)
     steps = _steps(steps)
-    if ctrl is not None:  # the motors' torques: state-independent, added to tau up front
-        u_ctrl = actuator_torques(model, ctrl)
+    servos = None
+    if ctrl is not None:  # the controls' torques, added to tau up front; a servo's spring
+        u_ctrl = control_torques(model, ctrl)  # and damper join the loop's tendons (A1)
+        servos = actuator_springs(model) if np.any(state_dependent(model)) else None
         if u_ctrl.ndim not in (2, 3) or u_ctrl.shape[-2] != steps:
             raise ValueError(f"ctrl must have shape (steps, na) = ({steps}, "
                              f"{len(model.actuator_names)}) or (B, steps, na), got "
@@ -179,9 +182,9 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     p = pack(model, () if constraints is None else constraints)  # checked: type, model
     settings = checked_settings(damping, None, 1e-12)
     server = _arrays.server((q0, v0, tau))
-    if server is not None and (p.nr or world is not None):
-        raise ValueError("simulate with constraints or a world takes numpy states; dask "
-                         "arrays of states are not supported with them yet")
+    if server is not None and (p.nr or world is not None or servos is not None):
+        raise ValueError("simulate with constraints, a world or servo actuators takes numpy "
+                         "states; dask arrays of states are not supported with them yet")
     if server is not None:  # dask arrays: chunks of rollouts, scheduled by dask
         return server.simulate(model, q0, v0, dt, steps, tau, dict(
             integrator=integrator, gravity=gravity, f_ext=f_ext, controller=controller,
@@ -217,6 +220,9 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
                     or np.any(model.tendon_stiffness) or np.any(model.tendon_damping)):
         flags |= _passive(model, coords)
         tendons = _tendons(model)
+    if servos is not None:  # evaluated as the passive tendons are, passive or not
+        flags |= PASSIVE
+        tendons = np.concatenate([tendons, _servo_rows(servos, model.nv)])
     step_model, step_inertia = packed, None
     if world is not None and flags & (PD_FLAG | PASSIVE):  # the contact step's gains implicit
         step_model, step_inertia = _implicit(packed, coords, dt)
@@ -480,6 +486,17 @@ def _tendons(model) -> np.ndarray:
     return np.ascontiguousarray(np.column_stack([
         model.tendon_coefficients, model.tendon_stiffness, model.tendon_damping,
         model.tendon_spring_length]).reshape(-1, model.nv + TENDON))
+
+
+def _servo_rows(servos: tuple, nv: int) -> np.ndarray:
+    """The servos' springs and dampers (``algorithms.actuators.actuator_springs``) as rows
+    of the compiled loop's tendons (rest length 0), their moment arms padded with zeros to
+    ``nv`` (the World's free bodies come after the robot's coordinates)."""
+    W, stiffness, damping = servos
+    rows = np.zeros((len(W), nv + TENDON))
+    rows[:, :W.shape[1]] = W
+    rows[:, nv], rows[:, nv + 1] = stiffness, damping
+    return rows
 
 
 def _implicit(packed: np.ndarray, coords: np.ndarray, dt: float
