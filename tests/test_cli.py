@@ -184,6 +184,24 @@ def test_info_floating_base(capsys):
     assert "continuous" in {j["kind"] for j in info["joints"]}
 
 
+def test_info_shows_an_mjcfs_world_and_its_actuators(capsys):
+    """An MJCF's static world: its ground and walls (dm_control's quadruped: four, each
+    facing the arena's middle); a URDF has none; each actuator's kind (fish's servos)."""
+    pytest.importorskip("mujoco")
+    code, out, _ = run(capsys, "info", "dm_control:quadruped", "--json")
+    world = strict_json(out)["world"]
+    assert code == 0 and world["ground"]["height"] == 0.0
+    walls = {o["name"]: o for o in world["obstacles"]}
+    assert set(walls) == {"wall_px", "wall_py", "wall_nx", "wall_ny"}
+    assert all(o["shape"].startswith("wall, facing") for o in walls.values())
+    assert "wall_px                   wall, facing (0.7071, 0, 0.7071)" in \
+        run(capsys, "info", "dm_control:quadruped")[1]
+    code, out, _ = run(capsys, "info", "double_pendulum", "--json")
+    assert strict_json(out)["world"] is None
+    code, out, _ = run(capsys, "info", "dm_control:fish")
+    assert "position kp 0.0005" in out
+
+
 def test_info_accepts_a_path_with_any_extension(tmp_path, capsys):
     path = tmp_path / "arm.description"
     path.write_text(robot_path("ur5").read_text())

@@ -1,6 +1,6 @@
 """``cgadyn info``: a robot's joints (kind, coordinates, limits, body mass), links and mass,
-its base and the sizes nq and nv, and whether the C extension of fast single calls is
-there, as text or JSON."""
+its base and the sizes nq and nv, its actuators and tendons, an MJCF's static world, and
+whether the C extension of fast single calls is there, as text or JSON."""
 
 from __future__ import annotations
 
@@ -123,6 +123,17 @@ def format_info(info: dict) -> str:
                   f"{_range([t['spring_length'][0]], [t['spring_length'][1]]):<16}"
                   + " + ".join(f"{c:.4g} {j}" for j, c in t["joints"].items())
                   for t in info["tendons"]]
+    world = info.get("world")
+    if world is not None:
+        ground = world["ground"]
+        lines += ["", "world (the MJCF's static geoms; a cgadyn.World given to simulate "
+                  "replaces it):",
+                  "  ground: " + ("none" if ground is None else
+                                  f"height {ground['height']:.4g} m, normal "
+                                  f"{_vector(ground['normal'])}, friction "
+                                  f"{ground['friction']:.4g}")]
+        lines += [f"  {o['name']:<26}{o['shape']:<44}at {_vector(o['position'])}"
+                  for o in world["obstacles"]]
     native = info.get("native_extension")
     if native is not None:
         lines += ["", f"C extension (fast single calls): {native['status']}"]
@@ -131,10 +142,42 @@ def format_info(info: dict) -> str:
     return "\n".join(lines)
 
 
+def world_info(model, robot) -> dict | None:
+    """The static world of an MJCF ``robot`` (``contact.static_world``, K44): its ground
+    (height, normal, friction) and its obstacles (name, shape, position; a plane a wall);
+    None for a URDF, or where its MJCF has no world (contacts off: warned on reading)."""
+    from ..contact.model import collision_model
+    from ..contact.static_world import default_world
+    from ..multibody import registry
+
+    if registry.resolve(robot)[0] != "mjcf":
+        return None
+    world = default_world(collision_model(model, robot))
+    if world is None:
+        return None
+    return {"ground": {"height": world.ground_height, "normal": list(world.ground_normal),
+                       "friction": world.friction} if world.ground else None,
+            "obstacles": [{"name": o.name, "shape": _shape(o), "position": list(o.position)}
+                          for o in world.obstacles]}
+
+
+def _shape(obstacle) -> str:
+    """An obstacle's shape; a plane as a wall with its normal in the world."""
+    from ..contact.shapes import PLANE
+
+    shape = obstacle.shape
+    if shape.kind != PLANE:
+        return repr(shape)
+    n = obstacle.pose[:3, :3] @ shape.placement[:3, :3] @ shape.normal
+    return f"wall, facing {_vector(n.tolist())}"
+
+
 def run(args: argparse.Namespace) -> int:
     from ..multibody import registry
 
-    info = model_info(registry.load(args.robot, floating_base=floating_base(args)))
+    model = registry.load(args.robot, floating_base=floating_base(args))
+    info = model_info(model)
+    info["world"] = world_info(model, args.robot)
     info["native_extension"] = native_extension()
     print_json(info) if args.json else print(format_info(info))
     return 0
@@ -151,3 +194,7 @@ def _kind(actuator: dict) -> str:
     if b0 == 0.0 and b1 == 0.0 and b2 == -gain and b2 != 0.0:
         return f"velocity kv {gain:.4g}"
     return f"{gain:.4g} u{b0:+.4g}{b1:+.4g} L{b2:+.4g} L'"
+
+
+def _vector(x: list[float]) -> str:
+    return "(" + ", ".join(f"{v:.4g}" for v in x) + ")"
