@@ -372,3 +372,32 @@ def test_the_geoms_of_bodies_welded_to_the_world_are_the_worlds():
     sc = scene_collisions(cm, world, model)
     paired = {sc.names[j] for i, j in candidate_pairs(sc, model.njoints)}
     assert set(static) <= paired
+
+
+def test_a_rollout_stops_where_a_pairs_depth_is_not_computed():
+    """A cylinder started overlapping a box obstacle's corner where EPA cannot grow its
+    polytope (a few poses in ten thousand, K9a; which ones moves with the last bits of the
+    pose, so two are tried): the rollout stops at that step and names the shapes, instead
+    of stepping on without their contact."""
+    poses = [((-0.24562236904876394, 0.1355425525136154, 0.09422784572927999),
+              (-0.7212961384583272, 0.4192720864090198, 0.1500620836857223,
+               0.5304942688128049)),
+             ((-0.15944458835932407, 0.23438580180784074, 0.0078507818028011),
+              (0.702355410221723, -0.6292248034146606, -0.08022570238685432,
+               0.32301216877478905))]
+    stopped = 0
+    for position, orientation in poses:
+        cylinder = cgadyn.Body(cgadyn.Cylinder(0.05, 0.2), 1.0, position=position,
+                               orientation=orientation)
+        world = cgadyn.World(ground=False, bodies=[cylinder],
+                             obstacles=[Obstacle(cgadyn.Box((0.2, 0.2, 0.05)), name="box")])
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            traj = cgadyn.simulate(empty_model(), np.zeros(0), np.zeros(0), DT, 5,
+                                   integrator=SIE, world=world)
+        if traj.completed < 5:
+            stopped += 1
+            assert traj.completed == 0
+            assert any("the penetration depth of the shapes 'body0' and 'box' was not "
+                       "computed" in str(w.message) for w in caught)
+    assert stopped >= 1

@@ -35,6 +35,10 @@ joint's place) violated past ``constraints.core.CONFLICT``: the set has no solut
 CONTACT_UNSOLVED = 9
 """A rollout with contact: neither ADMM nor PGS solved a step's contact problem
 (``sim.contact``)."""
+CONTACT_PAIR = 10
+"""A rollout with contact: the penetration depth of a pair of shapes was not computed (a
+curved overlap whose bounds do not meet, K9a), reported in the joint's place by the pair's
+index (``sim.pairs``): the step would otherwise go on without that contact."""
 
 JOINT_UNIT = 256
 SAMPLE_UNIT = 1 << 24

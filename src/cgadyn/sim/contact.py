@@ -48,7 +48,14 @@ from ..algorithms.crba import crba_core
 from ..algorithms.ltdl import ltdl, ltdl_solve
 from ..algorithms.manifold import integrate_joints
 from ..algorithms.rnea import rnea_core
-from ..algorithms.status import CONTACT_UNSOLVED, NONFINITE_RESULT, OK, SINGULAR, fault
+from ..algorithms.status import (
+    CONTACT_PAIR,
+    CONTACT_UNSOLVED,
+    NONFINITE_RESULT,
+    OK,
+    SINGULAR,
+    fault,
+)
 from ..constraints.core import _add_columns, _delassus, _world_columns, constraint_system
 from ..constraints.work.core import workspace as constraint_workspace
 from ..constraints.work.core import workspace_size as constraint_workspace_size
@@ -73,6 +80,7 @@ from ..kernels.rigid import rigid_frame, rigid_rotate
 from .pairs import (
     carve_pairs,
     detect_pairs,
+    failed_pair,
     ground_friction,
     keep_pairs,
     keep_slot,
@@ -382,7 +390,8 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     the contacts into the slots of ``force`` (world frame, λ / dt; zero where none), their
     number into ``count``, the solvers' report into ``report``. A status:
     ``CONTACT_UNSOLVED`` where neither solver converges and a residual exceeds
-    ``accept``. With bilateral constraints (``con``, ``rollout._bind``'s; None for none),
+    ``accept``, ``CONTACT_PAIR`` (at the pair's index) where a pair's penetration depth is
+    not computed. With bilateral constraints (``con``, ``rollout._bind``'s; None for none),
     their rows follow the others, unbounded, and hold ``J v⁺ = J v_free``: the free
     velocity satisfies them (the constrained dynamics, C6-C7), and the impulses may not
     break them (C14); their impulses over dt are added to the forces λ of the state in
@@ -390,7 +399,9 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     w_ = world
     k_ = constraint_workspace(ws.data_pointer(w_.cwork), m, 0)
     _world_columns(m, q, v, False, k_)  # the joints' world motors and Jacobian columns
-    nc, nl = _detect(m, w_, k_, q, v, vn, dt)
+    nc, nl, failed = _detect(m, w_, k_, q, v, vn, dt)
+    if failed >= 0:  # a pair's depth not computed: stop rather than go on without it
+        return fault(CONTACT_PAIR, failed)
     nf = w_.world.frictions.shape[0]
     for k in range(w_.force.shape[0]):  # the slots read (``had``): zero unless _keep writes
         if w_.had[k] != 0.0:
@@ -509,7 +520,8 @@ def _detect(m, w_, k_, q, v, vn, dt):
     joint's frame (K10, ``_joint_frames``); their contacts
     with the ground and with each other whose gap the step may close (K21, K21a, K22, K37,
     K39) into ``out``, ``counts`` and the pairs' scratch; the joint limits' bounds near which
-    the step may go into ``lrows`` (K26). Returns ``(contacts, limit rows)``."""
+    the step may go into ``lrows`` (K26). Returns ``(contacts, limit rows, the first pair
+    whose distance was not computed or -1)``."""
     wa = w_.world
     links, poses, frames = wa.links, w_.poses, wa.frames
     for s in range(links.shape[0]):
@@ -540,7 +552,7 @@ def _detect(m, w_, k_, q, v, vn, dt):
                        wa.offsets, poses, params[MARGIN], params[PATCH], w_.twists,
                        dt)  # K21a, K37, K39
     nl = active_limits(wa.limits, q, v, vn, dt, params[MARGIN], w_.lrows)  # K26
-    return nc, nl
+    return nc, nl, failed_pair(wa.pairs, w_.pairs)
 
 
 @inline

@@ -109,6 +109,19 @@ def detect_pairs(pairs, radii, ps, kinds, sizes, vertices, offsets, poses, margi
 
 
 @serial
+def failed_pair(pairs, ps):
+    """The first pair whose distance ``detect_pairs`` did not compute (its status not OK),
+    or -1: a step stops there rather than go on without that pair's contact."""
+    if pairs is None:
+        return -1
+    _, _, _, status, _, _, _, _, _ = ps  # unpacked: ps may be typed Optional
+    for p in range(status.shape[0]):
+        if status[p] != 0.0:
+            return p
+    return -1
+
+
+@serial
 def pair_rows(pairs, friction, ps, m, Sw, links, J, mu, lam, prev, had, c, shapes):
     """The rows ``(t₁, t₂, n)`` of each pair contact from row ``3 c`` of ``J``: ``J_a(x_a)
     - J_b(x_b)`` turned into the contact's frame (K37), its friction (K38) into ``mu``,

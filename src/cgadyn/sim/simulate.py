@@ -22,6 +22,7 @@ from ..algorithms.api import link_placements
 from ..algorithms.configuration import neutral
 from ..algorithms.status import (
     CONSTRAINTS_CONFLICT,
+    CONTACT_PAIR,
     CONTACT_UNSOLVED,
     DELASSUS_SINGULAR,
     DIVERGED,
@@ -247,7 +248,9 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
         rollouts(step_model, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, tendons,
                  q_ref, v_ref, cons, solve, arrays, dt, steps, every, Q, V, A, X, CF, CS, CT,
                  CR, completed, status)
-    message = _message(model, status, completed, dt, steps, batch, coords, A, p, CR)
+    pairs = None if arrays is None or arrays.pairs is None else \
+        [(shapes[i].name, shapes[j].name) for i, j in arrays.pairs]
+    message = _message(model, status, completed, dt, steps, batch, coords, A, p, CR, pairs)
     if message:
         warnings.warn(message, SimulationDiverged, stacklevel=2)
     t = _times(dt, steps, every, rows)
@@ -558,12 +561,18 @@ def _constraint_reason(code: int, row: int, p) -> str:
 
 
 def _reason(model, code: int, joint: int, k: int, coords: np.ndarray, dt: float,
-            initial: bool, p=None, report=None) -> str:
+            initial: bool, p=None, report=None, pairs=None) -> str:
     """Why a rollout stopped after ``k`` steps, in words: divergence (the quantity that blew
     up, and the likely cause), the constraints (``joint`` then holds their row), or, when
     ABA failed on the ``initial`` state itself, a fault of the model or of that state."""
     if code in (DELASSUS_SINGULAR, CONSTRAINTS_CONFLICT) and p is not None and p.nr:
         return _constraint_reason(code, joint, p)
+    if code == CONTACT_PAIR and pairs is not None:
+        a, b = pairs[joint]
+        return (f"at step {k + 1} the penetration depth of the shapes {a!r} and {b!r} was not "
+                f"computed (an overlap of a curved shape that EPA and its refinement do not "
+                f"settle, docs/contact.md K9a); the rollout stops rather than step without their "
+                f"contact (a smaller dt keeps overlaps shallower)")
     if code == CONTACT_UNSOLVED and report is not None:
         return (f"the contact solvers did not converge in {int(report[0])} iterations at "
                 f"step {k + 1} (residuals: primal {report[1]:.2e}, dual {report[2]:.2e}, "
@@ -591,7 +600,8 @@ def _reason(model, code: int, joint: int, k: int, coords: np.ndarray, dt: float,
 
 
 def _message(model, status: np.ndarray, completed: np.ndarray, dt: float, steps: int,
-             batch: int, coords: np.ndarray, A: np.ndarray, p=None, report=None) -> str:
+             batch: int, coords: np.ndarray, A: np.ndarray, p=None, report=None,
+             pairs=None) -> str:
     """What stopped the rollouts that stopped ("" if none did); ``A`` the accelerations
     kept, NaN in row 0 where ABA failed on a rollout's initial state."""
     stopped = np.flatnonzero(status)
@@ -602,7 +612,7 @@ def _message(model, status: np.ndarray, completed: np.ndarray, dt: float, steps:
     k = int(completed[first])
     initial = k == 0 and not np.isfinite(A[first, 0]).all()
     reason = _reason(model, code, joint, k, coords, dt, initial, p,
-                     None if report is None else report[first])
+                     None if report is None else report[first], pairs)
     where = f"rollout {first} " if batch else ""
     more = f" ({stopped.size} of {batch} rollouts stopped)" if batch else ""
     return (f"simulation of {model.name!r}: {where}stopped after {k} of {steps} steps "
