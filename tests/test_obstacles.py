@@ -401,24 +401,3 @@ def test_a_rollout_stops_where_a_pairs_depth_is_not_computed():
             assert any("the penetration depth of the shapes 'body0' and 'box' was not "
                        "computed" in str(w.message) for w in caught)
     assert stopped >= 1
-
-
-def test_a_box_dropped_on_a_table_rests_on_all_four_corners():
-    """A box dropped flat onto a table obstacle: its four corners' contacts are more rows
-    (12) than its coordinates (6), so the impact step takes ADMM first (K25a): at rest every
-    corner carries between 0.7 and 1.3 of a quarter of its weight, with friction at most
-    0.8 of its cone, and no step takes more than a hundred iterations (PGS alone put the
-    weight on two diagonal corners, friction at 0.98 of their cones, and took 1003 sweeps
-    at 0.67 s)."""
-    table = Obstacle(cgadyn.Box((0.4, 0.4, 0.02)), position=(0, 0, 0.5), name="table")
-    box = cgadyn.Body(cgadyn.Box((0.05, 0.05, 0.05)), 1.0, position=(0.1, 0.0, 0.8))
-    traj = cgadyn.simulate(empty_model(), np.zeros(0), np.zeros(0), DT, 1000, integrator=SIE,
-                           world=cgadyn.World(bodies=[box], obstacles=[table]))
-    assert traj.q[-1, 2] == pytest.approx(0.57, abs=1e-4)
-    assert traj.contact_iterations.max() <= 100
-    corners = traj.contacts(999)
-    assert len(corners) == 4 and {c.other for c in corners} == {"table"}
-    assert sum(c.force[2] for c in corners) == pytest.approx(9.81, rel=1e-6)
-    for c in corners:
-        assert 0.7 * 9.81 / 4 <= c.force[2] <= 1.3 * 9.81 / 4
-        assert np.hypot(*c.force[:2]) <= 0.8 * c.force[2]  # the World's friction: 1

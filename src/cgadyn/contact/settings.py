@@ -31,10 +31,7 @@ class ContactSettings:
     does not converge the other goes on from its last forces. PGS first: on the redundant
     contacts of a robot standing on patches (a box's four corners, two per lying capsule;
     ``G`` far from full rank) it meets the tolerance in tens of sweeps where ADMM takes
-    hundreds of iterations (``validation/contact_benchmark.py`` measures both). Where
-    warm starts are on, a rollout's step whose rows outnumber the model's coordinates and
-    all start from zero (an impact on a box's four corners) takes ADMM first, which splits
-    the impact evenly where PGS's sweeps would load two diagonal corners (K25a).
+    hundreds of iterations (``validation/contact_benchmark.py`` measures both).
     ``tolerance``: the stopping rule's absolute tolerance on each residual (K19; velocities
     in m/s and rad/s).
     ``max_iterations``: per solver. ``accept``: where neither solver meets ``tolerance``

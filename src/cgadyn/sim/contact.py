@@ -443,7 +443,7 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     _free_term(m, w_, nc, nl, J, g, R, vn, dt)
     for r in range(mc - nb, mc):
         g[r] = 0.0  # J v⁺ = J v_free on the bilateral rows (C14)
-    status = _solve(w_, nc, nl + nf + nb, m.nv, warm, G, g, lam, R, Cs, w)
+    status = _solve(w_, nc, nl + nf + nb, warm, G, g, lam, R, Cs, w)
     if status != OK:
         return status
     _correction(m, w_, k_, nc, J, G, g, lam, dt, w)  # K43, applied after the step
@@ -640,12 +640,11 @@ def _free_term(m, w_, nc, nl, J, g, R, vn, dt):
 
 
 @inline
-def _solve(w_, nc, ni, nv, warm, G, g, lam, R, Cs, w):
+def _solve(w_, nc, ni, warm, G, g, lam, R, Cs, w):
     """λ by the solver ``params`` names first (from the warm start where ``warm`` and the
-    settings allow it, else from zero; ADMM where warm starts are on, every row starts
-    from zero and the rows outnumber the ``nv`` coordinates, K25a), then by the other from
-    the first one's λ where the first stops short (K18); the report of both into
-    ``report``; ``ni`` interval rows after the cones' (``bounds``). A status:
+    settings allow it, else from zero), then by the other from the first one's λ where the
+    first stops short (K18); the report of both into ``report``; ``ni`` interval rows
+    after the cones' (``bounds``). A status:
     ``CONTACT_UNSOLVED`` where neither converges and a residual exceeds ``accept``."""
     params, settings, info, report = w_.world.params, w_.settings, w_.info, w_.report
     for i in range(ncp.SETTINGS):
@@ -656,8 +655,6 @@ def _solve(w_, nc, ni, nv, warm, G, g, lam, R, Cs, w):
             lam[r] = 0.0
     muv, bv = w_.mu[:nc], w_.bounds[:ni]
     first = int(params[FIRST])
-    if params[WARM] != 0.0 and lam.shape[0] > nv and _at_rest(lam):  # K25a
-        first = ADMM  # an impact on more rows than coordinates: a hyperstatic set
     solve_one(first, G, g, muv, bv, R, settings, lam, info, Cs, w)
     iterations = info[ncp.ITERATIONS]
     if info[ncp.CONVERGED] == 0.0:
@@ -670,17 +667,6 @@ def _solve(w_, nc, ni, nv, warm, G, g, lam, R, Cs, w):
     if info[ncp.CONVERGED] == 0.0 and max(report[1], report[2], report[3]) > params[ACCEPT]:
         return fault(CONTACT_UNSOLVED, -1)
     return OK
-
-
-@inline
-def _at_rest(lam):
-    """Whether every row's warm start is zero: no contact pushed in the step before (they
-    were apart, or only within the margin), so the forces of this one arise from nothing
-    (K25a)."""
-    for r in range(lam.shape[0]):
-        if lam[r] != 0.0:
-            return False
-    return True
 
 
 @inline
