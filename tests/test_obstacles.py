@@ -375,29 +375,24 @@ def test_the_geoms_of_bodies_welded_to_the_world_are_the_worlds():
 
 
 def test_a_rollout_stops_where_a_pairs_depth_is_not_computed():
-    """A cylinder started overlapping a box obstacle's corner where EPA cannot grow its
-    polytope (a few poses in ten thousand, K9a; which ones moves with the last bits of the
-    pose, so two are tried): the rollout stops at that step and names the shapes, instead
-    of stepping on without their contact."""
-    poses = [((-0.24562236904876394, 0.1355425525136154, 0.09422784572927999),
-              (-0.7212961384583272, 0.4192720864090198, 0.1500620836857223,
-               0.5304942688128049)),
-             ((-0.15944458835932407, 0.23438580180784074, 0.0078507818028011),
-              (0.702355410221723, -0.6292248034146606, -0.08022570238685432,
-               0.32301216877478905))]
-    stopped = 0
-    for position, orientation in poses:
-        cylinder = cgadyn.Body(cgadyn.Cylinder(0.05, 0.2), 1.0, position=position,
-                               orientation=orientation)
-        world = cgadyn.World(ground=False, bodies=[cylinder],
-                             obstacles=[Obstacle(cgadyn.Box((0.2, 0.2, 0.05)), name="box")])
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            traj = cgadyn.simulate(empty_model(), np.zeros(0), np.zeros(0), DT, 5,
-                                   integrator=SIE, world=world)
-        if traj.completed < 5:
-            stopped += 1
-            assert traj.completed == 0
-            assert any("the penetration depth of the shapes 'body0' and 'box' was not "
-                       "computed" in str(w.message) for w in caught)
-    assert stopped >= 1
+    """A pair whose penetration depth is not computed (K9a: a few poses in ten thousand of
+    a cylinder at a box's corner, which ones moving with the last bits of the pose) stops
+    the rollout: ``failed_pair`` finds the first pair whose status is not OK in the
+    detection's scratch, and the rollout's message names its two shapes."""
+    from cgadyn.algorithms.status import CONTACT_PAIR, fault
+    from cgadyn.sim.pairs import failed_pair
+    from cgadyn.sim.simulate import _message
+
+    pairs = np.array([[1, 0], [2, 0]], dtype=np.int64)
+    status = np.zeros(2)
+    ps = (np.zeros((2, 4, 4)), np.zeros(2), np.zeros((2, 3)), status, np.zeros((3, 4)),
+          np.zeros(8), np.zeros(10), np.zeros(4), np.zeros((4, 4)))
+    assert failed_pair(pairs, ps) == -1 and failed_pair(None, ps) == -1
+    status[1] = 1.0  # PENETRATION_UNSUPPORTED
+    assert failed_pair(pairs, ps) == 1
+    model = empty_model()
+    message = _message(model, np.array([fault(CONTACT_PAIR, 1)]), np.array([3]), DT, 5, 0,
+                       np.zeros((8, 0)), np.zeros((1, 4, 0)), None, None,
+                       [("body0", "box"), ("body1", "box")])
+    assert "stopped after 3 of 5 steps" in message
+    assert "the penetration depth of the shapes 'body1' and 'box' was not computed" in message
