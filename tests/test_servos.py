@@ -52,6 +52,17 @@ def _arm():
     return cgadyn.from_mujoco(mj), mj
 
 
+def _mujoco_rollout(mj, q0, v0, ctrl):
+    """MuJoCo's own rollout of ``mj`` from ``(q0, v0)`` under the controls ``ctrl`` (one row
+    per step): its data after the last step."""
+    data = mujoco.MjData(mj)
+    data.qpos[:], data.qvel[:] = q0, v0
+    for u in ctrl:
+        data.ctrl[:] = u
+        mujoco.mj_step(mj, data)
+    return data
+
+
 def test_the_arms_actuators_are_read_with_their_gains_and_biases():
     model, _ = _arm()
     info = {a["name"]: a for a in model.actuators}
@@ -105,11 +116,7 @@ def test_a_rollout_under_servo_controls_follows_mujocos():
     ctrl[:, 1], ctrl[:, 2], ctrl[:, 3], ctrl[:, 4] = 1.0, 0.05, 0.3, -1.0
     q0, v0 = np.array([0.3, -0.4, 0.02]), np.array([0.5, 0.0, -0.1])
     traj = cgadyn.simulate(model, q0, v0, 1e-3, steps, ctrl=ctrl, gravity=mj.opt.gravity)
-    data = mujoco.MjData(mj)
-    data.qpos[:], data.qvel[:] = q0, v0
-    for k in range(steps):
-        data.ctrl[:] = ctrl[k]
-        mujoco.mj_step(mj, data)
+    data = _mujoco_rollout(mj, q0, v0, ctrl)
     np.testing.assert_allclose(traj.q[-1], data.qpos, rtol=0, atol=1e-8)
     np.testing.assert_allclose(traj.v[-1], data.qvel, rtol=0, atol=1e-8)
     # passive=False: the shoulder's damper is gone, the servos act still (MuJoCo without
@@ -117,11 +124,7 @@ def test_a_rollout_under_servo_controls_follows_mujocos():
     bare = cgadyn.simulate(model, q0, v0, 1e-3, steps, ctrl=ctrl, gravity=mj.opt.gravity,
                            passive=False)
     mj.dof_damping[:] = 0.0
-    data = mujoco.MjData(mj)
-    data.qpos[:], data.qvel[:] = q0, v0
-    for k in range(steps):
-        data.ctrl[:] = ctrl[k]
-        mujoco.mj_step(mj, data)
+    data = _mujoco_rollout(mj, q0, v0, ctrl)
     np.testing.assert_allclose(bare.q[-1], data.qpos, rtol=0, atol=1e-8)
     assert not np.allclose(bare.q[-1], traj.q[-1], atol=1e-4)
     with pytest.raises(ValueError, match="are servos, whose force depends on the state"):

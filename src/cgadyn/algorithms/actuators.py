@@ -81,8 +81,7 @@ def actuator_torques(model, ctrl, q=None, v=None) -> np.ndarray:
         v = _state(model, v, model.nv, "v")
         length, rate = additive_values(model, q) @ W.T, v @ W.T
         force = force + model.actuator_bias[:, 1] * length + model.actuator_bias[:, 2] * rate
-    force = np.clip(force, model.actuator_forcerange[:, 0], model.actuator_forcerange[:, 1])
-    return force @ W
+    return _clamped(model, force) @ W
 
 
 def control_torques(model, ctrl) -> np.ndarray:
@@ -90,9 +89,13 @@ def control_torques(model, ctrl) -> np.ndarray:
     servos' springs and dampers (``actuator_springs``), which ``simulate`` evaluates at
     each stage's state."""
     u = _controls(model, ctrl)
-    force = np.clip(model.actuator_gain * u + model.actuator_bias[:, 0],
-                    model.actuator_forcerange[:, 0], model.actuator_forcerange[:, 1])
-    return force @ actuator_moments(model)
+    force = model.actuator_gain * u + model.actuator_bias[:, 0]
+    return _clamped(model, force) @ actuator_moments(model)
+
+
+def _clamped(model, force: np.ndarray) -> np.ndarray:
+    """The forces clamped to each actuator's ``forcerange`` (A1)."""
+    return np.clip(force, model.actuator_forcerange[:, 0], model.actuator_forcerange[:, 1])
 
 
 def actuator_springs(model) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
