@@ -29,7 +29,7 @@ def _limits(values, j: int, idx) -> list[float]:
 def model_info(model) -> dict:
     """Base, sizes, joints (kind, parent, coordinates, limits, armature, damping,
     stiffness, body mass), links (with the joint they move with), actuators, fixed tendons'
-    springs and dampers, total mass and
+    springs and dampers, couplings (``Σ coef q = offset``), total mass and
     home configuration (``Model.home``; ``home_is_neutral`` where it is the neutral one) of
     a model."""
     from ..algorithms import neutral
@@ -64,6 +64,11 @@ def model_info(model) -> dict:
                 for name, c, k_t, b_t, length in zip(
                     model.tendon_names, model.tendon_coefficients, model.tendon_stiffness,
                     model.tendon_damping, model.tendon_spring_length, strict=True)],
+            "couplings": [
+                {"name": name, "joints": {model.joint_names[model.dof_joint[k]]: float(a[k])
+                                          for k in np.flatnonzero(a)}, "offset": float(b)}
+                for name, a, b in zip(model.coupling_names, model.coupling_coefficients,
+                                      model.coupling_offset, strict=True)],
             "home": [float(x) for x in model.home],
             "home_is_neutral": bool(np.array_equal(model.home, neutral(model)))}
 
@@ -123,6 +128,11 @@ def format_info(info: dict) -> str:
                   f"{_range([t['spring_length'][0]], [t['spring_length'][1]]):<16}"
                   + " + ".join(f"{c:.4g} {j}" for j, c in t["joints"].items())
                   for t in info["tendons"]]
+    if info.get("couplings"):
+        lines += ["", f"{'coupling':<28}Σ coef q = offset (held by the contact step)"]
+        lines += [f"{c['name']:<28}"
+                  + " + ".join(f"{x:.4g} {j}" for j, x in c["joints"].items())
+                  + f" = {c['offset']:.6g}" for c in info["couplings"]]
     world = info.get("world")
     if world is not None:
         ground = world["ground"]

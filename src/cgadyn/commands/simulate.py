@@ -401,6 +401,10 @@ def run(args: argparse.Namespace) -> int:
     plot = check_plot_path(args.plot)
     html = check_html_path(args.html)
     model = registry.load(args.robot, floating_base=floating_base(args))
+    if model.coupling_names and not ground:
+        raise UsageError(f"{model.name!r} couples its joints "
+                         f"({', '.join(map(repr, model.coupling_names))}), which the contact "
+                         f"step holds: add --ground")
     if args.drop is not None and not model.floating_base:
         raise UsageError(f"--drop lifts a floating base, but {model.name!r} has a fixed base "
                          f"(add --floating-base to give it one)")

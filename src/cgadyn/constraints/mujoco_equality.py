@@ -17,9 +17,11 @@ constraints here hold the same (``docs/constraints.md``, C11):
 Body2 is the world where ``eq_obj2id`` is 0. cgadyn's links carry MuJoCo's body frames and
 named sites (``multibody.mujoco_model``), so each placement is MuJoCo's number, unchanged.
 
-What a rigid constraint cannot hold is refused by name: joint and tendon couplings
-(polynomials of joint values), flex equalities, and a weld's ``torquescale`` other than 1
-(a weld that holds the orientation only partly). Equalities inactive at the start
+Joint and tendon couplings (polynomials of joint values) are not points or frames: the
+model holds the linear ones itself (``Model.coupling_*``, read by ``from_mujoco``; the
+contact step's rows, docs/contact.md K45), so they are left to it here. What a rigid
+constraint cannot hold is refused by name: flex equalities, and a weld's ``torquescale``
+other than 1 (a weld that holds the orientation only partly). Equalities inactive at the start
 (``eq_active0`` 0) are left out, as MuJoCo leaves them out of its solver. MuJoCo's
 constraints are soft (``solref``, ``solimp``): cgadyn's are exact, with the Baumgarte gains
 ``corrector`` (C5) keeping their drift bounded in a simulation.
@@ -84,12 +86,12 @@ def mujoco_constraints(model, source, corrector=(0.0, 0.0),
     """The active ``connect`` and ``weld`` equalities of a MuJoCo model as ``Constraint``s of
     ``model`` (its conversion, ``cgadyn.load_mujoco``), in MuJoCo's order (the module's
     docstring). ``source``: a ``mujoco.MjModel``, an MJCF path or MJCF text. ``corrector``:
-    the Baumgarte gains ``(Kp, Kd)`` of every constraint. ``skip_couplings``: leave joint,
-    tendon and flex couplings out instead of refusing them (``cgadyn validate`` checks the
-    rest).
+    the Baumgarte gains ``(Kp, Kd)`` of every constraint. Joint and tendon couplings are
+    the model's own (``Model.coupling_*``) and left out. ``skip_couplings``: leave flex
+    couplings out instead of refusing them (``cgadyn validate`` checks the rest).
 
     Raises ``ValueError`` naming an equality that a rigid point or frame constraint cannot
-    hold (joint, tendon and flex couplings, unless skipped; a partial weld)."""
+    hold (flex couplings, unless skipped; a partial weld)."""
     import mujoco
 
     mj = mujoco_model(source)
@@ -97,6 +99,8 @@ def mujoco_constraints(model, source, corrector=(0.0, 0.0),
     for k in range(mj.neq):
         kind = _type_name(mj, k)
         label = _name(mj, mujoco.mjtObj.mjOBJ_EQUALITY, k, f"equality {k}")
+        if kind in ("joint", "tendon"):  # Model.coupling_*: the contact step's rows (K45)
+            continue
         if kind not in ("connect", "weld"):
             if skip_couplings:
                 continue

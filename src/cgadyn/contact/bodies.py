@@ -202,6 +202,8 @@ def with_bodies(model, collisions, bodies) -> tuple[object, CollisionModel, np.n
         cone_limit=cat(model.cone_limit, np.full(nb, np.inf)),
         tendon_coefficients=np.hstack([model.tendon_coefficients,
                                        np.zeros((len(model.tendon_names), nv))]),
+        coupling_coefficients=np.hstack([model.coupling_coefficients,
+                                         np.zeros((len(model.coupling_names), nv))]),
     )
     links = model.nlinks + np.arange(nb)
     shapes = [*cm, *(Collision(name, b.shape, int(li), np.eye(4), friction=b.friction)

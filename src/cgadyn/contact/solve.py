@@ -109,8 +109,9 @@ def solve_contacts(G, g, mu, compliance=None, solver: str = "admm", tolerance: f
     ``g`` (m,) the free velocity, ``m = 3 nc + nb``: each contact's rows ``(t₁, t₂, n)``
     (normal last, Pinocchio's order), then ``nb`` one-row blocks whose impulse lies in an
     interval ``bounds[b] = [lo, hi]`` (``bounds`` (nb, 2), default none; ``[0, inf]`` a joint
-    limit's ``λ >= 0``, ``[-f, f]`` a friction loss; ``-σ`` in the interval's normal cone,
-    K26); ``mu`` a number or (nc,) friction coefficients >= 0;
+    limit's ``λ >= 0``, ``[-f, f]`` a friction loss, ``[-inf, inf]`` a coupling's
+    unbounded row; ``-σ`` in the interval's normal cone, K26); ``mu`` a number or (nc,)
+    friction coefficients >= 0;
     ``compliance`` the diagonal of ``R`` (a number, (m,)); ``solver`` ``"admm"`` (K16-K17) or
     ``"pgs"`` (K18); the stopping rule (K19) takes each residual below ``tolerance`` or below
     ``relative_tolerance`` times its scale; ``warm_start`` (m,) forces to start from (projected
@@ -123,9 +124,10 @@ def solve_contacts(G, g, mu, compliance=None, solver: str = "admm", tolerance: f
     Ga = _array(G, "G")
     ba = np.zeros((0, 2)) if bounds is None else np.asarray(bounds, dtype=float)
     if ba.ndim != 2 or ba.shape[1] != 2 or np.any(np.isnan(ba)) or \
-            not np.all(np.isfinite(ba[:, 0])) or np.any(ba[:, 0] > ba[:, 1]):
-        raise ValueError(f"bounds must be (nb, 2) intervals [lo, hi] with lo finite and "
-                         f"lo <= hi (hi may be inf), got {ba.tolist()!r}")
+            np.any(ba[:, 0] == np.inf) or np.any(ba[:, 1] == -np.inf) \
+            or np.any(ba[:, 0] > ba[:, 1]):
+        raise ValueError(f"bounds must be (nb, 2) intervals [lo, hi] with lo <= hi (lo may "
+                         f"be -inf, hi inf: an unbounded row), got {ba.tolist()!r}")
     nb = ba.shape[0]
     if Ga.ndim not in (2, 3) or Ga.shape[-1] != Ga.shape[-2] or Ga.shape[-1] < nb or \
             (Ga.shape[-1] - nb) % 3:

@@ -78,7 +78,8 @@ class ContactStep:
 
 def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = None,
                  contact: ContactSettings | None = None, passive: bool = True,
-                 joint_limits: bool = True, friction_loss: bool = True) -> ContactStep:
+                 joint_limits: bool = True, friction_loss: bool = True,
+                 couplings: bool = True) -> ContactStep:
     """One step of length ``dt`` from ``(q, v)`` under the joint torques ``tau`` (nv,)
     with the ground and obstacles of ``world`` (default: the static world of an MJCF's
     collisions, its floor and geoms, ``contact.static_world``, else ``World()``) touched
@@ -108,7 +109,9 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
        such a coordinate back by ``stabilization`` of its overshoot instead, adding no
        velocity (K26, K26a; joints of several coordinates get none); with
        ``friction_loss``, one row ``e_k`` per velocity coordinate with ``Model.friction``
-       ``f > 0``, its impulse in ``[-f dt, f dt]`` (K30);
+       ``f > 0``, its impulse in ``[-f dt, f dt]`` (K30); with ``couplings``, one
+       unbounded row ``a`` per coupling of the model (``Model.coupling_coefficients``),
+       ``σ = a · v⁺ = 0`` (K45);
     3. the impulses ``λ`` in the friction cones of ``World.friction`` by ``solver``
        (``"admm"`` or ``"pgs"``, ``solve_contacts``); where it does not converge (ADMM may
        cycle on redundant contacts with sliding, docs/contact.md), the other goes on from
@@ -122,7 +125,9 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
        the smallest displacement in M's metric that takes every such penetration back by
        the fraction ``stabilization`` and takes no other inside (K43, ``correction.py``): a
        correction of the configuration alone, ``v⁺`` unchanged, so that a body started
-       inside the ground rises to its surface and is not thrown.
+       inside the ground rises to its surface and is not thrown; then the couplings'
+       coordinates moved by the least displacement that takes the fraction
+       ``stabilization`` of their errors back (K45a).
 
     ``passive``: add the joints' damping and spring torques (``passive_torques``) as
     ``simulate`` does. Raises ``ValueError`` where the solvers end with a residual above
@@ -136,6 +141,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     )
     from ..algorithms.passive import passive_torques
     from .bodies import world_model
+    from .couplings import coupling_rows, coupling_shift
     from .inputs import checked_collisions, checked_settings, checked_world
     from .limits import (
         LIMIT_COLUMNS,
@@ -175,7 +181,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         if x.shape != (size,):
             raise ValueError(f"{name}: expected shape ({size},) for {model.name!r}, got "
                              f"{x.shape}")
-    for name, flag in (("joint_limits", joint_limits), ("friction_loss", friction_loss)):
+    for name, flag in (("joint_limits", joint_limits), ("friction_loss", friction_loss),
+                       ("couplings", couplings)):
         if not isinstance(flag, bool):
             raise ValueError(f"{name} must be True or False, got {flag!r}")
     torque = tau + passive_torques(model, q, v) if passive else tau
@@ -188,20 +195,22 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     rows = np.empty((2 * len(limits), ROW_COLUMNS))
     nl = active_limits(limits, q, v, v_free, step, float(margin), rows)  # K26
     frictions = joint_frictions(model) if friction_loss else np.zeros((0, 2))
-    nc, nf = len(contacts), len(frictions)
-    if nc + nl + nf == 0:
+    tied = coupling_rows(model)[:len(model.coupling_names) if couplings else 0]
+    nc, nf, ne = len(contacts), len(frictions), len(tied)
+    if nc + nl + nf + ne == 0:
         return ContactStep(step_moved_configuration(model, q, step * v_free),
                            step_moved_velocity(model, v_free, step), contacts,
                            np.zeros((0, 3)), np.zeros(model.nv), np.zeros(model.nv),
                            velocities=np.zeros((0, 3)), collisions=cm)
     frames = np.array([ground_frame(n) for n in contacts.normal]).reshape(nc, 3, 3)  # K37
-    J = np.zeros((3 * nc + nl + nf, model.nv))
-    n1 = 3 * nc + nl  # the first friction row
+    J = np.zeros((3 * nc + nl + nf + ne, model.nv))
+    n1, n2 = 3 * nc + nl, 3 * nc + nl + nf  # the first friction row, coupling row
     J[:3 * nc] = contact_jacobian(model, q, contacts, frames)  # K20, K37
     for k in range(nl):  # ±e_v, or -aᵀ on a cone-limited joint's ω (K26, K26')
         v0, width = int(rows[k, ROW_V]), int(rows[k, ROW_WIDTH])
         J[3 * nc + k, v0:v0 + width] = rows[k, ROW_COEF:ROW_COEF + width]
     J[n1 + np.arange(nf), frictions[:, 0].astype(int)] = 1.0  # K30
+    J[n2:] = tied[:, :model.nv]  # K45
     G = J @ np.linalg.solve(crba(model, q), J.T)  # G = J M⁻¹ Jᵀ (C7) over every row
     G = 0.5 * (G + G.T)
     g = J @ v_free
@@ -213,7 +222,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     soft_rows = np.zeros(len(g))  # R: the compliance of each row (K41)
     soft_rows[3 * np.arange(nc) + 2] = compliance
     bounds = np.concatenate([np.tile([0.0, np.inf], (nl, 1)),  # λ >= 0 (K26)
-                             step * np.outer(frictions[:, 1], [-1.0, 1.0])])  # K30
+                             step * np.outer(frictions[:, 1], [-1.0, 1.0]),  # K30
+                             np.tile([-np.inf, np.inf], (ne, 1))])  # K45
     used, lam = contact.solver, None
     for used in (contact.solver, other_solver(contact.solver)):  # the other from its λ
         lam, info = solve_contacts(G, g, contacts.friction, compliance=soft_rows, solver=used,
@@ -233,7 +243,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     v_next = v_free + aba(model, q, np.zeros(model.nv), impulse, gravity=np.zeros(3))  # K24
     forces = np.einsum("ki,kij->kj", lam[:3 * nc].reshape(nc, 3), frames) / step  # world
     limit_torques = J[3 * nc:n1].T @ lam[3 * nc:n1] / step
-    friction_torques = J[n1:].T @ lam[n1:] / step
+    friction_torques = J[n1:n2].T @ lam[n1:n2] / step
     sigma = (G[:3 * nc] @ lam + g[:3 * nc]).reshape(nc, 3)  # σ = G λ + g (K11)
     q_next = step_moved_configuration(model, q, step * v_next)  # K24a
     limit_shift(limits, rows, nl, stabilization, q_next)  # past a bound: back by β |d| (K26a)
@@ -245,6 +255,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         shift = aba(model, q, np.zeros(model.nv), J[2:3 * nc:3].T @ mu,
                     gravity=np.zeros(3))
         q_next = integrate(model, q_next, shift)
+    coupling_shift(tied, stabilization, q_next, np.empty(ne))  # K45a
     return ContactStep(q_next, step_moved_velocity(model, v_next, step), contacts, forces,
                        limit_torques, friction_torques, info, used, sigma, cm)
 

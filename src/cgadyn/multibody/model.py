@@ -60,6 +60,8 @@ _ARRAY_FIELDS = (
     "tendon_stiffness",
     "tendon_damping",
     "tendon_spring_length",
+    "coupling_coefficients",
+    "coupling_offset",
 )
 
 
@@ -193,6 +195,13 @@ class Model:
     tendon_spring_length : float64 (nt, 2)
         The lengths between which the spring is relaxed (MuJoCo's ``springlength``, a
         dead band; one length where the two are equal).
+    coupling_names : tuple[str, ...]
+        Linear couplings of coordinates (MuJoCo's ``<equality joint>`` and ``<equality
+        tendon>`` of a linear polynomial), none by default: bilateral constraints that the
+        contact step holds (``docs/contact.md``, "Couplings", K45).
+    coupling_coefficients, coupling_offset : float64 (ne, nv), (ne,)
+        Coupling c holds ``Σ_k a_ck q_k = b_c`` (``a_c`` its coefficients, ``b_c`` its
+        offset) over the coordinates of joints whose coordinates add.
     """
 
     name: str
@@ -238,6 +247,9 @@ class Model:
     tendon_stiffness: np.ndarray | None = None
     tendon_damping: np.ndarray | None = None
     tendon_spring_length: np.ndarray | None = None
+    coupling_names: tuple = ()
+    coupling_coefficients: np.ndarray | None = None
+    coupling_offset: np.ndarray | None = None
 
     def __post_init__(self):
         nv = sum(NV[int(t)] for t in np.asarray(self.joint_types).reshape(-1))
@@ -254,6 +266,9 @@ class Model:
         defaults.update({"tendon_coefficients": np.zeros((nt, nv)),
                          "tendon_stiffness": np.zeros(nt), "tendon_damping": np.zeros(nt),
                          "tendon_spring_length": np.zeros((nt, 2))})
+        ne = len(self.coupling_names)
+        defaults.update({"coupling_coefficients": np.zeros((ne, nv)),
+                         "coupling_offset": np.zeros(ne)})
         for field, value in defaults.items():
             if getattr(self, field) is None:
                 object.__setattr__(self, field, value.reshape((len(value),) + value.shape[1:]))
@@ -274,7 +289,7 @@ class Model:
             arr.flags.writeable = False
             object.__setattr__(self, field, arr)
         for field in ("joint_names", "joint_kinds", "link_names", "mimic", "actuator_names",
-                      "tendon_names"):
+                      "tendon_names", "coupling_names"):
             object.__setattr__(self, field, tuple(getattr(self, field)))
         self._check()
 
@@ -320,6 +335,8 @@ class Model:
             "tendon_stiffness": (len(self.tendon_names),),
             "tendon_damping": (len(self.tendon_names),),
             "tendon_spring_length": (len(self.tendon_names), 2),
+            "coupling_coefficients": (len(self.coupling_names), nv),
+            "coupling_offset": (len(self.coupling_names),),
         }
         for field, shape in shapes.items():
             got = getattr(self, field).shape
@@ -350,6 +367,7 @@ class Model:
         self._check_passive()
         self._check_actuators()
         self._check_tendons()
+        self._check_couplings()
         if np.any((self.link_joint < -1) | (self.link_joint >= n)):
             raise ValueError("link_joint entries must lie in [-1, n)")
         if len(set(self.joint_names)) != n:
@@ -430,13 +448,32 @@ class Model:
                     raise ValueError(f"actuator {name!r} has the {what} [{lo}, {hi}]; "
                                      f"expected lower <= upper")
 
+    def _additive(self) -> np.ndarray:
+        """bool (nv,): the coordinates of joints whose coordinates add (``q ⊕ v = q + v``)."""
+        additive = np.zeros(self.nv, dtype=bool)
+        for j, t in enumerate(self.joint_types):
+            additive[self.joint_dofs(j)] = TYPES[int(t)].additive
+        return additive
+
+    def _check_couplings(self):
+        """Each coupling's coefficients are finite, not all zero and on coordinates that add
+        (where ``Σ a_k q_k`` is linear in q and moves by ``dt Σ a_k v_k`` in a step); its
+        offset finite."""
+        additive = self._additive()
+        for i, name in enumerate(self.coupling_names):
+            a, b = self.coupling_coefficients[i], float(self.coupling_offset[i])
+            if (not np.all(np.isfinite(a)) or np.any(a[~additive] != 0.0)
+                    or not np.any(a != 0.0) or not np.isfinite(b)):
+                raise ValueError(f"coupling {name!r} has the coefficients {a.tolist()} and "
+                                 f"the offset {b}; expected finite numbers, not all zero, "
+                                 f"zero on the coordinates of joints whose coordinates do "
+                                 f"not add")
+
     def _check_tendons(self):
         """Each tendon's coefficients are finite and on coordinates that add (where ``L = Σ
         c_k q_k`` is MuJoCo's fixed tendon); its stiffness and damping finite and ``>= 0``;
         its spring lengths finite and ordered."""
-        additive = np.zeros(self.nv, dtype=bool)
-        for j, t in enumerate(self.joint_types):
-            additive[self.joint_dofs(j)] = TYPES[int(t)].additive
+        additive = self._additive()
         for i, name in enumerate(self.tendon_names):
             c = self.tendon_coefficients[i]
             if not np.all(np.isfinite(c)) or np.any(c[~additive] != 0.0):

@@ -45,6 +45,8 @@ places every body. ``from_mujoco`` reads what it compiled, whole:
   forces along ``L = Σ coef q``); a tendon's limit and friction loss, and fluid forces,
   are left out with a warning; a spatial tendon's spring or damper and a tendon's armature
   are refused by name.
+- **Couplings**: the linear joint and tendon equalities active at the start
+  (``Model.coupling_*``, held by the contact step, K45); others left out with a warning.
 
 States: ``from_mujoco_state(model, qpos, qvel)`` and ``to_mujoco_state(model, q, v)``,
 accelerations ``from_mujoco_acceleration(model, q, v, qacc)`` and
@@ -284,7 +286,8 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
             friction=joints["friction"], cone_limit=joints["cone"])
         return dataclasses.replace(model, spring_reference=table.from_mujoco(
             model, mj.qpos_spring), home=table.from_mujoco(model, mj.qpos0),
-            **_motors_and_tendons(mj, model, joint_of, model_name))
+            **_motors_and_tendons(mj, model, joint_of, model_name),
+            **_couplings(mj, model, joint_of, model_name))
     except ValueError as exc:
         raise ValueError(f"MuJoCo model {model_name!r}: {exc}") from None
 
@@ -376,15 +379,14 @@ def _tendons(mj, model: Model, joint_of: dict, where: str, pulled: list[int]
     slides: ``wrap_prm``, ``wrap_objid``), and MuJoCo's id -> the index kept. A spatial tendon
     with a spring or damper, and a tendon's armature, are refused by name (they would change
     the passive forces or the mass matrix); a tendon's limit and friction loss, constraints
-    that cgadyn does not hold, are warned of, as are joint and tendon couplings
-    (``<equality joint/tendon>``) and fluid forces (``density``,
+    that cgadyn does not hold, are warned of, as are fluid forces (``density``,
     ``viscosity``), which cgadyn does not compute."""
     names, rows, stiffness, damping, length, loose, kept = [], [], [], [], [], [], {}
     armature = getattr(mj, "tendon_armature", np.zeros(mj.ntendon))
     k_on, b_on = float(not _disabled(mj, "SPRING")), float(not _disabled(mj, "DAMPER"))
     for t in range(mj.ntendon):
         name = _name(mj, _obj("TENDON"), t, f"tendon{t}")
-        adr, num, fixed = int(mj.tendon_adr[t]), int(mj.tendon_num[t]), _fixed(mj, t)
+        fixed = _fixed(mj, t)
         k, b = k_on * float(mj.tendon_stiffness[t]), b_on * float(mj.tendon_damping[t])
         passive = k != 0.0 or b != 0.0  # as <flag spring/damper="disable"> leave them
         if armature[t] != 0.0:
@@ -398,11 +400,8 @@ def _tendons(mj, model: Model, joint_of: dict, where: str, pulled: list[int]
         if not passive and t not in pulled:
             continue
         kept[t] = len(names)
-        row = np.zeros(model.nv)
-        for w in range(adr, adr + num):
-            row[model.joint_dofs(joint_of[int(mj.wrap_objid[w])]).start] += mj.wrap_prm[w]
         names.append(name)
-        rows.append(row)
+        rows.append(_fixed_row(mj, model, joint_of, t))
         stiffness.append(k)
         damping.append(b)
         length.append(np.array(mj.tendon_lengthspring[t], dtype=float))
@@ -410,13 +409,6 @@ def _tendons(mj, model: Model, joint_of: dict, where: str, pulled: list[int]
         warnings.warn(f"{where!r}: the limits and friction loss of the tendons "
                       f"{', '.join(map(repr, loose))} are not held: cgadyn holds joint "
                       f"limits and joint friction loss only", stacklevel=5)
-    couplings = [_name(mj, _obj("EQUALITY"), k, f"equality{k}") for k in range(mj.neq)
-                 if int(mj.eq_type[k]) in (2, 3)]  # mjEQ_JOINT, mjEQ_TENDON
-    if couplings:
-        warnings.warn(f"{where!r}: the joint and tendon couplings "
-                      f"{', '.join(map(repr, couplings))} (<equality joint/tendon>) are not "
-                      f"held: cgadyn holds connect and weld equalities only "
-                      f"(cgadyn.mujoco_constraints)", stacklevel=5)
     if mj.opt.density != 0.0 or mj.opt.viscosity != 0.0:
         warnings.warn(f"{where!r}: the fluid forces of density {mj.opt.density} and "
                       f"viscosity {mj.opt.viscosity} are left out: cgadyn computes no fluid "
@@ -427,6 +419,78 @@ def _tendons(mj, model: Model, joint_of: dict, where: str, pulled: list[int]
                 tendon_stiffness=np.array(stiffness, dtype=float),
                 tendon_damping=np.array(damping, dtype=float),
                 tendon_spring_length=np.array(length, dtype=float).reshape(nt, 2)), kept
+
+
+def _fixed_row(mj, model: Model, joint_of: dict, t: int) -> np.ndarray:
+    """The coefficients over cgadyn's velocity coordinates of MuJoCo's fixed tendon t, whose
+    length is ``Σ coef qpos`` over its joints (``wrap_prm``, ``wrap_objid``)."""
+    row = np.zeros(model.nv)
+    for w in range(int(mj.tendon_adr[t]), int(mj.tendon_adr[t] + mj.tendon_num[t])):
+        row[model.joint_dofs(joint_of[int(mj.wrap_objid[w])]).start] += mj.wrap_prm[w]
+    return row
+
+
+def _coupled(mj, model: Model, joint_of: dict, kind: str, i: int
+             ) -> tuple[np.ndarray, float] | None:
+    """``(a, x₀)`` of one end of a coupling: the coefficients of its length over cgadyn's
+    velocity coordinates and its reference length, at ``qpos0`` (a hinge's or slide's
+    ``qpos0``, a fixed tendon's ``tendon_length0``); None where it is not linear in
+    ``qpos`` (a spatial tendon; a joint of several coordinates)."""
+    import mujoco
+
+    if kind == "joint":
+        if int(mj.jnt_type[i]) not in (mujoco.mjtJoint.mjJNT_HINGE, mujoco.mjtJoint.mjJNT_SLIDE):
+            return None
+        row = np.zeros(model.nv)
+        row[model.joint_dofs(joint_of[i]).start] = 1.0
+        return row, float(mj.qpos0[mj.jnt_qposadr[i]])
+    if not _fixed(mj, i):
+        return None
+    return _fixed_row(mj, model, joint_of, i), float(mj.tendon_length0[i])
+
+
+def _couplings(mj, model: Model, joint_of: dict, where: str) -> dict:
+    """The ``Model.coupling_*`` fields of MuJoCo's active joint and tendon equalities
+    (``<equality joint>``, ``<equality tendon>``): ``x₁ - x₁₀ = a₀ + a₁ (x₂ - x₂₀)``
+    (``polycoef``; ``x₁ - x₁₀ = a₀`` without a second joint or tendon) over the values x of
+    hinges, slides and fixed tendons, with their references at ``qpos0``, is the coupling
+    ``(c₁ - a₁ c₂) · q = x₁₀ + a₀ - a₁ x₂₀``. A polynomial of higher degree, an end that is
+    a spatial tendon, and an equality inactive at the start (``eq_active0`` 0) are left out
+    with a warning."""
+    import mujoco
+
+    kinds = {int(mujoco.mjtEq.mjEQ_JOINT): "joint", int(mujoco.mjtEq.mjEQ_TENDON): "tendon"}
+    names, rows, offsets, left = [], [], [], []
+    for k in range(mj.neq):
+        kind = kinds.get(int(mj.eq_type[k]))
+        if kind is None:
+            continue
+        name = _name(mj, _obj("EQUALITY"), k, f"equality{k}")
+        poly = np.asarray(mj.eq_data[k][:5], dtype=float)
+        one = _coupled(mj, model, joint_of, kind, int(mj.eq_obj1id[k]))
+        two = None if mj.eq_obj2id[k] < 0 else _coupled(mj, model, joint_of, kind,
+                                                        int(mj.eq_obj2id[k]))
+        nonlinear = mj.eq_obj2id[k] >= 0 and np.any(poly[2:] != 0.0)
+        if (not mj.eq_active0[k] or one is None or nonlinear
+                or (mj.eq_obj2id[k] >= 0 and two is None)):
+            left.append(name)
+            continue
+        a, offset = one[0].copy(), one[1] + poly[0]
+        if two is not None:
+            a -= poly[1] * two[0]
+            offset -= poly[1] * two[1]
+        names.append(name)
+        rows.append(a)
+        offsets.append(offset)
+    if left:
+        warnings.warn(f"{where!r}: the joint and tendon couplings "
+                      f"{', '.join(map(repr, left))} are left out: cgadyn holds the linear "
+                      f"couplings of hinges, slides and fixed tendons active at the start",
+                      stacklevel=4)
+    ne = len(names)
+    return dict(coupling_names=tuple(names),
+                coupling_coefficients=np.array(rows, dtype=float).reshape(ne, model.nv),
+                coupling_offset=np.array(offsets, dtype=float))
 
 
 def load_mujoco(source, name: str | None = None, floating_base: bool | None = None,

@@ -63,6 +63,7 @@ from ..contact import manifold as C
 from ..contact import ncp
 from ..contact.admm import SCRATCH_ROWS
 from ..contact.correction import correction_impulses, correction_targets
+from ..contact.couplings import coupling_shift
 from ..contact.limits import (
     LIMIT_COLUMNS,
     ROW_COEF,
@@ -92,14 +93,15 @@ from .pairs import (
 
 WorldArrays = namedtuple("WorldArrays", (
     "kinds", "sizes", "vertices", "offsets", "frames", "joints", "links", "active", "ground",
-    "ground_pose", "frame", "params", "limits", "frictions", "compliance", "radii", "pairs",
-    "shape_friction"))
+    "ground_pose", "frame", "params", "limits", "frictions", "couplings", "compliance",
+    "radii", "pairs", "shape_friction"))
 """The world as the loop reads it (``world_arrays``): the shapes' kinds, sizes, vertices
 and offsets, their placements in the frames of their links' joints (``frames`` (shapes, 3,
 4), the top rows of the homogeneous matrices; in the world's for a link fixed to it) and
 those joints (``joints``, -1: the world), their links, which touch the ground, the
 ground plane ``[n, δ]`` and its pose, the ground's frame ``(t₁, t₂, n)``, ``params``, the
-joint limits (``contact.limits.joint_limits``), the friction losses, each shape's normal
+joint limits (``contact.limits.joint_limits``), the friction losses, the couplings
+(``contact.couplings.coupling_rows``), each shape's normal
 stiffness and damping on the ground (``CollisionModel.compliance``, K41) and its bounding
 radius; then the pairs of shapes that may touch and the shapes' friction
 (``sim.pairs.pair_world``: each None without free bodies or self-collision, which prunes the
@@ -108,7 +110,8 @@ pairs' code)."""
 ContactScratch = namedtuple("ContactScratch", (
     "world", "poses", "out", "counts", "cand", "big", "mu", "info", "settings", "prev",
     "force", "had", "count", "report", "cwork", "lrows", "bounds", "lprev",
-    "lhad", "twists", "bodies", "factored", "pairs", "joint_torques", "depth", "shift"))
+    "lhad", "twists", "bodies", "factored", "pairs", "joint_torques", "depth", "shift",
+    "errors"))
 """A rollout's contact scratch (``carve_scratch``) beside its ``WorldArrays`` (``world``):
 the shapes' poses, the contacts found (``out``, ``counts``), candidates, the problem's
 matrices (``big``), the cones' μ, the solver's info and settings, each slot's impulse of the
@@ -124,7 +127,7 @@ generalised forces of the joint limits and of the friction losses in the last st
 impulses over dt, as ``contact.step.ContactStep``'s ``limit_torques`` and
 ``friction_torques``); each contact's signed distance (``depth``, NaN for a compliant one)
 and the configuration's correction out of the contacts' penetrations (``shift`` (nv,),
-K43)."""
+K43); the couplings' errors (``errors``, scratch of K45a)."""
 
 MARGIN, STABILIZATION, FRICTION, WARM, FIRST, ACCEPT, PATCH = range(7)
 PARAMS = 7
@@ -146,7 +149,8 @@ _WORLDS: dict[tuple, tuple] = {}
 
 
 def world_arrays(model, collisions, world, contact, joint_limits: bool = True,
-                 friction_loss: bool = True, robot_joints: int | None = None) -> tuple:
+                 friction_loss: bool = True, robot_joints: int | None = None,
+                 couplings: bool = True) -> tuple:
     """The tuple the loop reads (the module's docstring), with the settings of
     ``contact`` (a ``ContactSettings``); the joints from ``robot_joints`` on (default: none)
     are the World's free bodies. Made once per model, collision model, world and settings
@@ -162,12 +166,12 @@ def world_arrays(model, collisions, world, contact, joint_limits: bool = True,
     except TypeError:  # a world of bodies whose records hold arrays: by identity
         scene = id(world)
     key = (id(model), id(collisions), scene, contact, joint_limits, friction_loss,
-           robot_joints)
+           robot_joints, couplings)
     found = _WORLDS.get(key)
     if found is not None:  # the entry holds the objects, so their ids are still theirs
         return found[1]
     arrays = _world_arrays(model, collisions, world, contact, joint_limits, friction_loss,
-                           robot_joints)
+                           robot_joints, couplings)
     if len(_WORLDS) >= WORLDS_KEPT:
         _WORLDS.clear()
     _WORLDS[key] = ((model, collisions, world), arrays)
@@ -175,8 +179,9 @@ def world_arrays(model, collisions, world, contact, joint_limits: bool = True,
 
 
 def _world_arrays(model, collisions, world, contact, joint_limits: bool,
-                  friction_loss: bool, robot_joints: int | None) -> tuple:
+                  friction_loss: bool, robot_joints: int | None, couplings: bool) -> tuple:
     """``world_arrays``, made anew."""
+    from ..contact.couplings import coupling_rows
     from ..contact.limits import joint_frictions
     from ..contact.limits import joint_limits as limits_of
     from ..contact.pairs import bounding_radii
@@ -202,6 +207,7 @@ def _world_arrays(model, collisions, world, contact, joint_limits: bool,
         np.ascontiguousarray(limits_of(model) if joint_limits
                              else np.zeros((0, LIMIT_COLUMNS))),
         joint_frictions(model) if friction_loss else np.zeros((0, 2)),
+        coupling_rows(model)[:len(model.coupling_names) if couplings else 0],
         np.ascontiguousarray(cm.compliance, dtype=float), bounding_radii(cm),
         *pair_world(model, cm, world, model.njoints if robot_joints is None
                     else robot_joints))
@@ -230,20 +236,21 @@ def slots(shapes: int) -> int:
 
 
 @serial
-def scratch_size(n, nq, nv, nl, shapes, limits, frictions, nr):
+def scratch_size(n, nq, nv, nl, shapes, limits, frictions, couplings, nr):
     """Floats of one rollout's contact scratch (``carve_scratch``) for ``shapes`` shapes,
-    ``limits`` joint limits (two bounds each), ``frictions`` friction losses and ``nr``
-    rows of bilateral constraints."""
+    ``limits`` joint limits (two bounds each), ``frictions`` friction losses,
+    ``couplings`` couplings and ``nr`` rows of bilateral constraints."""
     K = C.MAX_CONTACTS * shapes
     L = 2 * limits
-    m = 3 * K + L + frictions + nr
+    F = frictions + couplings  # the interval rows with a slot of their own
+    m = 3 * K + L + F + nr
     return (shapes * 16 + shapes * C.MAX_CONTACTS * C.OUT + shapes
             + C.CANDIDATES * C.CANDIDATE_COLUMNS + shapes * 12
             + m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6) + K + ncp.INFO
             + ncp.SETTINGS + 2 * K * 3 + K + 2 + REPORT
-            + L * ROW_COLUMNS + 2 * (L + frictions + nr) + 2 * (L + frictions)
+            + L * ROW_COLUMNS + 2 * (L + F + nr) + 2 * (L + F)
             + constraint_workspace_size(n, nq, nv, nl, m) + n * 12 + 2 + 2 * nv + 1 + K
-            + nv)
+            + nv + couplings)
 
 
 @serial
@@ -253,7 +260,8 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
     shapes = world.kinds.shape[0]
     K = C.MAX_CONTACTS * (shapes + pair_count(world.pairs))  # the pairs' slots after the shapes'
     L = 2 * world.limits.shape[0]
-    F = world.frictions.shape[0]
+    E = world.couplings.shape[0]
+    F = world.frictions.shape[0] + E  # the friction rows' slots, then the couplings'
     m = 3 * K + L + F + nr
     p = ws.data_pointer(buf)
     poses, o = ws.carve(p, 0, (shapes, 4, 4))
@@ -272,7 +280,7 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
     cwork, o = ws.carve(p, o, (constraint_workspace_size(n, nq, nv, nl, m),))
     lrows, o = ws.carve(p, o, (L, ROW_COLUMNS))
     bounds, o = ws.carve(p, o, (L + F + nr, 2))
-    lprev, o = ws.carve(p, o, (L + F,))  # the limits' slots, then the friction rows'
+    lprev, o = ws.carve(p, o, (L + F,))  # the limits' slots, the friction rows', the couplings'
     lhad, o = ws.carve(p, o, (L + F,))
     twists, o = ws.carve(p, o, (shapes, 2, 6))
     bodies, o = ws.carve(p, o, (n, 2, 6))
@@ -280,6 +288,7 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
     joint_torques, o = ws.carve(p, o, (2, nv))
     depth, o = ws.carve(p, o, (K,))
     shift, o = ws.carve(p, o, (nv,))
+    errors, o = ws.carve(p, o, (E,))
     ps = carve_pairs(world.pairs, p, o)
     for k in range(K):
         had[k] = 0.0
@@ -293,7 +302,7 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
     return ContactScratch(_bare_world(world), poses, out, counts, cand, big, mu, info,
                           settings, prev, force, had, count, report, cwork, lrows, bounds,
                           lprev, lhad, twists, bodies, factored, ps, joint_torques, depth,
-                          shift)
+                          shift, errors)
 
 
 @serial
@@ -306,7 +315,8 @@ def _bare_world(wa):
         _bare(wa.kinds), _bare(wa.sizes), _bare(wa.vertices), _bare(wa.offsets),
         _bare(wa.frames), _bare(wa.joints), _bare(wa.links), _bare(wa.active),
         _bare(wa.ground), _bare(wa.ground_pose), _bare(wa.frame), _bare(wa.params),
-        _bare(wa.limits), _bare(wa.frictions), _bare(wa.compliance), _bare(wa.radii),
+        _bare(wa.limits), _bare(wa.frictions), _bare(wa.couplings), _bare(wa.compliance),
+        _bare(wa.radii),
         _bare_or_none(wa.pairs), _bare_or_none(wa.shape_friction))
 
 
@@ -402,7 +412,7 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     nc, nl, failed = _detect(m, w_, k_, q, v, vn, dt)
     if failed >= 0:  # a pair's depth not computed: stop rather than go on without it
         return fault(CONTACT_PAIR, failed)
-    nf = w_.world.frictions.shape[0]
+    nf = w_.world.frictions.shape[0] + w_.world.couplings.shape[0]  # interval rows, slots
     for k in range(w_.force.shape[0]):  # the slots read (``had``): zero unless _keep writes
         if w_.had[k] != 0.0:
             for i in range(3):
@@ -470,6 +480,7 @@ def correct_positions(m, world, qn, tmp, dq, qs):
         integrate_joints(m, qn, world.shift, 1.0, tmp, dq, qs)  # qs = qn ⊕ δ
         for i in range(m.nq):
             qn[i] = qs[i]
+    coupling_shift(wa.couplings, wa.params[STABILIZATION], qn, world.errors)  # K45a
 
 
 @serial
@@ -562,7 +573,8 @@ def _rows(m, w_, k_, nc, nl, J, lam, R, dt):
     (K23) at the plane's point under the shape's (K42); the pairs' (K37); ``±e_v`` (a
     cone's ``-aᵀ``) per limit bound near which the step may go, ``λ >= 0`` (K26); ``e_k``
     per friction loss, ``|λ| <= f dt`` (K30), the interval rows' bounds into
-    ``bounds``. ``R`` zeros. Whether any row starts from a previous λ."""
+    ``bounds``; ``a_c`` per coupling, unbounded (K45). ``R`` zeros. Whether any row starts
+    from a previous λ."""
     wa = w_.world
     links, out, frame, prev, had = wa.links, w_.out, wa.frame, w_.prev, w_.had
     lrows, bounds, lprev, lhad = w_.lrows, w_.bounds, w_.lprev, w_.lhad
@@ -611,6 +623,14 @@ def _rows(m, w_, k_, nc, nl, J, lam, R, dt):
             warm = True
         bounds[nl + k, 0], bounds[nl + k, 1] = -dt * wa.frictions[k, 1], \
             dt * wa.frictions[k, 1]
+    for k in range(wa.couplings.shape[0]):
+        r, slot = 3 * nc + nl + nf + k, L + nf + k
+        for i in range(m.nv):
+            J[r, i] = wa.couplings[k, i]
+        lam[r] = lprev[slot] if lhad[slot] != 0.0 else 0.0
+        if lhad[slot] != 0.0:
+            warm = True
+        bounds[nl + nf + k, 0], bounds[nl + nf + k, 1] = -math.inf, math.inf
     return warm
 
 
@@ -722,9 +742,10 @@ def _keep(m, w_, k_, nc, nl, nf, J, lam, vn, dt):
         lhad[slot], lprev[slot] = 1.0, lam[3 * nc + k]
         for i in range(int(lrows[k, ROW_WIDTH])):
             w_.joint_torques[0, v0 + i] += lrows[k, ROW_COEF + i] * lam[3 * nc + k] / dt
-    L = 2 * wa.limits.shape[0]
-    for k in range(nf):  # τ_friction = Σ e_k λ / dt
+    L, nj = 2 * wa.limits.shape[0], wa.frictions.shape[0]
+    for k in range(nf):  # the friction rows, then the couplings': their impulses kept
         lhad[L + k], lprev[L + k] = 1.0, lam[3 * nc + nl + k]
+    for k in range(nj):  # τ_friction = Σ e_k λ / dt
         w_.joint_torques[1, int(wa.frictions[k, 0])] += lam[3 * nc + nl + k] / dt
     for i in range(m.nv):
         if not math.isfinite(vn[i]):

@@ -89,7 +89,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
              final_only: bool = False, passive: bool = True, ctrl=None, constraints=None,
              damping: float = 0.0, world=None, collisions=None,
              contact=None, joint_limits: bool | None = None,
-             friction_loss: bool | None = None) -> Trajectory:
+             friction_loss: bool | None = None, couplings: bool | None = None) -> Trajectory:
     """Integrate ``q̈ = ABA(q, v, τ)``, or the constrained dynamics of ``constraints``, for
     ``steps`` steps of ``dt`` seconds.
 
@@ -132,7 +132,11 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     step (docs/contact.md, "Joint limits", K26); ``False`` turns them off. Without a world
     no limit is enforced (``True`` then raises ``ValueError``); ``World(ground=False)``
     with ``collisions=None`` enforces the limits alone. ``friction_loss``: the same for the
-    joints' dry friction (``Model.friction``, box-bounded rows, K30).
+    joints' dry friction (``Model.friction``, box-bounded rows, K30). ``couplings``: with a
+    world (the default there), the model's couplings (``Model.coupling_names``: an MJCF's
+    joint and tendon equalities) are unbounded rows of the same step (K45); ``False``
+    leaves them out. Without a world a model with couplings is refused unless
+    ``couplings=False``: ``World(ground=False)`` holds them alone.
 
     Returns a ``Trajectory`` of the states kept. A rollout that diverges (a joint turning
     more than half a turn in one step, a slide moving further than the robot is large, a
@@ -173,13 +177,21 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     every = _every(record_every, final_only, steps)
     shapes = _contact_world(model, world, collisions, integrator)
     contact = _contact_settings(contact, world)
-    for name, flag in (("joint_limits", joint_limits), ("friction_loss", friction_loss)):
+    for name, flag in (("joint_limits", joint_limits), ("friction_loss", friction_loss),
+                       ("couplings", couplings)):
         if flag is not None and not isinstance(flag, bool):
             raise ValueError(f"simulate: {name} must be True, False or None, got {flag!r}")
         if flag and world is None:
             raise ValueError(f"simulate: {name}=True needs a world (they are constraints of "
                              f"the contact step); pass world=cgadyn.World() or "
                              f"World(ground=False) for the joints alone")
+    if world is None and model.coupling_names and couplings is not False:
+        raise ValueError(f"simulate: {model.name!r} has the couplings "
+                         f"{', '.join(map(repr, model.coupling_names))}, which the contact "
+                         f"step holds (docs/contact.md, K45); pass a world "
+                         f"(world=cgadyn.World(ground=False) for the couplings alone, with "
+                         f"integrator='semi_implicit_euler'), or couplings=False to leave "
+                         f"them out")
     p = pack(model, () if constraints is None else constraints)  # checked: type, model
     settings = checked_settings(damping, None, 1e-12)
     server = _arrays.server((q0, v0, tau))
@@ -200,7 +212,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     rows = kept_rows(steps, every)
     arrays = None if world is None else world_arrays(
         model, shapes, world, contact, joint_limits is not False, friction_loss is not False,
-        robot_joints)
+        robot_joints, couplings is not False)
     # the contact slots: each shape's, then each pair's (sim.pairs)
     K = 0 if world is None else slots(len(shapes) + (0 if arrays.pairs is None
                                                      else len(arrays.pairs)))
