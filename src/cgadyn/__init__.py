@@ -29,6 +29,7 @@ _LAZY = {
     "to_mujoco_acceleration": "cgadyn.multibody.mujoco_model",
     "passive_torques": "cgadyn.algorithms.passive",
     "actuator_torques": "cgadyn.algorithms.actuators",
+    "activations": "cgadyn.algorithms.actuators",
     "rnea": "cgadyn.algorithms",
     "aba": "cgadyn.algorithms",
     "crba": "cgadyn.algorithms",

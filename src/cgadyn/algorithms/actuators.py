@@ -13,6 +13,20 @@ the fixed tendon it pulls (``actuator_tendon``, ``Model.tendon_coefficients``); 
 ``kp`` and ``(0, -kp, -kv)``). MuJoCo clamps the control, then the force; cgadyn's models
 clamp a force only where it does not depend on the state (``Model._check_actuators``).
 
+An actuator with activation dynamics (``Model.actuator_dynamics``) takes its activation
+``w_a`` in place of the clamped control, a state of its own that the control moves, one
+step ``dt`` at a time, as MuJoCo's Euler step moves ``act``:
+
+    integrator:   w⁺ = w + dt u
+    filter:       w⁺ = w + dt (u - w) / T
+    filterexact:  w⁺ = w + (u - w) (1 - exp(-dt / T))
+    w⁺ ← clamp(w⁺, actrange)                                                        (A2)
+
+(``u`` the control clamped to ``ctrlrange``; ``activations``). The force of step n takes
+``w_n``, the activation at the step's start, and holds it over the step (MuJoCo's RK4
+moves ``act`` within the step too: with ``integrator="rk4"`` the two differ by O(dt) in
+the activation).
+
 A servo's state-dependent part ``w_a (b₁ L_a + b₂ L̇_a)`` is a spring of stiffness ``-b₁``
 and a damper ``-b₂`` along ``w_a``, a tendon of rest length 0 (``passive``, P2):
 ``simulate(ctrl=...)`` adds the control's part ``w_a clamp(g_a u_a + b₀)`` to its torques
@@ -60,12 +74,81 @@ def _controls(model, ctrl) -> np.ndarray:
     return np.clip(u, model.actuator_ctrlrange[:, 0], model.actuator_ctrlrange[:, 1])
 
 
-def actuator_torques(model, ctrl, q=None, v=None) -> np.ndarray:
-    """The joint torques (nv,) or (..., nv) of controls ``ctrl`` (na,) or (..., na), one
-    entry per actuator in ``model.actuator_names``' order, at the state ``(q, v)`` (A1).
-    ``q`` and ``v`` may be left out where no actuator's force depends on the state (motors
-    alone); they broadcast against ``ctrl``'s samples."""
+def dynamic(model) -> np.ndarray:
+    """(na,) bool: the actuators with an activation state (``Model.actuator_dynamics``)."""
+    return np.array([k != "none" for k in model.actuator_dynamics], dtype=bool)
+
+
+def _activation(model, act, shape: tuple) -> np.ndarray:
+    """``act`` (None: zeros, MuJoCo's ``act`` after a reset) checked against ``shape``."""
+    na = len(model.actuator_names)
+    if act is None:
+        return np.zeros(shape)
+    try:
+        w = np.asarray(act, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"act must be an array of numbers, got {type(act).__name__}") \
+            from None
+    if w.ndim == 0 or w.shape[-1] != na or not np.all(np.isfinite(w)):
+        raise ValueError(f"act must hold {na} finite activations per sample (one per "
+                         f"actuator of {model.name!r}, 0 for those without activation "
+                         f"dynamics), got shape {w.shape}")
+    return np.broadcast_to(w, shape).astype(float)
+
+
+def activations(model, ctrl, dt: float, act=None) -> np.ndarray:
+    """The activations ``w_0 .. w_steps`` (..., steps + 1, na) that the controls ``ctrl``
+    (..., steps, na), each held over a step of ``dt``, give from ``act`` (..., na) (zeros by
+    default) by A2; 0 for the actuators without activation dynamics."""
     u = _controls(model, ctrl)
+    if u.ndim < 2:
+        raise ValueError(f"ctrl must be a sequence of controls (steps, na), got shape "
+                         f"{u.shape}")
+    step = float(dt)
+    if not (np.isfinite(step) and step > 0.0):
+        raise ValueError(f"dt must be a finite number > 0, got {dt!r}")
+    kinds = np.array(model.actuator_dynamics)
+    T = np.where(model.actuator_time_constant > 0.0, model.actuator_time_constant, 1.0)
+    rate = np.select([kinds == "filter", kinds == "filterexact"],
+                     [step / T, -np.expm1(-step / T)], 0.0)  # the filters' gain per step
+    lo, hi = model.actuator_actrange[:, 0], model.actuator_actrange[:, 1]
+    on = dynamic(model)
+    batch = u.shape[:-2] if act is None else np.broadcast_shapes(u.shape[:-2],
+                                                                  np.shape(act)[:-1])
+    u = np.broadcast_to(u, batch + u.shape[-2:])
+    out = np.zeros(batch + (u.shape[-2] + 1, u.shape[-1]))
+    w = _activation(model, act, batch + u.shape[-1:]) * on
+    out[..., 0, :] = w
+    for n in range(u.shape[-2]):
+        un = u[..., n, :]
+        w = np.where(kinds == "integrator", w + step * un, w + rate * (un - w))
+        w = np.clip(w, lo, hi) * on
+        out[..., n + 1, :] = w
+    return out
+
+
+def _driving(model, u: np.ndarray, act) -> np.ndarray:
+    """What each actuator's force takes (A1, A2): its activation where it has activation
+    dynamics (``act``, required then), else its clamped control ``u``."""
+    on = dynamic(model)
+    if not np.any(on):
+        return u
+    if act is None:
+        names = [n for n, d in zip(model.actuator_names, on, strict=True) if d]
+        raise ValueError(f"the actuators {', '.join(map(repr, names))} of {model.name!r} "
+                         f"have activation dynamics: their force takes the activation; "
+                         f"pass act (cgadyn.activations)")
+    return np.where(on, _activation(model, act, np.broadcast_shapes(
+        u.shape, np.shape(act))), u)
+
+
+def actuator_torques(model, ctrl, q=None, v=None, act=None) -> np.ndarray:
+    """The joint torques (nv,) or (..., nv) of controls ``ctrl`` (na,) or (..., na), one
+    entry per actuator in ``model.actuator_names``' order, at the state ``(q, v)`` (A1)
+    and the activations ``act`` (A2; MuJoCo's ``act``). ``q`` and ``v`` may be left out
+    where no actuator's force depends on the state (motors alone), ``act`` where no
+    actuator has activation dynamics; they broadcast against ``ctrl``'s samples."""
+    u = _driving(model, _controls(model, ctrl), act)
     force = model.actuator_gain * u + model.actuator_bias[:, 0]
     W = actuator_moments(model)
     servo = state_dependent(model)
@@ -84,11 +167,12 @@ def actuator_torques(model, ctrl, q=None, v=None) -> np.ndarray:
     return _clamped(model, force) @ W
 
 
-def control_torques(model, ctrl) -> np.ndarray:
-    """``Σ_a w_a clamp(g_a u_a + b₀)``: the torques of the controls alone, without the
+def control_torques(model, ctrl, act=None) -> np.ndarray:
+    """``Σ_a w_a clamp(g_a u_a + b₀)``: the torques of the controls alone (of the
+    activations ``act`` for the actuators with activation dynamics, A2), without the
     servos' springs and dampers (``actuator_springs``), which ``simulate`` evaluates at
     each stage's state."""
-    u = _controls(model, ctrl)
+    u = _driving(model, _controls(model, ctrl), act)
     force = model.actuator_gain * u + model.actuator_bias[:, 0]
     return _clamped(model, force) @ actuator_moments(model)
 

@@ -115,10 +115,10 @@ def format_info(info: dict) -> str:
     lines += ["", f"{'link':<36}moves with joint"]
     lines += [f"{lk['name']:<36}{lk['joint'] or '(fixed to world)'}" for lk in info["links"]]
     if info.get("actuators"):
-        lines += ["", f"{'actuator':<28}{'joint or tendon':<28}{'gear':>9}  {'kind':<24}"
+        lines += ["", f"{'actuator':<28}{'joint or tendon':<28}{'gear':>9}  {'kind':<36}"
                   f"control range"]
         lines += [f"{a['name']:<28}{a['joint'] or 'tendon ' + a['tendon']:<28}"
-                  f"{a['gear']:>9.4g}  {_kind(a):<24}"
+                  f"{a['gear']:>9.4g}  {_kind(a):<36}"
                   f"{_range([a['ctrlrange'][0]], [a['ctrlrange'][1]])}"
                   for a in info["actuators"]]
     if info.get("tendons"):
@@ -195,7 +195,13 @@ def run(args: argparse.Namespace) -> int:
 
 def _kind(actuator: dict) -> str:
     """An actuator's kind by its gain and bias (A1): a motor, a position servo ``kp`` (and
-    ``kv``), a velocity servo ``kv``, or its force law."""
+    ``kv``), a velocity servo ``kv``, or its force law; then its activation dynamics (A2),
+    a filter with its time constant."""
+    return _law(actuator) + {"none": "", "integrator": ", integrator"}.get(
+        actuator["dynamics"], f", {actuator['dynamics']} {actuator['time_constant']:.4g} s")
+
+
+def _law(actuator: dict) -> str:
     gain, (b0, b1, b2) = actuator["gain"], actuator["bias"]
     if (gain, b0, b1, b2) == (1.0, 0.0, 0.0, 0.0):
         return "motor"

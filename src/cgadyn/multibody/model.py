@@ -56,6 +56,8 @@ _ARRAY_FIELDS = (
     "actuator_tendon",
     "actuator_ctrlrange",
     "actuator_forcerange",
+    "actuator_time_constant",
+    "actuator_actrange",
     "tendon_coefficients",
     "tendon_stiffness",
     "tendon_damping",
@@ -63,6 +65,10 @@ _ARRAY_FIELDS = (
     "coupling_coefficients",
     "coupling_offset",
 )
+
+
+ACTIVATION_DYNAMICS = ("none", "integrator", "filter", "filterexact")
+"""An actuator's activation dynamics (``Model.actuator_dynamics``; A2)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -182,6 +188,17 @@ class Model:
     actuator_ctrlrange, actuator_forcerange : float64 (na, 2)
         The control's range and the range of the force before the gear (``±inf``: none),
         as MuJoCo clamps them.
+    actuator_dynamics : tuple[str, ...]
+        Each actuator's activation dynamics (MuJoCo's ``dyntype``): ``"none"`` (the force
+        takes the control), or an activation state ``w`` that the force takes in its
+        place, moved by the control ``u``: ``"integrator"`` (``ẇ = u``), ``"filter"`` and
+        ``"filterexact"`` (``ẇ = (u - w) / T``, stepped by Euler or exactly;
+        ``cgadyn.activations``, ``docs/joints.md``, A2). ``"none"`` by default.
+    actuator_time_constant : float64 (na,)
+        A filter's time constant T (MuJoCo's ``dynprm[0]``); 0 for the others.
+    actuator_actrange : float64 (na, 2)
+        The range the activation is clamped to after each step (MuJoCo's ``actrange`` where
+        ``actlimited``; ``±inf``: none).
     tendon_names : tuple[str, ...]
         The fixed tendons that carry a spring or a damper or that a motor pulls (MuJoCo's
         ``<fixed>`` tendons), none by default.
@@ -242,6 +259,9 @@ class Model:
     actuator_tendon: np.ndarray | None = None
     actuator_ctrlrange: np.ndarray | None = None
     actuator_forcerange: np.ndarray | None = None
+    actuator_dynamics: tuple = ()
+    actuator_time_constant: np.ndarray | None = None
+    actuator_actrange: np.ndarray | None = None
     tendon_names: tuple = ()
     tendon_coefficients: np.ndarray | None = None
     tendon_stiffness: np.ndarray | None = None
@@ -261,7 +281,11 @@ class Model:
                     "actuator_gain": np.ones(na), "actuator_bias": np.zeros((na, 3)),
                     "actuator_tendon": np.full(na, -1, dtype=np.int64),
                     "actuator_ctrlrange": np.tile([-np.inf, np.inf], (na, 1)),
-                    "actuator_forcerange": np.tile([-np.inf, np.inf], (na, 1))}
+                    "actuator_forcerange": np.tile([-np.inf, np.inf], (na, 1)),
+                    "actuator_time_constant": np.zeros(na),
+                    "actuator_actrange": np.tile([-np.inf, np.inf], (na, 1))}
+        if not self.actuator_dynamics:
+            object.__setattr__(self, "actuator_dynamics", ("none",) * na)
         nt = len(self.tendon_names)
         defaults.update({"tendon_coefficients": np.zeros((nt, nv)),
                          "tendon_stiffness": np.zeros(nt), "tendon_damping": np.zeros(nt),
@@ -289,7 +313,7 @@ class Model:
             arr.flags.writeable = False
             object.__setattr__(self, field, arr)
         for field in ("joint_names", "joint_kinds", "link_names", "mimic", "actuator_names",
-                      "tendon_names", "coupling_names"):
+                      "actuator_dynamics", "tendon_names", "coupling_names"):
             object.__setattr__(self, field, tuple(getattr(self, field)))
         self._check()
 
@@ -331,6 +355,8 @@ class Model:
             "actuator_tendon": (len(self.actuator_names),),
             "actuator_ctrlrange": (len(self.actuator_names), 2),
             "actuator_forcerange": (len(self.actuator_names), 2),
+            "actuator_time_constant": (len(self.actuator_names),),
+            "actuator_actrange": (len(self.actuator_names), 2),
             "tendon_coefficients": (len(self.tendon_names), nv),
             "tendon_stiffness": (len(self.tendon_names),),
             "tendon_damping": (len(self.tendon_names),),
@@ -442,11 +468,23 @@ class Model:
                 raise ValueError(f"actuator {name!r} has a force range on a force that depends "
                                  f"on the state (bias {self.actuator_bias[a].tolist()}); "
                                  f"cgadyn clamps only a force of the control alone")
-            for what in ("ctrlrange", "forcerange"):
+            for what in ("ctrlrange", "forcerange", "actrange"):
                 lo, hi = getattr(self, f"actuator_{what}")[a]
                 if not lo <= hi:
                     raise ValueError(f"actuator {name!r} has the {what} [{lo}, {hi}]; "
                                      f"expected lower <= upper")
+        if len(self.actuator_dynamics) != len(self.actuator_names):
+            raise ValueError(f"Model.actuator_dynamics has {len(self.actuator_dynamics)} "
+                             f"entries, expected one per actuator "
+                             f"({len(self.actuator_names)})")
+        for name, kind, T in zip(self.actuator_names, self.actuator_dynamics,
+                                 self.actuator_time_constant, strict=True):
+            if kind not in ACTIVATION_DYNAMICS:
+                raise ValueError(f"actuator {name!r} has the dynamics {kind!r}; expected one "
+                                 f"of {ACTIVATION_DYNAMICS}")
+            if kind.startswith("filter") and not (np.isfinite(T) and T > 0.0):
+                raise ValueError(f"actuator {name!r} is a {kind} of time constant {T}; "
+                                 f"expected a finite number > 0")
 
     def _additive(self) -> np.ndarray:
         """bool (nv,): the coordinates of joints whose coordinates add (``q ⊕ v = q + v``)."""
@@ -494,17 +532,20 @@ class Model:
     def actuators(self) -> list[dict]:
         """The actuators, one dict each: ``name``, ``joint`` and ``dof`` (the velocity
         coordinate) of a joint's, ``tendon`` of a tendon's (the others None), ``gear``,
-        ``gain``, ``bias`` (``b₀, b₁, b₂``), ``ctrlrange``, ``forcerange``."""
+        ``gain``, ``bias`` (``b₀, b₁, b₂``), ``ctrlrange``, ``forcerange``, ``dynamics``
+        and ``time_constant`` (``Model.actuator_dynamics``)."""
         return [{"name": name,
                  "joint": None if t >= 0 else self.joint_names[self.dof_joint[int(dof)]],
                  "dof": None if t >= 0 else int(dof),
                  "tendon": self.tendon_names[t] if t >= 0 else None,
                  "gear": float(gear), "gain": float(gain), "bias": tuple(map(float, b)),
-                 "ctrlrange": tuple(map(float, c)), "forcerange": tuple(map(float, f))}
-                for name, dof, t, gear, gain, b, c, f in zip(
+                 "ctrlrange": tuple(map(float, c)), "forcerange": tuple(map(float, f)),
+                 "dynamics": kind, "time_constant": float(T)}
+                for name, dof, t, gear, gain, b, c, f, kind, T in zip(
                     self.actuator_names, self.actuator_dof, self.actuator_tendon,
                     self.actuator_gear, self.actuator_gain, self.actuator_bias,
-                    self.actuator_ctrlrange, self.actuator_forcerange, strict=True)]
+                    self.actuator_ctrlrange, self.actuator_forcerange, self.actuator_dynamics,
+                    self.actuator_time_constant, strict=True)]
 
     def _check_axes(self):
         """Joint axes pass through the joint frame's origin (URDF's convention): a revolute

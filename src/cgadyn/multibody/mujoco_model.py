@@ -316,16 +316,24 @@ def _motors_and_tendons(mj, model: Model, joint_of: dict, where: str) -> dict:
 
 def _motors(mj, model: Model, joint_of: dict, where: str) -> tuple[dict, list[int]]:
     """The ``Model.actuator_*`` fields of MuJoCo's actuators with a fixed gain, no bias or
-    an affine one and no activation dynamics (``<motor>``, ``<position>``, ``<velocity>``,
-    ``<general>`` so made) on a one-coordinate joint or a fixed tendon: the force
-    ``clamp(gain · clamp(ctrl, ctrlrange) + b₀ + b₁ L + b₂ L̇, forcerange)`` times ``gear``
-    on the joint's coordinate, or along the tendon (``algorithms.actuators``, A1); and the
-    MuJoCo tendon of each (-1 for a joint). Any other actuator is left out, with a warning
-    naming it: one with activation dynamics (``dyntype``: a state of its own), a gain that
-    depends on the state, or a force range on a force that depends on the state."""
+    an affine one (``<motor>``, ``<position>``, ``<velocity>``, ``<general>`` so made) on a
+    one-coordinate joint or a fixed tendon: the force ``clamp(gain · w + b₀ + b₁ L + b₂ L̇,
+    forcerange)`` times ``gear`` on the joint's coordinate, or along the tendon
+    (``algorithms.actuators``, A1), ``w`` the control clamped to ``ctrlrange``, or, with
+    activation dynamics ``integrator``, ``filter`` or ``filterexact`` (one activation,
+    not ``actearly``), the activation (A2); and the MuJoCo tendon of each (-1 for a joint).
+    Any other actuator is left out, with a warning naming it: a muscle or user dynamics, a
+    gain that depends on the state, or a force range on a force that depends on the
+    state."""
     import mujoco
 
     names, dofs, gears, gains, biases, ctrl, force, skipped, pulled = ([] for _ in range(9))
+    kinds, times, acts = [], [], []
+    dynamics = {int(mujoco.mjtDyn.mjDYN_NONE): "none",
+                int(mujoco.mjtDyn.mjDYN_INTEGRATOR): "integrator",
+                int(mujoco.mjtDyn.mjDYN_FILTER): "filter",
+                int(mujoco.mjtDyn.mjDYN_FILTEREXACT): "filterexact"}
+    early = getattr(mj, "actuator_actearly", np.zeros(mj.nu))
     clamp = not _disabled(mj, "CLAMPCTRL")
     for a in range(mj.nu):
         name = _name(mj, _obj("ACTUATOR"), a, f"actuator{a}")
@@ -341,7 +349,7 @@ def _motors(mj, model: Model, joint_of: dict, where: str) -> tuple[dict, list[in
         kept = ((on_joint or on_tendon)
                 and mj.actuator_gaintype[a] == mujoco.mjtGain.mjGAIN_FIXED
                 and (mj.actuator_biastype[a] == mujoco.mjtBias.mjBIAS_NONE or affine)
-                and mj.actuator_dyntype[a] == mujoco.mjtDyn.mjDYN_NONE
+                and int(mj.actuator_dyntype[a]) in dynamics and not early[a]
                 and not (clamped and np.any(bias[1:])))
         if not kept:
             skipped.append(name)
@@ -355,12 +363,18 @@ def _motors(mj, model: Model, joint_of: dict, where: str) -> tuple[dict, list[in
         limited = clamp and bool(mj.actuator_ctrllimited[a])
         ctrl.append(mj.actuator_ctrlrange[a] if limited else (-np.inf, np.inf))
         force.append(mj.actuator_forcerange[a] if clamped else (-np.inf, np.inf))
+        kinds.append(dynamics[int(mj.actuator_dyntype[a])])
+        times.append(float(mj.actuator_dynprm[a, 0]) if kinds[-1].startswith("filter")
+                     else 0.0)
+        acts.append(mj.actuator_actrange[a] if mj.actuator_actlimited[a]
+                    else (-np.inf, np.inf))
     if skipped:
         warnings.warn(f"{where!r}: the actuators {', '.join(map(repr, skipped))} are left "
                       f"out of model.actuators: cgadyn models actuators of a fixed gain and "
-                      f"an affine bias without activation dynamics (motors, position and "
-                      f"velocity servos, their force range only where the force does not "
-                      f"depend on the state) on a hinge, a slide or a fixed tendon",
+                      f"an affine bias (motors, position and velocity servos, their force "
+                      f"range only where the force does not depend on the state) on a hinge, "
+                      f"a slide or a fixed tendon, without activation dynamics or through "
+                      f"an integrator or a filter (no muscles)",
                       stacklevel=5)
     na = len(names)
     return dict(actuator_names=tuple(names), actuator_dof=np.array(dofs, dtype=np.int64),
@@ -368,7 +382,10 @@ def _motors(mj, model: Model, joint_of: dict, where: str) -> tuple[dict, list[in
                 actuator_gain=np.array(gains, dtype=float),
                 actuator_bias=np.array(biases, dtype=float).reshape(na, 3),
                 actuator_ctrlrange=np.array(ctrl, dtype=float).reshape(na, 2),
-                actuator_forcerange=np.array(force, dtype=float).reshape(na, 2)), pulled
+                actuator_forcerange=np.array(force, dtype=float).reshape(na, 2),
+                actuator_dynamics=tuple(kinds),
+                actuator_time_constant=np.array(times, dtype=float),
+                actuator_actrange=np.array(acts, dtype=float).reshape(na, 2)), pulled
 
 
 def _tendons(mj, model: Model, joint_of: dict, where: str, pulled: list[int]

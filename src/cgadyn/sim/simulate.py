@@ -16,7 +16,13 @@ import numpy as np
 from .. import _arrays
 from .._threads import PARALLEL_LOCK
 from ..algorithms import _inputs
-from ..algorithms.actuators import actuator_springs, control_torques, state_dependent
+from ..algorithms.actuators import (
+    activations,
+    actuator_springs,
+    control_torques,
+    dynamic,
+    state_dependent,
+)
 from ..algorithms.api import energy as _energy
 from ..algorithms.api import link_placements
 from ..algorithms.configuration import neutral
@@ -89,7 +95,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
              final_only: bool = False, passive: bool = True, ctrl=None, constraints=None,
              damping: float = 0.0, world=None, collisions=None,
              contact=None, joint_limits: bool | None = None,
-             friction_loss: bool | None = None, couplings: bool | None = None) -> Trajectory:
+             friction_loss: bool | None = None, couplings: bool | None = None,
+             act=None) -> Trajectory:
     """Integrate ``q̈ = ABA(q, v, τ)``, or the constrained dynamics of ``constraints``, for
     ``steps`` steps of ``dt`` seconds.
 
@@ -109,7 +116,10 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     per step for the model's actuators (``Model.actuators``), (steps, na) or (B, steps,
     na), held over each step: their torques (``cgadyn.actuator_torques``, MuJoCo's
     clamping; a position or velocity servo's at each stage's state) are added to ``tau``,
-    so that a Gymnasium policy's actions drive the rollout unchanged;
+    so that a Gymnasium policy's actions drive the rollout unchanged; an actuator with
+    activation dynamics (``Model.actuator_dynamics``: dm_control's quadruped's filters)
+    takes its activation instead, stepped by A2 from ``act`` ((na,) or (B, na); zeros by
+    default) and held over each step (``Trajectory.activation``);
     ``constraints``: None, or a list of ``cgadyn.Constraint`` of this model (loop closures,
     feet held, ``cgadyn.mujoco_constraints`` of an MJCF's equalities): every stage's q̈ then
     solves ``M q̈ = τ - h + Jᵀ λ``, ``J q̈ = -γ`` (``cgadyn.constrained_dynamics``, C6), γ
@@ -158,9 +168,17 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     """
     dt = _positive(dt)
     steps = _steps(steps)
-    servos = None
+    servos = activation = None
+    if act is not None and (ctrl is None or not np.any(dynamic(model))):
+        raise ValueError(f"simulate: act is the start of the activations of actuators with "
+                         f"activation dynamics, driven by ctrl; {model.name!r} has none"
+                         if ctrl is not None else "simulate: act needs ctrl (the controls "
+                         "that drive the activations)")
     if ctrl is not None:  # the controls' torques, added to tau up front; a servo's spring
-        u_ctrl = control_torques(model, ctrl)  # and damper join the loop's tendons (A1)
+        if np.any(dynamic(model)):  # the force of step n takes w_n (A2): known up front
+            activation = activations(model, ctrl, dt, act)
+        u_ctrl = control_torques(model, ctrl, None if activation is None
+                                 else activation[..., :-1, :])  # A1; the springs: tendons
         servos = actuator_springs(model) if np.any(state_dependent(model)) else None
         if u_ctrl.ndim not in (2, 3) or u_ctrl.shape[-2] != steps:
             raise ValueError(f"ctrl must have shape (steps, na) = ({steps}, "
@@ -195,9 +213,11 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     p = pack(model, () if constraints is None else constraints)  # checked: type, model
     settings = checked_settings(damping, None, 1e-12)
     server = _arrays.server((q0, v0, tau))
-    if server is not None and (p.nr or world is not None or servos is not None):
-        raise ValueError("simulate with constraints, a world or servo actuators takes numpy "
-                         "states; dask arrays of states are not supported with them yet")
+    if server is not None and (p.nr or world is not None or servos is not None
+                               or activation is not None):
+        raise ValueError("simulate with constraints, a world, servo actuators or actuators "
+                         "with activation dynamics takes numpy states; dask arrays of states "
+                         "are not supported with them yet")
     if server is not None:  # dask arrays: chunks of rollouts, scheduled by dask
         return server.simulate(model, q0, v0, dt, steps, tau, dict(
             integrator=integrator, gravity=gravity, f_ext=f_ext, controller=controller,
@@ -287,6 +307,9 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
         if diverged:
             t[-1] = completed * dt  # the last state it reached
     deferred = Deferred(lambda: _energies(packed, Q, V, last))
+    if activation is not None:
+        activation = _kept_activation(activation, B, steps, every, rows, completed,
+                                      diverged, batch)
     return Trajectory(t=t, q=Q, v=V, a=A, kinetic=deferred, potential=deferred,
                       completed=completed, diverged=diverged,
                       dt=dt, integrator=integrator, message=message,
@@ -296,7 +319,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
                       limit_torques=limit, friction_torques=friction,
                       scene=None if world is None else ContactScene(
                           model, shapes, world, contact, step_inertia,
-                          robot_joints))
+                          robot_joints), activation=activation)
 
 
 def _contact_settings(contact, world):
@@ -358,6 +381,27 @@ def _every(record_every, final_only, steps: int) -> int:
         raise ValueError(f"record_every must be a positive integer (keep every k-th state), "
                          f"got {record_every!r}")
     return 0 if final_only else int(min(record_every, steps))
+
+
+def _kept_activation(w: np.ndarray, B: int, steps: int, every: int, rows: int,
+                     completed, diverged, batch) -> np.ndarray:
+    """The activations (A2) of the states kept, from all of them ``w`` (..., steps + 1,
+    na): the rows of ``kept_row``, a stopped rollout's last state at its step and NaN
+    after it, as the states' arrays hold them."""
+    w = np.broadcast_to(w, (B,) + w.shape[-2:])
+    index = np.array([i for i in range(steps + 1)
+                      if getattr(kept_row, "py_func", kept_row)(i, steps, every) >= 0])
+    out = w[:, index].copy()
+    done = np.atleast_1d(completed)
+    for b in np.flatnonzero(np.atleast_1d(diverged)):
+        r = _last_row(int(done[b]), steps, every)
+        out[b, r] = w[b, int(done[b])]
+        out[b, r + 1:] = np.nan
+    if not batch:
+        end = _last_row(int(done[0]), steps, every) + 1 if np.atleast_1d(diverged)[0] \
+            else rows
+        return out[0, :end]
+    return out
 
 
 def _times(dt: float, steps: int, every: int, rows: int) -> np.ndarray:

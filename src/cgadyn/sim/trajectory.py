@@ -95,6 +95,12 @@ class Trajectory:
     state again, with their forces, and ``contact_criteria()`` compute the physical
     criteria of every step (docs/contact.md, K31-K34).
 
+    With controls of actuators that have activation dynamics (``simulate(ctrl=...)``,
+    ``Model.actuator_dynamics``): ``activation`` (rows, na) or (B, rows, na), the
+    actuators' activations at each state kept (A2; 0 for an actuator without dynamics,
+    NaN in a row no state reached), what a next run starts from (``simulate(..., act=)``).
+    None otherwise.
+
     ``kinetic`` and ``potential`` from ``simulate`` are computed when one of them (or
     ``energy``) is first read, from the states ``q``, ``v`` then held, in one parallel
     compiled call over all states; the rollout itself computes no energy.
@@ -120,6 +126,7 @@ class Trajectory:
     limit_torques: np.ndarray | None = None
     friction_torques: np.ndarray | None = None
     scene: object = None
+    activation: np.ndarray | None = None
 
     @property
     def energy(self) -> np.ndarray:
