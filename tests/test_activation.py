@@ -169,3 +169,20 @@ def test_the_quadruped_stands_on_its_filtered_servos():
     assert trajectory.q[-1, 2] > 0.4
     assert np.all(trajectory.energy[1:] <= trajectory.energy[0] + 1e-9)
     np.testing.assert_allclose(trajectory.activation, 0.0)
+
+
+def test_the_command_line_carries_the_activations_from_call_to_call():
+    """``cgadyn simulate`` runs a long rollout as a sequence of calls
+    (``commands.simulate.simulate_chunked``): each starts from the last one's activations,
+    so the whole equals one call of ``simulate`` (to the solver's warm start, which each
+    call restarts)."""
+    from cgadyn.commands.simulate import simulate_chunked
+
+    model, _ = _arm()
+    ctrl = _controls(1200, seed=4)
+    one = cgadyn.simulate(model, np.zeros(3), np.zeros(3), DT, 1200, ctrl=ctrl,
+                          integrator="semi_implicit_euler")
+    calls = simulate_chunked(model, np.zeros(3), np.zeros(3), DT, 1200,
+                             "semi_implicit_euler", None, progress=False, ctrl=ctrl)
+    np.testing.assert_allclose(calls.q[-1], one.q[-1], atol=1e-12)
+    np.testing.assert_allclose(calls.v[-1], one.v[-1], atol=1e-12)

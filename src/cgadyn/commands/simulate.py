@@ -222,7 +222,8 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
                      ctrl=None):
     """``cgadyn.simulate(model, q0, v0, dt, steps, ..., record_every=every, world=world,
     collisions=collisions, ctrl=ctrl)`` as a sequence of calls, each continuing from the
-    last state and each a whole number of ``every`` steps (so that the states kept are
+    last state (and the actuators' last activations, A2) and each a whole number of
+    ``every`` steps (so that the states kept are
     those of one call;
     with contact, each call's first step starts its solver cold instead of from the last
     step's forces, which changes the forces within the solver's tolerance), with a progress
@@ -234,7 +235,7 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
     if world is not None:
         keys += ("contact_count", "contact_forces")
     parts: dict[str, list] = {k: [] for k in keys}
-    q, v, done, message, bar = q0, v0, 0, "", None
+    q, v, act, done, message, bar = q0, v0, None, 0, "", None
     chunk = every  # the first call compiles: one kept row, then a measured chunk sets the pace
     while done < steps:
         n = min(chunk, steps - done)
@@ -250,7 +251,8 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
                 traj = simulate(model, q, v, dt, n, integrator=integrator,
                                 controller=controller, record_every=every, world=world,
                                 collisions=collisions,
-                                ctrl=None if ctrl is None else ctrl[done:done + n])
+                                ctrl=None if ctrl is None else ctrl[done:done + n],
+                                act=act)
         finally:
             if notice is not None:
                 notice.cancel()
@@ -264,6 +266,7 @@ def simulate_chunked(model, q0, v0, dt: float, steps: int, integrator: str, cont
             message = _stopped(traj.message, done, steps, dt, done - int(traj.completed))
             break
         q, v = traj.q[-1], traj.v[-1]
+        act = None if traj.activation is None else traj.activation[-1]
         if done == n:
             chunk = max(1, min(1000, steps) // every) * every
         else:
