@@ -29,7 +29,7 @@ def _limits(values, j: int, idx) -> list[float]:
 def model_info(model) -> dict:
     """Base, sizes, joints (kind, parent, coordinates, limits, armature, damping,
     stiffness, body mass), links (with the joint they move with), actuators, fixed tendons'
-    springs and dampers, couplings (``Σ coef q = offset``), total mass and
+    springs and dampers, couplings (``Σ coef q = offset``), ropes, total mass and
     home configuration (``Model.home``; ``home_is_neutral`` where it is the neutral one) of
     a model."""
     from ..algorithms import neutral
@@ -69,6 +69,14 @@ def model_info(model) -> dict:
                                           for k in np.flatnonzero(a)}, "offset": float(b)}
                 for name, a, b in zip(model.coupling_names, model.coupling_coefficients,
                                       model.coupling_offset, strict=True)],
+            "ropes": [
+                {"name": name, "links": [model.link_names[k] if k >= 0 else "world"
+                                         for k in links],
+                 "points": [[float(x) for x in p] for p in points],
+                 "range": [float(x) for x in bounds]}
+                for name, links, points, bounds in zip(model.rope_names, model.rope_links,
+                                                        model.rope_points, model.rope_range,
+                                                        strict=True)],
             "home": [float(x) for x in model.home],
             "home_is_neutral": bool(np.array_equal(model.home, neutral(model)))}
 
@@ -133,6 +141,10 @@ def format_info(info: dict) -> str:
         lines += [f"{c['name']:<28}"
                   + " + ".join(f"{x:.4g} {j}" for j, x in c["joints"].items())
                   + f" = {c['offset']:.6g}" for c in info["couplings"]]
+    if info.get("ropes"):
+        lines += ["", f"{'rope':<28}{'between':<36}length (held by the contact step)"]
+        lines += [f"{r['name']:<28}{' and '.join(r['links']):<36}"
+                  f"{_range([r['range'][0]], [r['range'][1]])}" for r in info["ropes"]]
     world = info.get("world")
     if world is not None:
         ground = world["ground"]

@@ -109,7 +109,9 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
        such a coordinate back by ``stabilization`` of its overshoot instead, adding no
        velocity (K26, K26a; joints of several coordinates get none); with
        ``friction_loss``, one row ``e_k`` per velocity coordinate with ``Model.friction``
-       ``f > 0``, its impulse in ``[-f dt, f dt]`` (K30); with ``couplings``, one
+       ``f > 0``, its impulse in ``[-f dt, f dt]`` (K30); with ``joint_limits`` also
+       one row per bound of a rope (``Model.rope_*``) that the step may reach, ``λ >= 0``
+       with the gap's term (K46); with ``couplings``, one
        unbounded row ``a`` per coupling of the model (``Model.coupling_coefficients``),
        ``σ = a · v⁺ = 0`` (K45);
     3. the impulses ``λ`` in the friction cones of ``World.friction`` by ``solver``
@@ -125,8 +127,9 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
        the smallest displacement in M's metric that takes every such penetration back by
        the fraction ``stabilization`` and takes no other inside (K43, ``correction.py``): a
        correction of the configuration alone, ``v⁺`` unchanged, so that a body started
-       inside the ground rises to its surface and is not thrown; then the couplings'
-       coordinates moved by the least displacement that takes the fraction
+       inside the ground rises to its surface and is not thrown; a rope stretched past its
+       bound taken back by ``stabilization`` of the stretch likewise (K46a); then the
+       couplings' coordinates moved by the least displacement that takes the fraction
        ``stabilization`` of their errors back (K45a).
 
     ``passive``: add the joints' damping and spring torques (``passive_torques``) as
@@ -155,6 +158,9 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         limit_shift,
     )
     from .limits import joint_limits as joint_limits_of
+    from .problem import open_gap
+    from .ropes import GAP as ROPE_GAP
+    from .ropes import ROPE_ROW, rope_system
     from .solve import solve_contacts
     from .static_world import default_world
 
@@ -196,21 +202,25 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     nl = active_limits(limits, q, v, v_free, step, float(margin), rows)  # K26
     frictions = joint_frictions(model) if friction_loss else np.zeros((0, 2))
     tied = coupling_rows(model)[:len(model.coupling_names) if couplings else 0]
-    nc, nf, ne = len(contacts), len(frictions), len(tied)
-    if nc + nl + nf + ne == 0:
+    ropes, rope_J = rope_system(model, q, v, v_free, step, float(margin)) if joint_limits \
+        else (np.zeros((0, ROPE_ROW)), np.zeros((0, model.nv)))  # K46
+    nc, nf, ne, nr = len(contacts), len(frictions), len(tied), len(ropes)
+    if nc + nl + nf + ne + nr == 0:
         return ContactStep(step_moved_configuration(model, q, step * v_free),
                            step_moved_velocity(model, v_free, step), contacts,
                            np.zeros((0, 3)), np.zeros(model.nv), np.zeros(model.nv),
                            velocities=np.zeros((0, 3)), collisions=cm)
     frames = np.array([ground_frame(n) for n in contacts.normal]).reshape(nc, 3, 3)  # K37
-    J = np.zeros((3 * nc + nl + nf + ne, model.nv))
+    J = np.zeros((3 * nc + nl + nf + ne + nr, model.nv))
     n1, n2 = 3 * nc + nl, 3 * nc + nl + nf  # the first friction row, coupling row
+    n3 = n2 + ne  # the first rope row
     J[:3 * nc] = contact_jacobian(model, q, contacts, frames)  # K20, K37
     for k in range(nl):  # ±e_v, or -aᵀ on a cone-limited joint's ω (K26, K26')
         v0, width = int(rows[k, ROW_V]), int(rows[k, ROW_WIDTH])
         J[3 * nc + k, v0:v0 + width] = rows[k, ROW_COEF:ROW_COEF + width]
     J[n1 + np.arange(nf), frictions[:, 0].astype(int)] = 1.0  # K30
-    J[n2:] = tied[:, :model.nv]  # K45
+    J[n2:n3] = tied[:, :model.nv]  # K45
+    J[n3:] = rope_J  # K46
     G = J @ np.linalg.solve(crba(model, q), J.T)  # G = J M⁻¹ Jᵀ (C7) over every row
     G = 0.5 * (G + G.T)
     g = J @ v_free
@@ -219,11 +229,13 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     g[3 * np.arange(nc) + 2] += term  # K23, K41
     g[3 * nc + np.arange(nl)] += [limit_gap(rows, k, step)  # K26, K26a
                                   for k in range(nl)]
+    g[n3:] += [open_gap(d, step) for d in ropes[:, ROPE_GAP]]  # K46
     soft_rows = np.zeros(len(g))  # R: the compliance of each row (K41)
     soft_rows[3 * np.arange(nc) + 2] = compliance
     bounds = np.concatenate([np.tile([0.0, np.inf], (nl, 1)),  # λ >= 0 (K26)
                              step * np.outer(frictions[:, 1], [-1.0, 1.0]),  # K30
-                             np.tile([-np.inf, np.inf], (ne, 1))])  # K45
+                             np.tile([-np.inf, np.inf], (ne, 1)),  # K45
+                             np.tile([0.0, np.inf], (nr, 1))])  # K46
     used, lam = contact.solver, None
     for used in (contact.solver, other_solver(contact.solver)):  # the other from its λ
         lam, info = solve_contacts(G, g, contacts.friction, compliance=soft_rows, solver=used,
@@ -255,6 +267,10 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         shift = aba(model, q, np.zeros(model.nv), J[2:3 * nc:3].T @ mu,
                     gravity=np.zeros(3))
         q_next = integrate(model, q_next, shift)
+    back = stabilization * np.maximum(-ropes[:, ROPE_GAP], 0.0) / np.diag(G)[n3:]
+    if np.any(back > 0.0):  # a rope past its bound: back by β |d| in M's metric (K46a)
+        q_next = integrate(model, q_next, aba(model, q, np.zeros(model.nv), J[n3:].T @ back,
+                                              gravity=np.zeros(3)))
     coupling_shift(tied, stabilization, q_next, np.empty(ne))  # K45a
     return ContactStep(q_next, step_moved_velocity(model, v_next, step), contacts, forces,
                        limit_torques, friction_torques, info, used, sigma, cm)

@@ -64,6 +64,9 @@ _ARRAY_FIELDS = (
     "tendon_spring_length",
     "coupling_coefficients",
     "coupling_offset",
+    "rope_links",
+    "rope_points",
+    "rope_range",
 )
 
 
@@ -219,6 +222,17 @@ class Model:
     coupling_coefficients, coupling_offset : float64 (ne, nv), (ne,)
         Coupling c holds ``Σ_k a_ck q_k = b_c`` (``a_c`` its coefficients, ``b_c`` its
         offset) over the coordinates of joints whose coordinates add.
+    rope_names : tuple[str, ...]
+        Ropes: the distance between two points, each fixed on a link (or in the world),
+        bounded (MuJoCo's limited spatial tendon of two sites: dm_control ball_in_cup's
+        string), none by default: unilateral constraints that the contact step holds
+        (``docs/contact.md``, "Ropes", K46).
+    rope_links : int64 (nr, 2)
+        The links of each rope's two ends (-1: the world).
+    rope_points : float64 (nr, 2, 3)
+        Each end's point in its link's frame (in the world's for -1).
+    rope_range : float64 (nr, 2)
+        The shortest and longest distance allowed (``0`` and ``inf``: no bound).
     """
 
     name: str
@@ -270,6 +284,10 @@ class Model:
     coupling_names: tuple = ()
     coupling_coefficients: np.ndarray | None = None
     coupling_offset: np.ndarray | None = None
+    rope_names: tuple = ()
+    rope_links: np.ndarray | None = None
+    rope_points: np.ndarray | None = None
+    rope_range: np.ndarray | None = None
 
     def __post_init__(self):
         nv = sum(NV[int(t)] for t in np.asarray(self.joint_types).reshape(-1))
@@ -293,6 +311,10 @@ class Model:
         ne = len(self.coupling_names)
         defaults.update({"coupling_coefficients": np.zeros((ne, nv)),
                          "coupling_offset": np.zeros(ne)})
+        nr = len(self.rope_names)
+        defaults.update({"rope_links": np.zeros((nr, 2), dtype=np.int64),
+                         "rope_points": np.zeros((nr, 2, 3)),
+                         "rope_range": np.tile([0.0, np.inf], (nr, 1))})
         for field, value in defaults.items():
             if getattr(self, field) is None:
                 object.__setattr__(self, field, value.reshape((len(value),) + value.shape[1:]))
@@ -308,12 +330,13 @@ class Model:
         for field in _ARRAY_FIELDS:
             arr = getattr(self, field)
             dtype = np.int64 if field in ("joint_types", "parents", "link_joint",
-                                          "actuator_dof", "actuator_tendon") else np.float64
+                                          "actuator_dof", "actuator_tendon",
+                                          "rope_links") else np.float64
             arr = np.array(arr, dtype=dtype, copy=True)
             arr.flags.writeable = False
             object.__setattr__(self, field, arr)
         for field in ("joint_names", "joint_kinds", "link_names", "mimic", "actuator_names",
-                      "actuator_dynamics", "tendon_names", "coupling_names"):
+                      "actuator_dynamics", "tendon_names", "coupling_names", "rope_names"):
             object.__setattr__(self, field, tuple(getattr(self, field)))
         self._check()
 
@@ -363,6 +386,9 @@ class Model:
             "tendon_spring_length": (len(self.tendon_names), 2),
             "coupling_coefficients": (len(self.coupling_names), nv),
             "coupling_offset": (len(self.coupling_names),),
+            "rope_links": (len(self.rope_names), 2),
+            "rope_points": (len(self.rope_names), 2, 3),
+            "rope_range": (len(self.rope_names), 2),
         }
         for field, shape in shapes.items():
             got = getattr(self, field).shape
@@ -394,6 +420,7 @@ class Model:
         self._check_actuators()
         self._check_tendons()
         self._check_couplings()
+        self._check_ropes()
         if np.any((self.link_joint < -1) | (self.link_joint >= n)):
             raise ValueError("link_joint entries must lie in [-1, n)")
         if len(set(self.joint_names)) != n:
@@ -506,6 +533,24 @@ class Model:
                                  f"the offset {b}; expected finite numbers, not all zero, "
                                  f"zero on the coordinates of joints whose coordinates do "
                                  f"not add")
+
+    def _check_ropes(self):
+        """Each rope joins two different links of the model or the world, at finite points,
+        and bounds its length by ``0 <= shortest <= longest`` (``inf``: no longest), one of
+        them a bound (shortest > 0 or longest finite)."""
+        for name, (a, b), P, (lo, hi) in zip(self.rope_names, self.rope_links,
+                                             self.rope_points, self.rope_range, strict=True):
+            nl = len(self.link_names)
+            if not (-1 <= a < nl and -1 <= b < nl and a != b):
+                raise ValueError(f"rope {name!r} joins the links {a} and {b}; expected two "
+                                 f"different links in [-1, {nl}) (-1: the world)")
+            if not np.all(np.isfinite(P)):
+                raise ValueError(f"rope {name!r} has the points {P.tolist()}; expected "
+                                 f"finite points")
+            if not (0.0 <= lo <= hi and np.isfinite(lo) and (lo > 0.0 or np.isfinite(hi))):
+                raise ValueError(f"rope {name!r} has the range [{lo}, {hi}]; expected 0 <= "
+                                 f"shortest <= longest, a finite shortest, and a bound "
+                                 f"(shortest > 0 or longest finite)")
 
     def _check_tendons(self):
         """Each tendon's coefficients are finite and on coordinates that add (where ``L = Σ

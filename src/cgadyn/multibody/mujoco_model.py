@@ -47,6 +47,8 @@ places every body. ``from_mujoco`` reads what it compiled, whole:
   are refused by name.
 - **Couplings**: the linear joint and tendon equalities active at the start
   (``Model.coupling_*``, held by the contact step, K45); others left out with a warning.
+- **Ropes**: limited spatial tendons of two sites (``Model.rope_*``, held by the contact
+  step, K46); other tendon limits are left out with a warning.
 
 States: ``from_mujoco_state(model, qpos, qvel)`` and ``to_mujoco_state(model, q, v)``,
 accelerations ``from_mujoco_acceleration(model, q, v, qacc)`` and
@@ -287,7 +289,7 @@ def from_mujoco(mj_model, name: str | None = None, check_inertia: bool = True) -
         return dataclasses.replace(model, spring_reference=table.from_mujoco(
             model, mj.qpos_spring), home=table.from_mujoco(model, mj.qpos0),
             **_motors_and_tendons(mj, model, joint_of, model_name),
-            **_couplings(mj, model, joint_of, model_name))
+            **_couplings(mj, model, joint_of, model_name), **_ropes(mj, model))
     except ValueError as exc:
         raise ValueError(f"MuJoCo model {model_name!r}: {exc}") from None
 
@@ -412,7 +414,8 @@ def _tendons(mj, model: Model, joint_of: dict, where: str, pulled: list[int]
         if passive and not fixed:
             raise ValueError(f"tendon {name!r} is a spatial tendon with a spring or damper; "
                              f"cgadyn models those of fixed tendons only")
-        if mj.tendon_limited[t] or mj.tendon_frictionloss[t] != 0.0:
+        if (mj.tendon_limited[t] and _rope_sites(mj, t) is None
+                or mj.tendon_frictionloss[t] != 0.0):
             loose.append(name)
         if not passive and t not in pulled:
             continue
@@ -425,7 +428,8 @@ def _tendons(mj, model: Model, joint_of: dict, where: str, pulled: list[int]
     if loose:
         warnings.warn(f"{where!r}: the limits and friction loss of the tendons "
                       f"{', '.join(map(repr, loose))} are not held: cgadyn holds joint "
-                      f"limits and joint friction loss only", stacklevel=5)
+                      f"limits, joint friction loss and the limits of spatial tendons of "
+                      f"two sites (ropes)", stacklevel=5)
     if mj.opt.density != 0.0 or mj.opt.viscosity != 0.0:
         warnings.warn(f"{where!r}: the fluid forces of density {mj.opt.density} and "
                       f"viscosity {mj.opt.viscosity} are left out: cgadyn computes no fluid "
@@ -436,6 +440,37 @@ def _tendons(mj, model: Model, joint_of: dict, where: str, pulled: list[int]
                 tendon_stiffness=np.array(stiffness, dtype=float),
                 tendon_damping=np.array(damping, dtype=float),
                 tendon_spring_length=np.array(length, dtype=float).reshape(nt, 2)), kept
+
+
+def _rope_sites(mj, t: int) -> tuple[int, int] | None:
+    """The two sites of MuJoCo's spatial tendon t where it is a straight segment between
+    two sites (two wraps, each a site: ``mjWRAP_SITE``), else None."""
+    import mujoco
+
+    adr, num = int(mj.tendon_adr[t]), int(mj.tendon_num[t])
+    if num != 2 or np.any(mj.wrap_type[adr:adr + 2] != int(mujoco.mjtWrap.mjWRAP_SITE)):
+        return None
+    return int(mj.wrap_objid[adr]), int(mj.wrap_objid[adr + 1])
+
+
+def _ropes(mj, model: Model) -> dict:
+    """The ``Model.rope_*`` fields of MuJoCo's limited spatial tendons of two sites: the
+    links of the sites' bodies (body b is link b, the world link 0), the sites in their
+    bodies' frames (``site_pos``) and ``tendon_range``; held by the contact step (K46)."""
+    names, links, points, ranges = [], [], [], []
+    for t in range(mj.ntendon):
+        sites = _rope_sites(mj, t) if mj.tendon_limited[t] else None
+        if sites is None:
+            continue
+        names.append(_name(mj, _obj("TENDON"), t, f"tendon{t}"))
+        links.append([int(mj.site_bodyid[k]) for k in sites])
+        points.append([np.array(mj.site_pos[k], dtype=float) for k in sites])
+        ranges.append([max(0.0, float(mj.tendon_range[t, 0])), float(mj.tendon_range[t, 1])])
+    nr = len(names)
+    return dict(rope_names=tuple(names),
+                rope_links=np.array(links, dtype=np.int64).reshape(nr, 2),
+                rope_points=np.array(points, dtype=float).reshape(nr, 2, 3),
+                rope_range=np.array(ranges, dtype=float).reshape(nr, 2))
 
 
 def _fixed_row(mj, model: Model, joint_of: dict, t: int) -> np.ndarray:

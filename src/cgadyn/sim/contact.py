@@ -75,7 +75,10 @@ from ..contact.limits import (
     limit_gap,
     limit_shift,
 )
-from ..contact.problem import normal_row
+from ..contact.problem import normal_row, open_gap
+from ..contact.ropes import GAP as ROPE_GAP
+from ..contact.ropes import ROPE_ROW, rope_bounds, rope_point, rope_rates, rope_row
+from ..contact.ropes import SLOT as ROPE_SLOT
 from ..contact.solver import ADMM, PGS, solve_one
 from ..kernels.rigid import rigid_frame, rigid_rotate
 from .pairs import (
@@ -93,15 +96,16 @@ from .pairs import (
 
 WorldArrays = namedtuple("WorldArrays", (
     "kinds", "sizes", "vertices", "offsets", "frames", "joints", "links", "active", "ground",
-    "ground_pose", "frame", "params", "limits", "frictions", "couplings", "compliance",
-    "radii", "pairs", "shape_friction"))
+    "ground_pose", "frame", "params", "limits", "frictions", "couplings", "ropes",
+    "compliance", "radii", "pairs", "shape_friction"))
 """The world as the loop reads it (``world_arrays``): the shapes' kinds, sizes, vertices
 and offsets, their placements in the frames of their links' joints (``frames`` (shapes, 3,
 4), the top rows of the homogeneous matrices; in the world's for a link fixed to it) and
 those joints (``joints``, -1: the world), their links, which touch the ground, the
 ground plane ``[n, δ]`` and its pose, the ground's frame ``(t₁, t₂, n)``, ``params``, the
 joint limits (``contact.limits.joint_limits``), the friction losses, the couplings
-(``contact.couplings.coupling_rows``), each shape's normal
+(``contact.couplings.coupling_rows``), the ropes (``contact.ropes.rope_arrays``; none
+where ``joint_limits`` is off), each shape's normal
 stiffness and damping on the ground (``CollisionModel.compliance``, K41) and its bounding
 radius; then the pairs of shapes that may touch and the shapes' friction
 (``sim.pairs.pair_world``: each None without free bodies or self-collision, which prunes the
@@ -111,7 +115,7 @@ ContactScratch = namedtuple("ContactScratch", (
     "world", "poses", "out", "counts", "cand", "big", "mu", "info", "settings", "prev",
     "force", "had", "count", "report", "cwork", "lrows", "bounds", "lprev",
     "lhad", "twists", "bodies", "factored", "pairs", "joint_torques", "depth", "shift",
-    "errors"))
+    "errors", "rrows", "rates"))
 """A rollout's contact scratch (``carve_scratch``) beside its ``WorldArrays`` (``world``):
 the shapes' poses, the contacts found (``out``, ``counts``), candidates, the problem's
 matrices (``big``), the cones' μ, the solver's info and settings, each slot's impulse of the
@@ -127,7 +131,9 @@ generalised forces of the joint limits and of the friction losses in the last st
 impulses over dt, as ``contact.step.ContactStep``'s ``limit_torques`` and
 ``friction_torques``); each contact's signed distance (``depth``, NaN for a compliant one)
 and the configuration's correction out of the contacts' penetrations (``shift`` (nv,),
-K43); the couplings' errors (``errors``, scratch of K45a)."""
+K43); the couplings' errors (``errors``, scratch of K45a); the ropes' bounds that are rows
+of the step (``rrows``, ``contact.ropes.rope_bounds``) and the scratch of their ends'
+relative velocity (``rates``, K46)."""
 
 MARGIN, STABILIZATION, FRICTION, WARM, FIRST, ACCEPT, PATCH = range(7)
 PARAMS = 7
@@ -185,6 +191,7 @@ def _world_arrays(model, collisions, world, contact, joint_limits: bool,
     from ..contact.limits import joint_frictions
     from ..contact.limits import joint_limits as limits_of
     from ..contact.pairs import bounding_radii
+    from ..contact.ropes import ROPE_COLUMNS, rope_arrays
     from ..contact.solve import _settings
     from ..contact.step import ground_frame
     from ..contact.world import touches_ground
@@ -208,6 +215,7 @@ def _world_arrays(model, collisions, world, contact, joint_limits: bool,
                              else np.zeros((0, LIMIT_COLUMNS))),
         joint_frictions(model) if friction_loss else np.zeros((0, 2)),
         coupling_rows(model)[:len(model.coupling_names) if couplings else 0],
+        rope_arrays(model) if joint_limits else np.zeros((0, ROPE_COLUMNS)),
         np.ascontiguousarray(cm.compliance, dtype=float), bounding_radii(cm),
         *pair_world(model, cm, world, model.njoints if robot_joints is None
                     else robot_joints))
@@ -236,13 +244,14 @@ def slots(shapes: int) -> int:
 
 
 @serial
-def scratch_size(n, nq, nv, nl, shapes, limits, frictions, couplings, nr):
+def scratch_size(n, nq, nv, nl, shapes, limits, frictions, couplings, ropes, nr):
     """Floats of one rollout's contact scratch (``carve_scratch``) for ``shapes`` shapes,
     ``limits`` joint limits (two bounds each), ``frictions`` friction losses,
-    ``couplings`` couplings and ``nr`` rows of bilateral constraints."""
+    ``couplings`` couplings, ``ropes`` ropes (two bounds each) and ``nr`` rows of
+    bilateral constraints."""
     K = C.MAX_CONTACTS * shapes
     L = 2 * limits
-    F = frictions + couplings  # the interval rows with a slot of their own
+    F = frictions + couplings + 2 * ropes  # the other interval rows with a slot each
     m = 3 * K + L + F + nr
     return (shapes * 16 + shapes * C.MAX_CONTACTS * C.OUT + shapes
             + C.CANDIDATES * C.CANDIDATE_COLUMNS + shapes * 12
@@ -250,7 +259,7 @@ def scratch_size(n, nq, nv, nl, shapes, limits, frictions, couplings, nr):
             + ncp.SETTINGS + 2 * K * 3 + K + 2 + REPORT
             + L * ROW_COLUMNS + 2 * (L + F + nr) + 2 * (L + F)
             + constraint_workspace_size(n, nq, nv, nl, m) + n * 12 + 2 + 2 * nv + 1 + K
-            + nv + couplings)
+            + nv + couplings + 2 * ropes * ROPE_ROW + 6)
 
 
 @serial
@@ -261,7 +270,8 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
     K = C.MAX_CONTACTS * (shapes + pair_count(world.pairs))  # the pairs' slots after the shapes'
     L = 2 * world.limits.shape[0]
     E = world.couplings.shape[0]
-    F = world.frictions.shape[0] + E  # the friction rows' slots, then the couplings'
+    P = 2 * world.ropes.shape[0]
+    F = world.frictions.shape[0] + E + P  # the friction rows' slots, couplings', ropes'
     m = 3 * K + L + F + nr
     p = ws.data_pointer(buf)
     poses, o = ws.carve(p, 0, (shapes, 4, 4))
@@ -289,6 +299,8 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
     depth, o = ws.carve(p, o, (K,))
     shift, o = ws.carve(p, o, (nv,))
     errors, o = ws.carve(p, o, (E,))
+    rrows, o = ws.carve(p, o, (P, ROPE_ROW))
+    rates, o = ws.carve(p, o, (2, 3))
     ps = carve_pairs(world.pairs, p, o)
     for k in range(K):
         had[k] = 0.0
@@ -302,7 +314,7 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
     return ContactScratch(_bare_world(world), poses, out, counts, cand, big, mu, info,
                           settings, prev, force, had, count, report, cwork, lrows, bounds,
                           lprev, lhad, twists, bodies, factored, ps, joint_torques, depth,
-                          shift, errors)
+                          shift, errors, rrows, rates)
 
 
 @serial
@@ -315,8 +327,8 @@ def _bare_world(wa):
         _bare(wa.kinds), _bare(wa.sizes), _bare(wa.vertices), _bare(wa.offsets),
         _bare(wa.frames), _bare(wa.joints), _bare(wa.links), _bare(wa.active),
         _bare(wa.ground), _bare(wa.ground_pose), _bare(wa.frame), _bare(wa.params),
-        _bare(wa.limits), _bare(wa.frictions), _bare(wa.couplings), _bare(wa.compliance),
-        _bare(wa.radii),
+        _bare(wa.limits), _bare(wa.frictions), _bare(wa.couplings), _bare(wa.ropes),
+        _bare(wa.compliance), _bare(wa.radii),
         _bare_or_none(wa.pairs), _bare_or_none(wa.shape_friction))
 
 
@@ -409,7 +421,7 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     w_ = world
     k_ = constraint_workspace(ws.data_pointer(w_.cwork), m, 0)
     _world_columns(m, q, v, False, k_)  # the joints' world motors and Jacobian columns
-    nc, nl, failed = _detect(m, w_, k_, q, v, vn, dt)
+    nc, nl, nrp, failed = _detect(m, w_, k_, q, v, vn, dt)
     if failed >= 0:  # a pair's depth not computed: stop rather than go on without it
         return fault(CONTACT_PAIR, failed)
     nf = w_.world.frictions.shape[0] + w_.world.couplings.shape[0]  # interval rows, slots
@@ -423,15 +435,15 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     for i in range(2):
         for k in range(m.nv):
             w_.joint_torques[i, k] = 0.0
-    w_.factored[1] = 1.0 if nc + nl + nf > 0 else 0.0
-    if nc + nl + nf == 0:
+    w_.factored[1] = 1.0 if nc + nl + nf + nrp > 0 else 0.0
+    if nc + nl + nf + nrp == 0:
         for k in range(w_.had.shape[0]):
             w_.had[k] = 0.0
         for k in range(w_.lhad.shape[0]):
             w_.lhad[k] = 0.0
         return OK
     nb = bilateral_count(con)
-    mc = 3 * nc + nl + nf + nb
+    mc = 3 * nc + nl + nf + nrp + nb
     p = ws.data_pointer(w_.big)
     J, o = ws.carve(p, 0, (mc, m.nv))
     G, o = ws.carve(p, o, (mc, mc))
@@ -441,8 +453,8 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     R, o = ws.carve(p, o, (mc,))
     w = ws.carve(p, o, (SCRATCH_ROWS, max(mc, 6)))[0]
     k_ = constraint_workspace(ws.data_pointer(w_.cwork), m, mc)
-    warm = _rows(m, w_, k_, nc, nl, J, lam, R, dt)
-    status = _bilateral(m, con, q, v, J, w_.bounds, lam, mc - nb, nl + nf, sc)
+    warm = _rows(m, w_, k_, nc, nl, nrp, J, lam, R, dt)
+    status = _bilateral(m, con, q, v, J, w_.bounds, lam, mc - nb, nl + nf + nrp, sc)
     if status != OK:
         return status
     if w_.factored[0] == 0.0:  # the free velocity came from ABA: M's factors here
@@ -450,15 +462,16 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
         if status != OK:
             return status
     _delassus(m, J, k_, G)  # G = J M⁻¹ Jᵀ from M's factors (L7)
-    _free_term(m, w_, nc, nl, J, g, R, vn, dt)
+    _free_term(m, w_, nc, nl, nrp, J, g, R, vn, dt)
     for r in range(mc - nb, mc):
         g[r] = 0.0  # J v⁺ = J v_free on the bilateral rows (C14)
-    status = _solve(w_, nc, nl + nf + nb, warm, G, g, lam, R, Cs, w)
+    status = _solve(w_, nc, nl + nf + nrp + nb, warm, G, g, lam, R, Cs, w)
     if status != OK:
         return status
     _correction(m, w_, k_, nc, J, G, g, lam, dt, w)  # K43, applied after the step
+    _rope_correction(m, w_, k_, 3 * nc + nl + nf, nrp, J, G)  # K46a, likewise
     _keep_bilateral(con, lam, mc - nb, dt, sc)
-    return _keep(m, w_, k_, nc, nl, nf, J, lam, vn, dt)
+    return _keep(m, w_, k_, nc, nl, nf, nrp, J, lam, vn, dt)
 
 
 @core
@@ -531,8 +544,9 @@ def _detect(m, w_, k_, q, v, vn, dt):
     joint's frame (K10, ``_joint_frames``); their contacts
     with the ground and with each other whose gap the step may close (K21, K21a, K22, K37,
     K39) into ``out``, ``counts`` and the pairs' scratch; the joint limits' bounds near which
-    the step may go into ``lrows`` (K26). Returns ``(contacts, limit rows, the first pair
-    whose distance was not computed or -1)``."""
+    the step may go into ``lrows`` (K26), the ropes' into ``rrows`` (K46). Returns
+    ``(contacts, limit rows, rope rows, the first pair whose distance was not computed or
+    -1)``."""
     wa = w_.world
     links, poses, frames = wa.links, w_.poses, wa.frames
     for s in range(links.shape[0]):
@@ -563,18 +577,25 @@ def _detect(m, w_, k_, q, v, vn, dt):
                        wa.offsets, poses, params[MARGIN], params[PATCH], w_.twists,
                        dt)  # K21a, K37, K39
     nl = active_limits(wa.limits, q, v, vn, dt, params[MARGIN], w_.lrows)  # K26
-    return nc, nl, failed_pair(wa.pairs, w_.pairs)
+    nr = 0
+    for i in range(wa.ropes.shape[0]):  # K46
+        p1 = rope_point(wa.ropes, i, 0, k_.Mw)
+        p2 = rope_point(wa.ropes, i, 1, k_.Mw)
+        rope_rates(wa.ropes, i, w_.bodies, p1, p2, w_.rates)
+        nr = rope_bounds(wa.ropes, i, p1, p2, w_.rates, dt, params[MARGIN], w_.rrows, nr)
+    return nc, nl, nr, failed_pair(wa.pairs, w_.pairs)
 
 
 @inline
-def _rows(m, w_, k_, nc, nl, J, lam, R, dt):
+def _rows(m, w_, k_, nc, nl, nrp, J, lam, R, dt):
     """The rows of J, each warm-started in ``lam`` from its slot's λ of the previous step
     (K25): ``(t₁, t₂, n)`` per contact point with the ground, held in the ground frame
     (K23) at the plane's point under the shape's (K42); the pairs' (K37); ``±e_v`` (a
     cone's ``-aᵀ``) per limit bound near which the step may go, ``λ >= 0`` (K26); ``e_k``
     per friction loss, ``|λ| <= f dt`` (K30), the interval rows' bounds into
-    ``bounds``; ``a_c`` per coupling, unbounded (K45). ``R`` zeros. Whether any row starts
-    from a previous λ."""
+    ``bounds``; ``a_c`` per coupling, unbounded (K45); ``±u · (J_p₁ - J_p₂)`` per rope
+    bound near which the step may go, ``λ >= 0`` (K46). ``R`` zeros. Whether any row
+    starts from a previous λ."""
     wa = w_.world
     links, out, frame, prev, had = wa.links, w_.out, wa.frame, w_.prev, w_.had
     lrows, bounds, lprev, lhad = w_.lrows, w_.bounds, w_.lprev, w_.lhad
@@ -631,11 +652,19 @@ def _rows(m, w_, k_, nc, nl, J, lam, R, dt):
         if lhad[slot] != 0.0:
             warm = True
         bounds[nl + nf + k, 0], bounds[nl + nf + k, 1] = -math.inf, math.inf
+    ne = wa.couplings.shape[0]
+    for k in range(nrp):  # K46
+        r, slot = 3 * nc + nl + nf + ne + k, L + nf + ne + int(w_.rrows[k, ROPE_SLOT])
+        rope_row(m, k_.Sw, wa.ropes, w_.rrows, k, J, r)
+        lam[r] = lprev[slot] if lhad[slot] != 0.0 else 0.0
+        if lhad[slot] != 0.0:
+            warm = True
+        bounds[nl + nf + ne + k, 0], bounds[nl + nf + ne + k, 1] = 0.0, math.inf
     return warm
 
 
 @inline
-def _free_term(m, w_, nc, nl, J, g, R, vn, dt):
+def _free_term(m, w_, nc, nl, nrp, J, g, R, vn, dt):
     """``g = J v_free`` with the gap's term on the ground contacts' normal rows (K23), or a
     compliant shape's spring and damper with its compliance in ``R`` (K41), the pairs' and
     the limit rows' gap terms (K37, K26); each contact's signed distance into ``depth``
@@ -657,6 +686,9 @@ def _free_term(m, w_, nc, nl, J, g, R, vn, dt):
     pair_gaps(wa.pairs, w_.pairs, g, w_.depth, c, dt)
     for k in range(nl):
         g[3 * nc + k] += limit_gap(w_.lrows, k, dt)  # K26, K26a
+    r0 = 3 * nc + nl + wa.frictions.shape[0] + wa.couplings.shape[0]
+    for k in range(nrp):
+        g[r0 + k] += open_gap(w_.rrows[k, ROPE_GAP], dt)  # K46
 
 
 @inline
@@ -712,7 +744,35 @@ def _correction(m, w_, k_, nc, J, G, g, lam, dt, w):
 
 
 @inline
-def _keep(m, w_, k_, nc, nl, nf, J, lam, vn, dt):
+def _rope_correction(m, w_, k_, r0, nrp, J, G):
+    """The configuration's correction out of the ropes stretched past a bound at the start
+    of the step, added to ``shift`` (``count[2]`` then 1): ``β |d| M⁻¹ J_rᵀ / G_rr`` per
+    such row ``r`` from ``r0`` (K46a), each the least displacement in M's metric that
+    takes its row back by ``β |d|``, from M's factors; nothing where none is."""
+    beta, dv = w_.world.params[STABILIZATION], k_.dq
+    any_back = False
+    for i in range(m.nv):
+        dv[i] = 0.0
+    for k in range(nrp):
+        d = w_.rrows[k, ROPE_GAP]
+        if d < 0.0 and G[r0 + k, r0 + k] > 0.0:
+            c = -beta * d / G[r0 + k, r0 + k]
+            for i in range(m.nv):
+                dv[i] += c * J[r0 + k, i]
+            any_back = True
+    if not any_back:
+        return
+    ltdl_solve(m, k_.H, dv)
+    if w_.count[2] == 0.0:
+        for i in range(m.nv):
+            w_.shift[i] = 0.0
+    for i in range(m.nv):
+        w_.shift[i] += dv[i]
+    w_.count[2] = 1.0
+
+
+@inline
+def _keep(m, w_, k_, nc, nl, nf, nrp, J, lam, vn, dt):
     """``v⁺ = v_free + M⁻¹ Jᵀ λ`` into ``vn`` (K24); each row's λ kept in its slot for the
     next step's warm start (K25), the contacts' forces in ``force``. A status:
     ``NONFINITE_RESULT`` where v⁺ is not finite."""
@@ -747,6 +807,9 @@ def _keep(m, w_, k_, nc, nl, nf, J, lam, vn, dt):
         lhad[L + k], lprev[L + k] = 1.0, lam[3 * nc + nl + k]
     for k in range(nj):  # τ_friction = Σ e_k λ / dt
         w_.joint_torques[1, int(wa.frictions[k, 0])] += lam[3 * nc + nl + k] / dt
+    for k in range(nrp):  # the ropes' bounds (K46)
+        slot = L + nf + int(w_.rrows[k, ROPE_SLOT])
+        lhad[slot], lprev[slot] = 1.0, lam[3 * nc + nl + nf + k]
     for i in range(m.nv):
         if not math.isfinite(vn[i]):
             return fault(NONFINITE_RESULT, -1)

@@ -330,7 +330,7 @@ def _world_size(world, n, nq, nv, nl, nr):
         return 0
     return scratch_size(n, nq, nv, nl, world.kinds.shape[0] + pair_count(world.pairs),
                         world.limits.shape[0], world.frictions.shape[0],
-                        world.couplings.shape[0], nr) \
+                        world.couplings.shape[0], world.ropes.shape[0], nr) \
         + pair_scratch_size(world.pairs)
 
 

@@ -138,8 +138,9 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     ``ContactSettings()``); a step whose solvers end with a residual above ``accept``
     stops the rollout, naming the residuals.
     ``joint_limits``: with a world (the default there, None), the limits of the joints of
-    one coordinate (``Model.lower``, ``Model.upper``) are unilateral constraints of the same
-    step (docs/contact.md, "Joint limits", K26); ``False`` turns them off. Without a world
+    one coordinate (``Model.lower``, ``Model.upper``), and the ropes' bounds (``Model.rope_*``,
+    K46), are unilateral constraints of the same step (docs/contact.md, "Joint limits",
+    K26); ``False`` turns them off. Without a world
     no limit is enforced (``True`` then raises ``ValueError``); ``World(ground=False)``
     with ``collisions=None`` enforces the limits alone. ``friction_loss``: the same for the
     joints' dry friction (``Model.friction``, box-bounded rows, K30). ``couplings``: with a
