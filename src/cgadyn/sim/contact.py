@@ -14,7 +14,9 @@ bounds of the joint limits near which the step may take a coordinate
 (``contact.limits.active_limits``) are rows ``±e_v`` (``-aᵀ`` on a cone-limited joint's ω,
 K26') after the contacts', with the same gap term and ``λ >= 0`` (K26), warm-started from
 their slot alike; then a row ``e_k`` per coordinate with a friction loss,
-``|λ| <= f dt`` (K30), warm-started from its impulse in the step before. It is one
+``|λ| <= f dt`` (K30), warm-started from its impulse in the step before; then a row ``a``
+per coupling of coordinates, unbounded (K45), and a row per rope bound near which the step
+may go, ``λ >= 0`` (K46), warm-started alike. It is one
 function called from one site of the loop, compiled only for a rollout with a world (the
 loop passes None otherwise and numba prunes the call), and compiled as a core
 (``_jit.core``: without reference counts, as are the solvers and the detection it calls):
