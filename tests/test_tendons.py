@@ -136,9 +136,9 @@ def test_what_a_tendon_cannot_be_is_refused_or_warned_by_name():
     spatial = spatial.replace('<geom type="box"', '<site name="s2"/><geom type="box"')
     with pytest.raises(ValueError, match="tendon 'rope' is a spatial tendon with a spring"):
         from_mujoco(mujoco.MjModel.from_xml_string(spatial))
-    limited = ARM.replace('<fixed name="slack">', '<fixed name="slack" range="-1 1">')
+    rubbing = ARM.replace('<fixed name="slack">', '<fixed name="slack" frictionloss="0.5">')
     with pytest.warns(UserWarning, match="tendons 'slack' are not held"):
-        from_mujoco(mujoco.MjModel.from_xml_string(limited))
+        from_mujoco(mujoco.MjModel.from_xml_string(rubbing))
     fluid = ARM.replace('<option gravity="0 0 -9.81"/>',
                         '<option gravity="0 0 -9.81" density="1000"/>')
     with pytest.warns(UserWarning, match="fluid forces of density 1000.0"):
@@ -181,3 +181,59 @@ def test_a_motor_pulls_its_tendon_and_rollouts_take_its_controls():
     by_tau = cgadyn.simulate(model, np.zeros(3), np.zeros(3), 1e-3, 5,
                              tau=cgadyn.actuator_torques(model, ctrl))
     np.testing.assert_array_equal(by_ctrl.q, by_tau.q)
+
+
+FOLDING = """
+<mujoco><option gravity="0 0 -9.81"/>
+  <worldbody><body name="a" pos="0 0 1">
+    <joint name="j1" type="hinge" axis="0 1 0" damping="0.2"/>
+    <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1"/>
+    <body name="b" pos="0.3 0 0"><joint name="j2" type="hinge" axis="0 1 0" damping="0.2"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="1"/></body>
+  </body></worldbody>
+  <tendon><fixed name="fold" limited="true" range="-0.2 0.6">
+    <joint joint="j1" coef="1"/><joint joint="j2" coef="0.5"/></fixed></tendon>
+</mujoco>"""
+"""Two damped links released level: they fall (j1 and j2 grow) until ``j1 + 0.5 j2``
+reaches the tendon's longest, 0.6, then swing on it and settle."""
+
+
+def _fold(q):
+    return q[0] + 0.5 * q[1]
+
+
+def test_a_fixed_tendons_limit_stops_the_arm():
+    """The tendon's range is read (``Model.tendon_range``); the falling arm never takes
+    the tendon past 0.6 by more than 1e-4, comes to rest on it (1e-6) held by the limit
+    (``limit_torques`` then ``c λ``: proportional to the tendon's coefficients), and the
+    compiled loop equals ``contact_step`` (cold solver starts, without the dampers, which
+    the loop takes implicitly) to 1e-12; a start past the bound is taken back by the
+    fraction ``stabilization`` a step, with no kick."""
+    model, _ = _arm(FOLDING)
+    assert model.tendon_names == ("fold",)
+    np.testing.assert_allclose(model.tendon_range, [[-0.2, 0.6]])
+    world, settings = cgadyn.World(ground=False), cgadyn.ContactSettings(warm_start=False)
+    run = cgadyn.simulate(model, np.zeros(2), np.zeros(2), 1e-3, 3000,
+                          integrator="semi_implicit_euler", world=world, contact=settings)
+    folds = np.array([_fold(q) for q in run.q])
+    assert folds.max() < 0.6 + 1e-4 and abs(folds[-1] - 0.6) < 1e-6
+    assert np.abs(run.v[-1]).max() < 1e-3
+    torque = run.limit_torques[-2]
+    assert torque[0] < 0.0
+    np.testing.assert_allclose(torque[1], 0.5 * torque[0], rtol=1e-9)
+    q, v = np.zeros(2), np.zeros(2)
+    rigid = cgadyn.simulate(model, np.zeros(2), np.zeros(2), 1e-3, 400, passive=False,
+                            integrator="semi_implicit_euler", world=world, contact=settings)
+    for _ in range(400):
+        step = cgadyn.contact_step(model, None, q, v, np.zeros(2), 1e-3, world=world,
+                                   contact=settings, passive=False)
+        q, v = step.q, step.v
+    assert abs(_fold(q) - 0.6) < 1e-4  # on the bound by then
+    np.testing.assert_allclose(rigid.q[-1], q, atol=1e-12)
+    np.testing.assert_allclose(rigid.v[-1], v, atol=1e-12)
+    past = cgadyn.simulate(model, np.array([0.7, 0.0]), np.zeros(2), 1e-3, 3,
+                           integrator="semi_implicit_euler", world=world,
+                           gravity=np.zeros(3), passive=False)
+    np.testing.assert_allclose([_fold(x) - 0.6 for x in past.q],
+                               0.1 * 0.8 ** np.arange(4), rtol=1e-9)
+    assert np.abs(past.v).max() == 0.0

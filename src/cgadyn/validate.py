@@ -83,9 +83,9 @@ def _constraints_of(robot, model) -> tuple[list, str, float]:
     """The constraints the constrained check holds, what they are, and the proximal damping
     it solves with: an MJCF model's point and frame equalities (``mujoco_constraints``;
     damped, as a planar loop closed by a point has a row no joint moves; joint and tendon
-    couplings, the model's own rows of the contact step (K45), left out), else a floating robot's feet where
-    their rows are independent (solo's two-joint legs cannot hold a point foot at every
-    state: no check there)."""
+    couplings, the model's own rows of the contact step (K45), left out), else a floating
+    robot's feet where their rows are independent (solo's two-joint legs cannot hold a
+    point foot at every state: no check there)."""
     import cgadyn
 
     if mujoco_oracle.applies(robot):

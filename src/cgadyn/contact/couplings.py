@@ -37,16 +37,11 @@ def coupling_rows(model) -> np.ndarray:
     out = np.zeros((ne, 3 * nv + 1))
     if ne == 0:
         return out
-    from ..multibody.joints import TYPES
+    from ..multibody.joints.table import additive_index
 
-    iq = np.full(nv, -1.0)
-    for j, t in enumerate(model.joint_types):
-        dofs = model.joint_dofs(j)
-        if TYPES[int(t)].additive:  # q and v alike, one coordinate each
-            iq[dofs.start:dofs.stop] = model.idx_q[j] + np.arange(len(dofs))
     out[:, :nv], out[:, nv] = A, b
     out[:, nv + 1:2 * nv + 1] = np.linalg.pinv(A).T
-    out[:, 2 * nv + 1:] = iq
+    out[:, 2 * nv + 1:] = additive_index(model)
     return np.ascontiguousarray(out)
 
 

@@ -8,8 +8,10 @@ A limit applies to a joint of one coordinate (``nq = nv = 1``: revolute, prismat
 helical; a continuous joint's bounds are infinite), whose ``q`` moves by ``dt v`` in a step,
 and to the angle θ of a joint's rotation bounded by a cone (``Model.cone_limit``: MuJoCo's
 ``ball`` ``range``; K26'), whose rate is ``θ̇ = aᵀ ω`` (a the rotation's unit axis, ω the
-joint's angular velocity). Other joints of several coordinates (planar, translation, free
-flyer) get no limit rows: their ``Model.lower``/``upper`` are not enforced.
+joint's angular velocity), and to the length ``L = c · q`` of a fixed tendon
+(``Model.tendon_range``; K26''), whose rate is ``c · v``. Other joints of several
+coordinates (planar, translation, free flyer) get no limit rows: their
+``Model.lower``/``upper`` are not enforced.
 """
 
 from __future__ import annotations
@@ -22,21 +24,25 @@ from .._jit import inline, serial
 from .problem import open_gap
 
 __all__ = ["LIMIT_COLUMNS", "ROW_COLUMNS", "active_limits", "joint_frictions", "joint_limits",
-           "limit_gap", "limit_shift"]
+           "limit_gap", "limit_row", "limit_shift", "tendon_arrays"]
 
 Q, V, LOWER, UPPER, CONE = range(5)
 LIMIT_COLUMNS = 5
 """Columns of ``joint_limits``: the coordinate's index in q and in v, its lower and upper
 bound (``±inf`` where it has none), and 1 for a cone limit (then the index of the joint's
 quaternion ``(x, y, z, w)`` in q, of its first angular velocity coordinate in v, and the
-largest angle as the upper bound), else 0."""
+largest angle as the upper bound), 2 for a fixed tendon's (then the tendon's index in the
+first column, its row of ``tendon_arrays``, and -1 in the second), else 0."""
+JOINT, CONE_LIMIT, TENDON_LIMIT = 0.0, 1.0, 2.0
 ROW_V, ROW_WIDTH, ROW_GAP, ROW_SLOT, ROW_COEF = 0, 1, 2, 3, 4
 ROW_COLUMNS = 7
 """Columns of the rows ``active_limits`` finds: the first v index and the count of v
-coordinates the row reads (1, or 3 for a cone), the gap ``d``, the bound's slot (``2 j``
-for limit j's lower bound, ``2 j + 1`` for its upper), which keeps its impulse for the next
-step's warm start (K25), and the row's coefficients on those coordinates (three columns:
-+1 for a lower bound, -1 for an upper one, ``-a`` for a cone), each the gradient of d."""
+coordinates the row reads (1, or 3 for a cone; 0 for a tendon, whose row is ``±c``: then
+its index in the first column), the gap ``d``, the bound's slot (``2 j`` for limit j's
+lower bound, ``2 j + 1`` for its upper), which keeps its impulse for the next step's warm
+start (K25), and the row's coefficients on those coordinates (three columns: +1 for a
+lower bound, -1 for an upper one, ``-a`` for a cone; for a tendon the sign alone), each
+the gradient of d."""
 
 
 def joint_limits(model) -> np.ndarray:
@@ -56,8 +62,24 @@ def joint_limits(model) -> np.ndarray:
             continue
         lo, hi = float(model.lower[iq[j]]), float(model.upper[iq[j]])
         if np.isfinite(lo) or np.isfinite(hi):
-            rows.append([iq[j], iv[j], lo, hi, 0.0])
+            rows.append([iq[j], iv[j], lo, hi, JOINT])
+    for t, (lo, hi) in enumerate(model.tendon_range):  # then the fixed tendons' (K26'')
+        if np.isfinite(lo) or np.isfinite(hi):
+            rows.append([t, -1, lo, hi, TENDON_LIMIT])
     return np.array(rows, dtype=float).reshape(len(rows), LIMIT_COLUMNS)
+
+
+def tendon_arrays(model) -> np.ndarray:
+    """(nt, 2 nv) per fixed tendon of ``model``: its coefficients ``c`` (its length ``c ·
+    q``), then the index in q of each velocity coordinate (-1 on those of joints whose
+    coordinates do not add, where no tendon reads): what a tendon's limit reads (K26'')."""
+    from ..multibody.joints.table import additive_index
+
+    nt = len(model.tendon_names)
+    out = np.zeros((nt, 2 * model.nv))
+    out[:, :model.nv] = model.tendon_coefficients
+    out[:, model.nv:] = additive_index(model)
+    return np.ascontiguousarray(out)
 
 
 def joint_frictions(model) -> np.ndarray:
@@ -69,31 +91,66 @@ def joint_frictions(model) -> np.ndarray:
 
 
 @serial
-def active_limits(limits, q, v, vn, dt, margin, rows):
+def active_limits(limits, tendons, q, v, vn, dt, margin, rows):
     """The bounds of ``limits`` (``joint_limits``) that are rows of the step (K26): the lower
     bound where its gap ``d = q - lower`` (row ``+e_v``), the upper where ``d = upper - q``
     (row ``-e_v``) is below ``margin`` plus how far the coordinate may move in the step,
     ``dt sqrt(v_i² + v_free,i²)`` (``vn`` the free velocity); a cone where
     ``d = θ_max - θ`` is below ``margin`` plus ``dt sqrt(|ω|² + |ω_free|²)`` (row ``-aᵀ``
-    on ω, K26'). Fills ``rows`` (2 L, ``ROW_COLUMNS``) in the order of ``limits``, lower
-    before upper; returns their number."""
+    on ω, K26'); a fixed tendon's where ``d = L - lower`` or ``upper - L`` is below
+    ``margin`` plus ``dt sqrt((c · v)² + (c · v_free)²)`` (row ``±c``, K26''; ``tendons``
+    its ``tendon_arrays``). Fills ``rows`` (2 L, ``ROW_COLUMNS``) in the order of
+    ``limits``, lower before upper; returns their number."""
     count = 0
     for j in range(limits.shape[0]):
         i, k = int(limits[j, Q]), int(limits[j, V])
-        if limits[j, CONE] != 0.0:
+        if limits[j, CONE] == CONE_LIMIT:
             count = _cone(limits[j, UPPER], q, v, vn, i, k, dt, margin, 2 * j + 1, rows, count)
             continue
-        reach = margin + dt * math.sqrt(v[k] * v[k] + vn[k] * vn[k])
+        if limits[j, CONE] == TENDON_LIMIT:
+            x, r0, r1 = _tendon(tendons, i, q, v, vn)
+        else:
+            x, r0, r1 = q[i], v[k], vn[k]
+        reach = margin + dt * math.sqrt(r0 * r0 + r1 * r1)
         for side in range(2):
             sign = 1.0 if side == 0 else -1.0
-            d = q[i] - limits[j, LOWER] if side == 0 else limits[j, UPPER] - q[i]
+            d = x - limits[j, LOWER] if side == 0 else limits[j, UPPER] - x
             if d < reach:  # an infinite bound never is a row
-                rows[count, ROW_V], rows[count, ROW_WIDTH] = k, 1.0
+                rows[count, ROW_V] = k if limits[j, CONE] == JOINT else i
+                rows[count, ROW_WIDTH] = 1.0 if limits[j, CONE] == JOINT else 0.0
                 rows[count, ROW_GAP], rows[count, ROW_SLOT] = d, 2 * j + side
                 rows[count, ROW_COEF] = sign
                 rows[count, ROW_COEF + 1] = rows[count, ROW_COEF + 2] = 0.0
                 count += 1
     return count
+
+
+@inline
+def _tendon(tendons, t, q, v, vn):
+    """``(c · q, c · v, c · v_free)`` of fixed tendon ``t`` (a row of ``tendon_arrays``)."""
+    nv = tendons.shape[1] // 2
+    length, rate, rate_free = 0.0, 0.0, 0.0
+    for k in range(nv):
+        c = tendons[t, k]
+        if c != 0.0:
+            length += c * q[int(tendons[t, nv + k])]
+            rate += c * v[k]
+            rate_free += c * vn[k]
+    return length, rate, rate_free
+
+
+@inline
+def limit_row(rows, k, tendons, J, r):
+    """Row ``r`` of J for the limit bound ``rows[k]``: ``±e_v``, a cone's ``-aᵀ`` on ω, or
+    a fixed tendon's ``±c`` (K26, K26', K26'')."""
+    width = int(rows[k, ROW_WIDTH])
+    if width == 0:
+        t, nv = int(rows[k, ROW_V]), tendons.shape[1] // 2
+        for i in range(nv):
+            J[r, i] = rows[k, ROW_COEF] * tendons[t, i]
+        return
+    for i in range(width):
+        J[r, int(rows[k, ROW_V]) + i] = rows[k, ROW_COEF + i]
 
 
 @serial
@@ -133,11 +190,14 @@ def limit_gap(rows, k, dt):
 
 
 @inline
-def limit_shift(limits, rows, count, beta, q):
+def limit_shift(limits, tendons, rows, count, beta, q):
     """``q`` after the step's position update, each coordinate that the step began past a
     bound of (``rows[:count]``, ``active_limits``'; ``d < 0``) moved back toward it by
-    ``β |d|``, and each ball joint that began past its cone turned back about its own axis
-    by ``β |d|`` (K26a): a correction of the position alone, with no velocity to keep."""
+    ``β |d|``, each ball joint that began past its cone turned back about its own axis
+    by ``β |d|``, and each fixed tendon past a bound lengthened or shortened by ``β |d|``
+    along its coefficients, ``q ← q ± β |d| c / |c|²`` (the least displacement of its
+    coordinates that does it) (K26a): a correction of the position alone, with no
+    velocity to keep."""
     for k in range(count):
         d = rows[k, ROW_GAP]
         if not d < 0.0:
@@ -146,8 +206,23 @@ def limit_shift(limits, rows, count, beta, q):
         i = int(limits[slot // 2, Q])
         if rows[k, ROW_WIDTH] == 1.0:
             q[i] += -beta * d if slot % 2 == 0 else beta * d
+        elif rows[k, ROW_WIDTH] == 0.0:
+            _lengthen(tendons, i, -beta * d if slot % 2 == 0 else beta * d, q)
         else:
             _turn_back(q, i, beta * d)
+
+
+@inline
+def _lengthen(tendons, t, amount, q):
+    """``q`` moved by ``amount c / |c|²``: fixed tendon ``t`` lengthened by ``amount``."""
+    nv = tendons.shape[1] // 2
+    norm = 0.0
+    for k in range(nv):
+        norm += tendons[t, k] * tendons[t, k]
+    for k in range(nv):
+        c = tendons[t, k]
+        if c != 0.0:
+            q[int(tendons[t, nv + k])] += amount * c / norm
 
 
 @inline

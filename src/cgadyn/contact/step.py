@@ -148,14 +148,13 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     from .inputs import checked_collisions, checked_settings, checked_world
     from .limits import (
         LIMIT_COLUMNS,
-        ROW_COEF,
         ROW_COLUMNS,
-        ROW_V,
-        ROW_WIDTH,
         active_limits,
         joint_frictions,
         limit_gap,
+        limit_row,
         limit_shift,
+        tendon_arrays,
     )
     from .limits import joint_limits as joint_limits_of
     from .problem import open_gap
@@ -199,7 +198,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
                               contact.patch)
     limits = joint_limits_of(model) if joint_limits else np.zeros((0, LIMIT_COLUMNS))
     rows = np.empty((2 * len(limits), ROW_COLUMNS))
-    nl = active_limits(limits, q, v, v_free, step, float(margin), rows)  # K26
+    tendons = tendon_arrays(model)
+    nl = active_limits(limits, tendons, q, v, v_free, step, float(margin), rows)  # K26
     frictions = joint_frictions(model) if friction_loss else np.zeros((0, 2))
     tied = coupling_rows(model)[:len(model.coupling_names) if couplings else 0]
     ropes, rope_J = rope_system(model, q, v, v_free, step, float(margin)) if joint_limits \
@@ -216,8 +216,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     n3 = n2 + ne  # the first rope row
     J[:3 * nc] = contact_jacobian(model, q, contacts, frames)  # K20, K37
     for k in range(nl):  # ±e_v, or -aᵀ on a cone-limited joint's ω (K26, K26')
-        v0, width = int(rows[k, ROW_V]), int(rows[k, ROW_WIDTH])
-        J[3 * nc + k, v0:v0 + width] = rows[k, ROW_COEF:ROW_COEF + width]
+        limit_row(rows, k, tendons, J, 3 * nc + k)
     J[n1 + np.arange(nf), frictions[:, 0].astype(int)] = 1.0  # K30
     J[n2:n3] = tied[:, :model.nv]  # K45
     J[n3:] = rope_J  # K46
@@ -258,7 +257,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     friction_torques = J[n1:n2].T @ lam[n1:n2] / step
     sigma = (G[:3 * nc] @ lam + g[:3 * nc]).reshape(nc, 3)  # σ = G λ + g (K11)
     q_next = step_moved_configuration(model, q, step * v_next)  # K24a
-    limit_shift(limits, rows, nl, stabilization, q_next)  # past a bound: back by β |d| (K26a)
+    limit_shift(limits, tendons, rows, nl, stabilization, q_next)  # past a bound: back (K26a)
     depth = np.where(np.any(stiffness != 0.0, axis=1), np.nan, contacts.distance)
     b, mu = np.empty(nc), np.empty(nc)
     deepest = correction_targets(G, g, lam, depth, nc, stabilization, step, b)  # K43

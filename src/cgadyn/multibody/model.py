@@ -62,6 +62,7 @@ _ARRAY_FIELDS = (
     "tendon_stiffness",
     "tendon_damping",
     "tendon_spring_length",
+    "tendon_range",
     "coupling_coefficients",
     "coupling_offset",
     "rope_links",
@@ -203,8 +204,8 @@ class Model:
         The range the activation is clamped to after each step (MuJoCo's ``actrange`` where
         ``actlimited``; ``±inf``: none).
     tendon_names : tuple[str, ...]
-        The fixed tendons that carry a spring or a damper or that a motor pulls (MuJoCo's
-        ``<fixed>`` tendons), none by default.
+        The fixed tendons that carry a spring or a damper, that a motor pulls or that are
+        limited (MuJoCo's ``<fixed>`` tendons), none by default.
     tendon_coefficients : float64 (nt, nv)
         Each tendon's length ``L = Σ_k c_k q_k`` over the coordinates of joints whose
         coordinates add (MuJoCo's ``coef`` of each ``<joint>`` of the tendon).
@@ -215,6 +216,10 @@ class Model:
     tendon_spring_length : float64 (nt, 2)
         The lengths between which the spring is relaxed (MuJoCo's ``springlength``, a
         dead band; one length where the two are equal).
+    tendon_range : float64 (nt, 2)
+        The lengths the tendon is held between (MuJoCo's ``range`` where ``limited``;
+        ``±inf``: none), a limit that the contact step enforces as a joint's
+        (``docs/contact.md``, K26'').
     coupling_names : tuple[str, ...]
         Linear couplings of coordinates (MuJoCo's ``<equality joint>`` and ``<equality
         tendon>`` of a linear polynomial), none by default: bilateral constraints that the
@@ -281,6 +286,7 @@ class Model:
     tendon_stiffness: np.ndarray | None = None
     tendon_damping: np.ndarray | None = None
     tendon_spring_length: np.ndarray | None = None
+    tendon_range: np.ndarray | None = None
     coupling_names: tuple = ()
     coupling_coefficients: np.ndarray | None = None
     coupling_offset: np.ndarray | None = None
@@ -307,7 +313,8 @@ class Model:
         nt = len(self.tendon_names)
         defaults.update({"tendon_coefficients": np.zeros((nt, nv)),
                          "tendon_stiffness": np.zeros(nt), "tendon_damping": np.zeros(nt),
-                         "tendon_spring_length": np.zeros((nt, 2))})
+                         "tendon_spring_length": np.zeros((nt, 2)),
+                         "tendon_range": np.tile([-np.inf, np.inf], (nt, 1))})
         ne = len(self.coupling_names)
         defaults.update({"coupling_coefficients": np.zeros((ne, nv)),
                          "coupling_offset": np.zeros(ne)})
@@ -384,6 +391,7 @@ class Model:
             "tendon_stiffness": (len(self.tendon_names),),
             "tendon_damping": (len(self.tendon_names),),
             "tendon_spring_length": (len(self.tendon_names), 2),
+            "tendon_range": (len(self.tendon_names), 2),
             "coupling_coefficients": (len(self.coupling_names), nv),
             "coupling_offset": (len(self.coupling_names),),
             "rope_links": (len(self.rope_names), 2),
@@ -572,6 +580,10 @@ class Model:
             if not (np.isfinite(lo) and np.isfinite(hi) and lo <= hi):
                 raise ValueError(f"tendon {name!r} has the spring lengths [{lo}, {hi}]; "
                                  f"expected finite lengths, lower <= upper")
+            lo, hi = self.tendon_range[i]
+            if not lo <= hi or lo == np.inf or hi == -np.inf:
+                raise ValueError(f"tendon {name!r} has the range [{lo}, {hi}]; expected "
+                                 f"lower <= upper (±inf: no bound)")
 
     @property
     def actuators(self) -> list[dict]:

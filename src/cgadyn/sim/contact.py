@@ -68,13 +68,11 @@ from ..contact.correction import correction_impulses, correction_targets
 from ..contact.couplings import coupling_shift
 from ..contact.limits import (
     LIMIT_COLUMNS,
-    ROW_COEF,
     ROW_COLUMNS,
     ROW_SLOT,
-    ROW_V,
-    ROW_WIDTH,
     active_limits,
     limit_gap,
+    limit_row,
     limit_shift,
 )
 from ..contact.problem import normal_row, open_gap
@@ -98,14 +96,15 @@ from .pairs import (
 
 WorldArrays = namedtuple("WorldArrays", (
     "kinds", "sizes", "vertices", "offsets", "frames", "joints", "links", "active", "ground",
-    "ground_pose", "frame", "params", "limits", "frictions", "couplings", "ropes",
+    "ground_pose", "frame", "params", "limits", "tendons", "frictions", "couplings", "ropes",
     "compliance", "radii", "pairs", "shape_friction"))
 """The world as the loop reads it (``world_arrays``): the shapes' kinds, sizes, vertices
 and offsets, their placements in the frames of their links' joints (``frames`` (shapes, 3,
 4), the top rows of the homogeneous matrices; in the world's for a link fixed to it) and
 those joints (``joints``, -1: the world), their links, which touch the ground, the
 ground plane ``[n, δ]`` and its pose, the ground's frame ``(t₁, t₂, n)``, ``params``, the
-joint limits (``contact.limits.joint_limits``), the friction losses, the couplings
+joint limits (``contact.limits.joint_limits``) and the fixed tendons they may bound
+(``contact.limits.tendon_arrays``), the friction losses, the couplings
 (``contact.couplings.coupling_rows``), the ropes (``contact.ropes.rope_arrays``; none
 where ``joint_limits`` is off), each shape's normal
 stiffness and damping on the ground (``CollisionModel.compliance``, K41) and its bounding
@@ -190,7 +189,7 @@ def _world_arrays(model, collisions, world, contact, joint_limits: bool,
                   friction_loss: bool, robot_joints: int | None, couplings: bool) -> tuple:
     """``world_arrays``, made anew."""
     from ..contact.couplings import coupling_rows
-    from ..contact.limits import joint_frictions
+    from ..contact.limits import joint_frictions, tendon_arrays
     from ..contact.limits import joint_limits as limits_of
     from ..contact.pairs import bounding_radii
     from ..contact.ropes import ROPE_COLUMNS, rope_arrays
@@ -214,7 +213,7 @@ def _world_arrays(model, collisions, world, contact, joint_limits: bool,
         np.array(world.plane.packed_size, dtype=float), np.eye(4),
         ground_frame(world.ground_normal), params,
         np.ascontiguousarray(limits_of(model) if joint_limits
-                             else np.zeros((0, LIMIT_COLUMNS))),
+                             else np.zeros((0, LIMIT_COLUMNS))), tendon_arrays(model),
         joint_frictions(model) if friction_loss else np.zeros((0, 2)),
         coupling_rows(model)[:len(model.coupling_names) if couplings else 0],
         rope_arrays(model) if joint_limits else np.zeros((0, ROPE_COLUMNS)),
@@ -329,8 +328,8 @@ def _bare_world(wa):
         _bare(wa.kinds), _bare(wa.sizes), _bare(wa.vertices), _bare(wa.offsets),
         _bare(wa.frames), _bare(wa.joints), _bare(wa.links), _bare(wa.active),
         _bare(wa.ground), _bare(wa.ground_pose), _bare(wa.frame), _bare(wa.params),
-        _bare(wa.limits), _bare(wa.frictions), _bare(wa.couplings), _bare(wa.ropes),
-        _bare(wa.compliance), _bare(wa.radii),
+        _bare(wa.limits), _bare(wa.tendons), _bare(wa.frictions), _bare(wa.couplings),
+        _bare(wa.ropes), _bare(wa.compliance), _bare(wa.radii),
         _bare_or_none(wa.pairs), _bare_or_none(wa.shape_friction))
 
 
@@ -490,7 +489,8 @@ def correct_positions(m, world, qn, tmp, dq, qs):
     if world is None:
         return
     wa = world.world
-    limit_shift(wa.limits, world.lrows, int(world.count[1]), wa.params[STABILIZATION], qn)
+    limit_shift(wa.limits, wa.tendons, world.lrows, int(world.count[1]),
+                wa.params[STABILIZATION], qn)
     if world.count[2] != 0.0:
         integrate_joints(m, qn, world.shift, 1.0, tmp, dq, qs)  # qs = qn ⊕ δ
         for i in range(m.nq):
@@ -578,7 +578,8 @@ def _detect(m, w_, k_, q, v, vn, dt):
     nc += detect_pairs(wa.pairs, wa.radii, w_.pairs, wa.kinds, wa.sizes, wa.vertices,
                        wa.offsets, poses, params[MARGIN], params[PATCH], w_.twists,
                        dt)  # K21a, K37, K39
-    nl = active_limits(wa.limits, q, v, vn, dt, params[MARGIN], w_.lrows)  # K26
+    nl = active_limits(wa.limits, wa.tendons, q, v, vn, dt, params[MARGIN],
+                       w_.lrows)  # K26, K26', K26''
     nr = 0
     for i in range(wa.ropes.shape[0]):  # K46
         p1 = rope_point(wa.ropes, i, 0, k_.Mw)
@@ -631,9 +632,8 @@ def _rows(m, w_, k_, nc, nl, nrp, J, lam, R, dt):
                               w_.mu, lam, prev, had, c, shapes)
     warm = warm or warm_pairs
     for k in range(nl):
-        r, slot, v0 = 3 * nc + k, int(lrows[k, ROW_SLOT]), int(lrows[k, ROW_V])
-        for i in range(int(lrows[k, ROW_WIDTH])):  # ±e_v, or -aᵀ on a cone's ω (K26')
-            J[r, v0 + i] = lrows[k, ROW_COEF + i]
+        r, slot = 3 * nc + k, int(lrows[k, ROW_SLOT])
+        limit_row(lrows, k, wa.tendons, J, r)  # ±e_v, a cone's -aᵀ on ω, a tendon's ±c
         lam[r] = lprev[slot] if lhad[slot] != 0.0 else 0.0
         if lhad[slot] != 0.0:
             warm = True
@@ -800,10 +800,11 @@ def _keep(m, w_, k_, nc, nl, nf, nrp, J, lam, vn, dt):
     for k in range(lhad.shape[0]):
         lhad[k] = 0.0
     for k in range(nl):  # τ_limit = Σ J_rᵀ λ_r / dt
-        slot, v0 = int(lrows[k, ROW_SLOT]), int(lrows[k, ROW_V])
-        lhad[slot], lprev[slot] = 1.0, lam[3 * nc + k]
-        for i in range(int(lrows[k, ROW_WIDTH])):
-            w_.joint_torques[0, v0 + i] += lrows[k, ROW_COEF + i] * lam[3 * nc + k] / dt
+        slot, r = int(lrows[k, ROW_SLOT]), 3 * nc + k
+        lhad[slot], lprev[slot] = 1.0, lam[r]
+        for i in range(m.nv):
+            if J[r, i] != 0.0:
+                w_.joint_torques[0, i] += J[r, i] * lam[r] / dt
     L, nj = 2 * wa.limits.shape[0], wa.frictions.shape[0]
     for k in range(nf):  # the friction rows, then the couplings': their impulses kept
         lhad[L + k], lprev[L + k] = 1.0, lam[3 * nc + nl + k]

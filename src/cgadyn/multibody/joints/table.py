@@ -116,6 +116,16 @@ def additive_values(model, q) -> np.ndarray:
     return out
 
 
+def additive_index(model) -> np.ndarray:
+    """(nv,) the index in q of each velocity coordinate of a joint whose coordinates add
+    (one q per v), -1 on the others: where fixed tendons and couplings read q."""
+    out = np.full(model.nv, -1, dtype=np.int64)
+    for _, joint, s, t in joints_of(model):
+        if joint.additive:
+            out[t] = np.arange(s.start, s.stop)
+    return out
+
+
 def spring_deflection(model, q) -> np.ndarray:
     """``q - spring_reference`` per velocity coordinate (..., nv) for the joints whose
     coordinates add, zero on the others (which carry no spring: ``Model._check_passive``);
