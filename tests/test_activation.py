@@ -134,6 +134,8 @@ def test_activations_batch_and_refuse_bad_input():
         cgadyn.actuator_torques(model, ctrl[0], np.zeros(3), np.zeros(3))
     with pytest.raises(ValueError, match="act must hold 4 finite activations"):
         cgadyn.activations(model, ctrl, DT, [0.0, np.nan, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"act's samples \(3,\) and ctrl's \(2,\)"):
+        cgadyn.activations(model, np.zeros((2, 10, 4)), DT, np.zeros((3, 4)))
     with pytest.raises(ValueError, match="act needs ctrl"):
         cgadyn.simulate(model, np.zeros(3), np.zeros(3), DT, 10, act=act[0])
     import dataclasses

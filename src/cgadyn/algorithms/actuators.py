@@ -113,8 +113,7 @@ def activations(model, ctrl, dt: float, act=None) -> np.ndarray:
                      [step / T, -np.expm1(-step / T)], 0.0)  # the filters' gain per step
     lo, hi = model.actuator_actrange[:, 0], model.actuator_actrange[:, 1]
     on = dynamic(model)
-    batch = u.shape[:-2] if act is None else np.broadcast_shapes(u.shape[:-2],
-                                                                  np.shape(act)[:-1])
+    batch = u.shape[:-2] if act is None else _samples(u.shape[:-2], np.shape(act)[:-1])
     u = np.broadcast_to(u, batch + u.shape[-2:])
     out = np.zeros(batch + (u.shape[-2] + 1, u.shape[-1]))
     w = _activation(model, act, batch + u.shape[-1:]) * on
@@ -138,8 +137,17 @@ def _driving(model, u: np.ndarray, act) -> np.ndarray:
         raise ValueError(f"the actuators {', '.join(map(repr, names))} of {model.name!r} "
                          f"have activation dynamics: their force takes the activation; "
                          f"pass act (cgadyn.activations)")
-    return np.where(on, _activation(model, act, np.broadcast_shapes(
-        u.shape, np.shape(act))), u)
+    return np.where(on, _activation(model, act, _samples(u.shape, np.shape(act))), u)
+
+
+def _samples(ctrl: tuple, act: tuple) -> tuple:
+    """The samples' shape of controls and activations given with the shapes ``ctrl`` and
+    ``act`` (numpy's broadcasting), or a ``ValueError`` naming both."""
+    try:
+        return np.broadcast_shapes(ctrl, act)
+    except ValueError:
+        raise ValueError(f"act's samples {act} and ctrl's {ctrl} must be the same (or "
+                         f"one shared by all)") from None
 
 
 def actuator_torques(model, ctrl, q=None, v=None, act=None) -> np.ndarray:

@@ -390,8 +390,9 @@ def _kept_activation(w: np.ndarray, B: int, steps: int, every: int, rows: int,
     na): the rows of ``kept_row``, a stopped rollout's last state at its step and NaN
     after it, as the states' arrays hold them."""
     w = np.broadcast_to(w, (B,) + w.shape[-2:])
-    index = np.array([i for i in range(steps + 1)
-                      if getattr(kept_row, "py_func", kept_row)(i, steps, every) >= 0])
+    index = np.array([steps]) if every == 0 else np.arange(0, steps + 1, every)
+    if index[-1] != steps:  # the last state, kept after the grid's (``kept_row``)
+        index = np.append(index, steps)
     out = w[:, index].copy()
     done = np.atleast_1d(completed)
     for b in np.flatnonzero(np.atleast_1d(diverged)):
