@@ -136,8 +136,8 @@ def test_what_a_tendon_cannot_be_is_refused_or_warned_by_name():
     spatial = spatial.replace('<geom type="box"', '<site name="s2"/><geom type="box"')
     with pytest.raises(ValueError, match="tendon 'rope' is a spatial tendon with a spring"):
         from_mujoco(mujoco.MjModel.from_xml_string(spatial))
-    rubbing = ARM.replace('<fixed name="slack">', '<fixed name="slack" frictionloss="0.5">')
-    with pytest.warns(UserWarning, match="tendons 'slack' are not held"):
+    rubbing = spatial.replace('stiffness="2"', 'frictionloss="0.5"')
+    with pytest.warns(UserWarning, match="tendons 'rope' are not held"):
         from_mujoco(mujoco.MjModel.from_xml_string(rubbing))
     fluid = ARM.replace('<option gravity="0 0 -9.81"/>',
                         '<option gravity="0 0 -9.81" density="1000"/>')
@@ -237,3 +237,42 @@ def test_a_fixed_tendons_limit_stops_the_arm():
     np.testing.assert_allclose([_fold(x) - 0.6 for x in past.q],
                                0.1 * 0.8 ** np.arange(4), rtol=1e-9)
     assert np.abs(past.v).max() == 0.0
+
+
+RUBBING = """
+<mujoco><option gravity="0 0 -9.81"/>
+  <worldbody><body name="a" pos="0 0 1">
+    <joint name="j1" type="hinge" axis="0 1 0"/>
+    <geom type="sphere" pos="0.5 0 0" size="0.01" mass="1"/>
+  </body></worldbody>
+  <tendon><fixed name="brake" frictionloss="FRICTION"><joint joint="j1" coef="2"/></fixed>
+  </tendon>
+</mujoco>"""
+"""A point mass 0.5 m out on a horizontal hinge (gravity's torque 4.905 N m, inertia about
+0.25 kg m²) and a fixed tendon ``2 j1`` with a friction loss f: a force of at most f along
+the tendon, a torque of at most 2 f on the hinge."""
+
+
+def test_a_fixed_tendons_friction_loss_holds_below_it():
+    """``Model.tendon_friction`` is MuJoCo's ``tendon_frictionloss``; a tendon friction of
+    3 N (6 N m on the hinge) holds the hinge still, its torque the holding one to 1e-6, in
+    ``contact_step`` and in the compiled loop; one of 1 N (2 N m) lets it go at ``(4.905 -
+    2) / I``, its torque -2 N m (gravity turns it towards +q)."""
+    held = from_mujoco(mujoco.MjModel.from_xml_string(RUBBING.replace("FRICTION", "3")))
+    assert held.tendon_names == ("brake",)
+    np.testing.assert_allclose(held.tendon_friction, [3.0])
+    world = cgadyn.World(ground=False)
+    step = cgadyn.contact_step(held, None, np.zeros(1), np.zeros(1), np.zeros(1), 1e-3,
+                               world=world)
+    assert abs(step.v[0]) < 1e-9
+    hold = cgadyn.rnea(held, np.zeros(1), np.zeros(1), np.zeros(1))
+    np.testing.assert_allclose(step.friction_torques, hold, rtol=1e-6)
+    run = cgadyn.simulate(held, np.zeros(1), np.zeros(1), 1e-3, 100, world=world,
+                          integrator="semi_implicit_euler")
+    assert np.abs(run.v).max() < 1e-9
+    going = from_mujoco(mujoco.MjModel.from_xml_string(RUBBING.replace("FRICTION", "1")))
+    step = cgadyn.contact_step(going, None, np.zeros(1), np.zeros(1), np.zeros(1), 1e-3,
+                               world=world)
+    inertia = cgadyn.crba(going, np.zeros(1))[0, 0]
+    np.testing.assert_allclose(step.v[0], 1e-3 * (-hold[0] - 2.0) / inertia, rtol=1e-9)
+    np.testing.assert_allclose(step.friction_torques, [-2.0], rtol=1e-9)

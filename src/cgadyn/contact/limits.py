@@ -83,11 +83,17 @@ def tendon_arrays(model) -> np.ndarray:
 
 
 def joint_frictions(model) -> np.ndarray:
-    """(F, 2) ``[v index, friction]`` of each velocity coordinate with a friction loss
-    (``Model.friction`` > 0), of any joint: each is a row ``e_k`` of every step whose
+    """(F, nv + 1) ``[J row, friction]`` of each velocity coordinate with a friction loss
+    (``Model.friction`` > 0), of any joint, its row ``e_k``, then of each fixed tendon with
+    one (``Model.tendon_friction`` > 0), its row ``c``: each a row of every step whose
     impulse lies in ``[-f dt, f dt]`` (K30)."""
     k = np.flatnonzero(model.friction > 0.0)
-    return np.ascontiguousarray(np.column_stack([k, model.friction[k]]).astype(float))
+    t = np.flatnonzero(model.tendon_friction > 0.0)
+    rows = np.zeros((len(k) + len(t), model.nv + 1))
+    rows[np.arange(len(k)), k] = 1.0
+    rows[len(k):, :model.nv] = model.tendon_coefficients[t]
+    rows[:, model.nv] = np.concatenate([model.friction[k], model.tendon_friction[t]])
+    return np.ascontiguousarray(rows)
 
 
 @serial

@@ -200,7 +200,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     rows = np.empty((2 * len(limits), ROW_COLUMNS))
     tendons = tendon_arrays(model)
     nl = active_limits(limits, tendons, q, v, v_free, step, float(margin), rows)  # K26
-    frictions = joint_frictions(model) if friction_loss else np.zeros((0, 2))
+    frictions = joint_frictions(model) if friction_loss else np.zeros((0, model.nv + 1))
     tied = coupling_rows(model)[:len(model.coupling_names) if couplings else 0]
     ropes, rope_J = rope_system(model, q, v, v_free, step, float(margin)) if joint_limits \
         else (np.zeros((0, ROPE_ROW)), np.zeros((0, model.nv)))  # K46
@@ -217,7 +217,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     J[:3 * nc] = contact_jacobian(model, q, contacts, frames)  # K20, K37
     for k in range(nl):  # ±e_v, or -aᵀ on a cone-limited joint's ω (K26, K26')
         limit_row(rows, k, tendons, J, 3 * nc + k)
-    J[n1 + np.arange(nf), frictions[:, 0].astype(int)] = 1.0  # K30
+    J[n1:n2] = frictions[:, :model.nv]  # K30: e_k, or a tendon's c
     J[n2:n3] = tied[:, :model.nv]  # K45
     J[n3:] = rope_J  # K46
     G = J @ np.linalg.solve(crba(model, q), J.T)  # G = J M⁻¹ Jᵀ (C7) over every row
@@ -232,7 +232,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     soft_rows = np.zeros(len(g))  # R: the compliance of each row (K41)
     soft_rows[3 * np.arange(nc) + 2] = compliance
     bounds = np.concatenate([np.tile([0.0, np.inf], (nl, 1)),  # λ >= 0 (K26)
-                             step * np.outer(frictions[:, 1], [-1.0, 1.0]),  # K30
+                             step * np.outer(frictions[:, model.nv], [-1.0, 1.0]),  # K30
                              np.tile([-np.inf, np.inf], (ne, 1)),  # K45
                              np.tile([0.0, np.inf], (nr, 1))])  # K46
     used, lam = contact.solver, None

@@ -63,6 +63,7 @@ _ARRAY_FIELDS = (
     "tendon_damping",
     "tendon_spring_length",
     "tendon_range",
+    "tendon_friction",
     "coupling_coefficients",
     "coupling_offset",
     "rope_links",
@@ -204,8 +205,8 @@ class Model:
         The range the activation is clamped to after each step (MuJoCo's ``actrange`` where
         ``actlimited``; ``±inf``: none).
     tendon_names : tuple[str, ...]
-        The fixed tendons that carry a spring or a damper, that a motor pulls or that are
-        limited (MuJoCo's ``<fixed>`` tendons), none by default.
+        The fixed tendons that carry a spring, a damper or a friction loss, that a motor
+        pulls or that are limited (MuJoCo's ``<fixed>`` tendons), none by default.
     tendon_coefficients : float64 (nt, nv)
         Each tendon's length ``L = Σ_k c_k q_k`` over the coordinates of joints whose
         coordinates add (MuJoCo's ``coef`` of each ``<joint>`` of the tendon).
@@ -220,6 +221,9 @@ class Model:
         The lengths the tendon is held between (MuJoCo's ``range`` where ``limited``;
         ``±inf``: none), a limit that the contact step enforces as a joint's
         (``docs/contact.md``, K26'').
+    tendon_friction : float64 (nt,)
+        The tendon's dry friction (MuJoCo's ``frictionloss``): a force of at most this
+        along it, held by the contact step as a joint's friction loss (K30).
     coupling_names : tuple[str, ...]
         Linear couplings of coordinates (MuJoCo's ``<equality joint>`` and ``<equality
         tendon>`` of a linear polynomial), none by default: bilateral constraints that the
@@ -287,6 +291,7 @@ class Model:
     tendon_damping: np.ndarray | None = None
     tendon_spring_length: np.ndarray | None = None
     tendon_range: np.ndarray | None = None
+    tendon_friction: np.ndarray | None = None
     coupling_names: tuple = ()
     coupling_coefficients: np.ndarray | None = None
     coupling_offset: np.ndarray | None = None
@@ -314,7 +319,8 @@ class Model:
         defaults.update({"tendon_coefficients": np.zeros((nt, nv)),
                          "tendon_stiffness": np.zeros(nt), "tendon_damping": np.zeros(nt),
                          "tendon_spring_length": np.zeros((nt, 2)),
-                         "tendon_range": np.tile([-np.inf, np.inf], (nt, 1))})
+                         "tendon_range": np.tile([-np.inf, np.inf], (nt, 1)),
+                         "tendon_friction": np.zeros(nt)})
         ne = len(self.coupling_names)
         defaults.update({"coupling_coefficients": np.zeros((ne, nv)),
                          "coupling_offset": np.zeros(ne)})
@@ -392,6 +398,7 @@ class Model:
             "tendon_damping": (len(self.tendon_names),),
             "tendon_spring_length": (len(self.tendon_names), 2),
             "tendon_range": (len(self.tendon_names), 2),
+            "tendon_friction": (len(self.tendon_names),),
             "coupling_coefficients": (len(self.coupling_names), nv),
             "coupling_offset": (len(self.coupling_names),),
             "rope_links": (len(self.rope_names), 2),
@@ -571,7 +578,7 @@ class Model:
                 raise ValueError(f"tendon {name!r} has the coefficients {c.tolist()}; "
                                  f"expected finite numbers, zero on the coordinates of "
                                  f"joints whose coordinates do not add")
-            for field in ("stiffness", "damping"):
+            for field in ("stiffness", "damping", "friction"):
                 x = float(getattr(self, f"tendon_{field}")[i])
                 if not (np.isfinite(x) and x >= 0.0):
                     raise ValueError(f"tendon {name!r} has the {field} {x}; expected a "

@@ -393,8 +393,9 @@ def _motors(mj, model: Model, joint_of: dict, where: str) -> tuple[dict, list[in
 def _tendons(mj, model: Model, joint_of: dict, where: str, pulled: list[int]
              ) -> tuple[dict, dict]:
     """The ``Model.tendon_*`` fields of MuJoCo's fixed tendons that carry a spring or a
-    damper, that a motor pulls (``pulled``: MuJoCo's tendon ids) or that are limited
-    (``tendon_stiffness``, ``tendon_damping``, ``tendon_lengthspring``, ``tendon_range``;
+    damper, that a motor pulls (``pulled``: MuJoCo's tendon ids) or that are limited or
+    rub (``tendon_stiffness``, ``tendon_damping``, ``tendon_lengthspring``,
+    ``tendon_range``, ``tendon_frictionloss``;
     the length ``Σ coef qpos`` of hinges and
     slides: ``wrap_prm``, ``wrap_objid``), and MuJoCo's id -> the index kept. A spatial tendon
     with a spring or damper, and a tendon's armature, are refused by name (they would change
@@ -402,7 +403,7 @@ def _tendons(mj, model: Model, joint_of: dict, where: str, pulled: list[int]
     that cgadyn does not hold, are warned of, as are fluid forces (``density``,
     ``viscosity``), which cgadyn does not compute."""
     names, rows, stiffness, damping, length, loose, kept = [], [], [], [], [], [], {}
-    ranges = []
+    ranges, frictions = [], []
     armature = getattr(mj, "tendon_armature", np.zeros(mj.ntendon))
     k_on, b_on = float(not _disabled(mj, "SPRING")), float(not _disabled(mj, "DAMPER"))
     for t in range(mj.ntendon):
@@ -416,11 +417,10 @@ def _tendons(mj, model: Model, joint_of: dict, where: str, pulled: list[int]
         if passive and not fixed:
             raise ValueError(f"tendon {name!r} is a spatial tendon with a spring or damper; "
                              f"cgadyn models those of fixed tendons only")
-        limited = bool(mj.tendon_limited[t])
-        if (limited and not fixed and _rope_sites(mj, t) is None
-                or mj.tendon_frictionloss[t] != 0.0):
+        limited, rubbing = bool(mj.tendon_limited[t]), mj.tendon_frictionloss[t] != 0.0
+        if not fixed and (limited and _rope_sites(mj, t) is None or rubbing):
             loose.append(name)
-        if not passive and t not in pulled and not (limited and fixed):
+        if not passive and t not in pulled and not (fixed and (limited or rubbing)):
             continue
         kept[t] = len(names)
         names.append(name)
@@ -429,10 +429,11 @@ def _tendons(mj, model: Model, joint_of: dict, where: str, pulled: list[int]
         damping.append(b)
         length.append(np.array(mj.tendon_lengthspring[t], dtype=float))
         ranges.append(mj.tendon_range[t] if limited and fixed else (-np.inf, np.inf))
+        frictions.append(float(mj.tendon_frictionloss[t]))
     if loose:
         warnings.warn(f"{where!r}: the limits and friction loss of the tendons "
-                      f"{', '.join(map(repr, loose))} are not held: cgadyn holds joint "
-                      f"limits, joint friction loss and the limits of fixed tendons and of "
+                      f"{', '.join(map(repr, loose))} are not held: cgadyn holds the limits "
+                      f"and friction loss of joints and fixed tendons, and the limits of "
                       f"spatial tendons of two sites (ropes)", stacklevel=5)
     if mj.opt.density != 0.0 or mj.opt.viscosity != 0.0:
         warnings.warn(f"{where!r}: the fluid forces of density {mj.opt.density} and "
@@ -444,7 +445,8 @@ def _tendons(mj, model: Model, joint_of: dict, where: str, pulled: list[int]
                 tendon_stiffness=np.array(stiffness, dtype=float),
                 tendon_damping=np.array(damping, dtype=float),
                 tendon_spring_length=np.array(length, dtype=float).reshape(nt, 2),
-                tendon_range=np.array(ranges, dtype=float).reshape(nt, 2)), kept
+                tendon_range=np.array(ranges, dtype=float).reshape(nt, 2),
+                tendon_friction=np.array(frictions, dtype=float)), kept
 
 
 def _rope_sites(mj, t: int) -> tuple[int, int] | None:

@@ -214,7 +214,7 @@ def _world_arrays(model, collisions, world, contact, joint_limits: bool,
         ground_frame(world.ground_normal), params,
         np.ascontiguousarray(limits_of(model) if joint_limits
                              else np.zeros((0, LIMIT_COLUMNS))), tendon_arrays(model),
-        joint_frictions(model) if friction_loss else np.zeros((0, 2)),
+        joint_frictions(model) if friction_loss else np.zeros((0, model.nv + 1)),
         coupling_rows(model)[:len(model.coupling_names) if couplings else 0],
         rope_arrays(model) if joint_limits else np.zeros((0, ROPE_COLUMNS)),
         np.ascontiguousarray(cm.compliance, dtype=float), bounding_radii(cm),
@@ -640,12 +640,13 @@ def _rows(m, w_, k_, nc, nl, nrp, J, lam, R, dt):
         bounds[k, 0], bounds[k, 1] = 0.0, math.inf
     for k in range(nf):
         r, slot = 3 * nc + nl + k, L + k
-        J[r, int(wa.frictions[k, 0])] = 1.0
+        for i in range(m.nv):  # e_k, or a tendon's c
+            J[r, i] = wa.frictions[k, i]
         lam[r] = lprev[slot] if lhad[slot] != 0.0 else 0.0
         if lhad[slot] != 0.0:
             warm = True
-        bounds[nl + k, 0], bounds[nl + k, 1] = -dt * wa.frictions[k, 1], \
-            dt * wa.frictions[k, 1]
+        bounds[nl + k, 0], bounds[nl + k, 1] = -dt * wa.frictions[k, m.nv], \
+            dt * wa.frictions[k, m.nv]
     for k in range(wa.couplings.shape[0]):
         r, slot = 3 * nc + nl + nf + k, L + nf + k
         for i in range(m.nv):
@@ -809,7 +810,9 @@ def _keep(m, w_, k_, nc, nl, nf, nrp, J, lam, vn, dt):
     for k in range(nf):  # the friction rows, then the couplings': their impulses kept
         lhad[L + k], lprev[L + k] = 1.0, lam[3 * nc + nl + k]
     for k in range(nj):  # τ_friction = Σ e_k λ / dt
-        w_.joint_torques[1, int(wa.frictions[k, 0])] += lam[3 * nc + nl + k] / dt
+        for i in range(m.nv):
+            if wa.frictions[k, i] != 0.0:
+                w_.joint_torques[1, i] += wa.frictions[k, i] * lam[3 * nc + nl + k] / dt
     for k in range(nrp):  # the ropes' bounds (K46)
         slot = L + nf + int(w_.rrows[k, ROPE_SLOT])
         lhad[slot], lprev[slot] = 1.0, lam[3 * nc + nl + nf + k]

@@ -160,14 +160,26 @@ def _found(scene: ContactScene, dt: float, q, v, a):
 
 
 def _momentum_free(model) -> np.ndarray:
-    """The velocity coordinates on which no joint limit or friction loss row may act (K26,
-    K30): there the contact impulses alone change the momentum in a step (K24)."""
-    from ..contact.limits import CONE, V, joint_frictions, joint_limits
+    """The velocity coordinates on which no row but the contacts' may act: no joint or
+    tendon limit, friction loss, coupling or rope (K26, K30, K45, K46); there the contact
+    impulses alone change the momentum in a step (K24)."""
+    from ..contact.limits import CONE, CONE_LIMIT, JOINT, V, joint_frictions, joint_limits
 
     limits = joint_limits(model)
-    cones = limits[limits[:, CONE] != 0.0, V]  # a cone's row reads its joint's three ω
-    busy = np.concatenate([limits[:, V], cones + 1, cones + 2, joint_frictions(model)[:, 0]])
-    return np.setdiff1d(np.arange(model.nv), busy.astype(np.int64))
+    busy = np.zeros(model.nv, dtype=bool)
+    busy[limits[limits[:, CONE] == JOINT, V].astype(np.int64)] = True
+    for k in limits[limits[:, CONE] == CONE_LIMIT, V].astype(np.int64):
+        busy[k:k + 3] = True  # a cone's row reads its joint's three ω
+    limited = np.isfinite(model.tendon_range).any(axis=1)
+    rows = [joint_frictions(model)[:, :model.nv], model.coupling_coefficients,
+            model.tendon_coefficients[limited]]
+    busy |= np.any(np.concatenate(rows) != 0.0, axis=0)
+    for link in model.rope_links.reshape(-1):  # a rope's ends: every joint above them
+        j = int(model.link_joint[link]) if link >= 0 else -1
+        while j >= 0:
+            busy[model.joint_dofs(j).start:model.joint_dofs(j).stop] = True
+            j = int(model.parents[j])
+    return np.flatnonzero(~busy)
 
 
 def _match(scene, dt, q, v, a, v_next, contacts, slots, forces, J) -> tuple[np.ndarray, bool]:
