@@ -13,24 +13,14 @@ import cgadyn
 
 mujoco = pytest.importorskip("mujoco")
 
-ARM = """
+from test_servos import ARM as SERVO_ARM  # noqa: E402
+
+BODIES = SERVO_ARM[SERVO_ARM.index("  <worldbody>"):SERVO_ARM.index("  <tendon>")].replace(
+    ' damping="0.1"', "")  # test_servos' arm, undamped: MuJoCo's Euler takes a damper implicitly
+ARM = f"""
 <mujoco>
   <option timestep="0.002" integrator="Euler"><flag contact="disable"/></option>
-  <worldbody>
-    <body name="upper" pos="0 0 1">
-      <joint name="shoulder" type="hinge" axis="0 1 0"/>
-      <geom type="capsule" fromto="0 0 0 0.4 0 0" size="0.03" mass="1"/>
-      <body name="lower" pos="0.4 0 0">
-        <joint name="elbow" type="hinge" axis="0 1 0"/>
-        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" mass="0.5"/>
-        <body name="hand" pos="0.3 0 0">
-          <joint name="wrist" type="slide" axis="1 0 0"/>
-          <geom type="sphere" size="0.04" mass="0.2"/>
-        </body>
-      </body>
-    </body>
-  </worldbody>
-  <actuator>
+{BODIES}  <actuator>
     <general name="shoulder" joint="shoulder" dyntype="filter" dynprm="0.05" gainprm="30"
              biastype="affine" biasprm="0 -30 -3" ctrlrange="-1 1" ctrllimited="true"/>
     <general name="elbow" joint="elbow" dyntype="filterexact" dynprm="0.02" gainprm="10"

@@ -84,7 +84,8 @@ def test_the_compiled_loop_is_contact_step_with_a_rope():
     """ball_in_cup's ball thrown sideways from under its cup pulls its string taut and
     swings; the compiled loop equals ``contact_step`` to 1e-12 over 600 steps (cold solver
     starts in both; without the joints' dampers, which the loop takes implicitly), and the
-    string is never longer than its range by 1e-4."""
+    string is never longer than its range by 1e-4; the same for the pendulum, whose rope's
+    first end is fixed in the world."""
     model = cgadyn.load("dm_control:ball_in_cup")
     collisions = cgadyn.collision_model(model)
     settings = cgadyn.ContactSettings(warm_start=False)
@@ -99,6 +100,16 @@ def test_the_compiled_loop_is_contact_step_with_a_rope():
     np.testing.assert_allclose(trajectory.v[-1], v, atol=1e-12)
     lengths = [_length(model, x) for x in trajectory.q]
     assert max(lengths) > 0.2999 and max(lengths) < 0.3 + 1e-4
+    pendulum, world = cgadyn.load(PENDULUM), cgadyn.World(ground=False)  # its first end
+    q, v = np.array([LENGTH * np.sin(ANGLE), -LENGTH * np.cos(ANGLE)]), np.zeros(2)  # fixed
+    swing = cgadyn.simulate(pendulum, q, v, 1e-3, 200, integrator="semi_implicit_euler",
+                            world=world, contact=settings)
+    for _ in range(200):
+        step = cgadyn.contact_step(pendulum, None, q, v, np.zeros(2), 1e-3, world=world,
+                                   contact=settings)
+        q, v = step.q, step.v
+    np.testing.assert_allclose(swing.q[-1], q, atol=1e-12)
+    np.testing.assert_allclose(swing.v[-1], v, atol=1e-12)
 
 
 def test_a_rope_is_checked_by_the_model():

@@ -16,14 +16,7 @@ import numpy as np
 
 from .._jit import inline
 
-__all__ = ["coupling_columns", "coupling_errors", "coupling_rows", "coupling_shift"]
-
-
-def coupling_columns(nv: int) -> tuple[int, int, int]:
-    """The offsets in a row of ``coupling_rows`` of a model of ``nv`` coordinates: the
-    offset ``b``, the first column of ``A⁺`` and the first q index (the coefficients ``a``
-    are the first ``nv``)."""
-    return nv, nv + 1, 2 * nv + 1
+__all__ = ["coupling_errors", "coupling_rows", "coupling_shift"]
 
 
 def coupling_rows(model) -> np.ndarray:

@@ -135,9 +135,13 @@ def rope_row(m, Sw, ropes, rows, k, J, r):
 def rope_system(model, q, v, v_free, dt: float, margin: float
                 ) -> tuple[np.ndarray, np.ndarray]:
     """The rope bounds that are rows of a step from ``q`` (``rope_bounds``, K46) and their
-    rows of J (count, nv), from Python: each end's point Jacobian ``J_v - [p]× J_ω`` of its
-    link's world Jacobian (``algorithms.jacobian``), what ``contact_step`` takes."""
-    from ..algorithms.api import jacobian, link_placements
+    rows of J (count, nv), from Python, what ``contact_step`` takes: ``J_p₁ - J_p₂`` of
+    each rope is the Jacobian of a point constraint holding its first end on its second
+    (``constraint_jacobian``, C1-C2), with the ends swapped (and the sign) where the
+    first is fixed in the world."""
+    from ..algorithms.api import link_placements
+    from ..constraints.model import Constraint
+    from ..constraints.operators import constraint_jacobian
 
     ropes = rope_arrays(model)
     nr = len(model.rope_names)
@@ -148,15 +152,20 @@ def rope_system(model, q, v, v_free, dt: float, margin: float
     ends, count = [], 0
     for i, (links, points) in enumerate(zip(model.rope_links, model.rope_points,
                                             strict=True)):
-        p, Jp = [], []
-        for link, x in zip(links, points, strict=True):
-            p.append(x.copy() if link < 0 else T[link, :3, :3] @ x + T[link, :3, 3])
-            if link < 0 or model.link_joint[link] < 0:
-                Jp.append(np.zeros((3, model.nv)))
-                continue
-            Jw = jacobian(model, q, int(link), "world")  # rows [v, ω] at the world origin
-            Jp.append(Jw[:3] - np.cross(p[-1], Jw[3:].T).T)  # v + ω × p
-        Jd = Jp[0] - Jp[1]
+        frames = [np.eye(4) if link < 0 else T[link].copy() for link in links]
+        for frame, x in zip(frames, points, strict=True):
+            frame[:3, 3] = frame[:3, :3] @ x + frame[:3, 3]  # the end's frame in the world
+        p = [frame[:3, 3] for frame in frames]
+        moving = [link >= 0 and model.link_joint[link] >= 0 for link in links]
+        Jd = np.zeros((3, model.nv))
+        if any(moving):
+            a, b = (0, 1) if moving[0] else (1, 0)  # the first end of the constraint moves
+            other = int(links[b]) if moving[b] else None
+            held = Constraint(model, "point", int(links[a]),
+                              placement=np.linalg.inv(T[links[a]]) @ frames[a], other=other,
+                              other_placement=frames[b] if other is None
+                              else np.linalg.inv(T[other]) @ frames[b])
+            Jd = (1.0 if a == 0 else -1.0) * constraint_jacobian(model, q, [held])
         rates = np.array([Jd @ v, Jd @ v_free])
         count = rope_bounds(ropes, i, p[0], p[1], rates, dt, margin, rows, count)
         ends.append(Jd)
