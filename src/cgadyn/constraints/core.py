@@ -36,7 +36,7 @@ from ..algorithms.status import DELASSUS_SINGULAR, NONFINITE_RESULT, OK, SINGULA
 from ..kernels import motor_mul, motor_reverse
 from ..kernels.layout import physical
 from ..kernels.motors import motor_log, motor_normalize
-from ..kernels.rigid import motor_matrix, rigid_frame, rigid_motion
+from ..kernels.rigid import motor_matrix, point_velocity, rigid_frame, rigid_motion
 from ..multibody.packed import unpack
 from .articulated import (
     articulated_inertias,
@@ -187,17 +187,16 @@ def _rotate(R, x, h, local):
 @inline
 def _add_columns(Sw, parents, iv, body, sign, p, size, r0, J, R, local):
     """Add ``sign`` times the columns of the body's world Jacobian seen at the point p
-    (``shift(S, p) = [v - p × ω, ω]``, whose first three rows are the velocity of p) to
+    (``shift(S, p) = [v + ω × p, ω]``, whose first three rows are the velocity of p) to
     rows ``r0 ..`` of J: the first three (C1), or all six (C2); each block of three in
     frame 1's axes (``Rᵀ``) where ``local``. Only the columns of the body's path are
     touched."""
     j = body
     while j >= 0:
         for k in range(iv[j], iv[j + 1]):
-            v1, v2, v3, w1, w2, w3 = Sw[k, 0], Sw[k, 1], Sw[k, 2], Sw[k, 3], Sw[k, 4], Sw[k, 5]
-            x1 = v1 - (p[1] * w3 - p[2] * w2)  # v - p × ω (C1)
-            x2 = v2 - (p[2] * w1 - p[0] * w3)
-            x3 = v3 - (p[0] * w2 - p[1] * w1)
+            w1, w2, w3 = Sw[k, 3], Sw[k, 4], Sw[k, 5]
+            x1, x2, x3 = point_velocity(Sw[k, 0], Sw[k, 1], Sw[k, 2], w1, w2, w3, p[0], p[1],
+                                        p[2])  # v + ω × p (C1)
             if local:
                 x1, x2, x3 = (R[0, 0] * x1 + R[1, 0] * x2 + R[2, 0] * x3,
                               R[0, 1] * x1 + R[1, 1] * x2 + R[2, 1] * x3,

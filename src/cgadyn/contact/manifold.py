@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 
 from .._jit import core, inline
+from ..kernels.rigid import point_velocity
 from .distance import plane_distance, rotate, rotate_back, support, to_world
 from .shapes import BOX, CAPSULE, CYLINDER, ELLIPSOID, MESH, SPHERE
 
@@ -135,8 +136,8 @@ def reach(V, k, x0, x1, x2, radius, dt):
     out = 0.0
     for t in range(2):
         w0, w1, w2 = V[k, t, 3], V[k, t, 4], V[k, t, 5]
-        u0, u1, u2 = V[k, t, 0] + w1 * x2 - w2 * x1, V[k, t, 1] + w2 * x0 - w0 * x2, \
-            V[k, t, 2] + w0 * x1 - w1 * x0
+        u0, u1, u2 = point_velocity(V[k, t, 0], V[k, t, 1], V[k, t, 2], w0, w1, w2, x0, x1,
+                                    x2)
         u = math.sqrt(u0 * u0 + u1 * u1 + u2 * u2)
         w = math.sqrt(w0 * w0 + w1 * w1 + w2 * w2)
         out = max(out, dt * (u + w * radius) * (1.0 + dt * w))

@@ -40,6 +40,22 @@ def contact_problem(model, q, v, tau, dt: float, constraints) -> tuple[np.ndarra
 
 
 @inline
+def row_starts(nc, nl, nf, ne, nr):
+    """Where each kind of row begins in a step's problem, the one order that
+    ``step.contact_step`` and the compiled step (``sim.contact``) share: from row 0 the
+    three rows ``(t₁, t₂, n)`` of each of ``nc`` contacts (K23, K37), then ``nl`` limit
+    bounds (K26), ``nf`` friction losses (K30), ``ne`` couplings (K45), ``nr`` rope bounds
+    (K46), and at the end any bilateral constraints (C14). Returns the first row of the
+    limits, frictions, couplings and ropes, and the end; the rows from the limits' on are
+    the problem's interval rows, ``bounds[r - limits]`` bounding row ``r``."""
+    limits = 3 * nc
+    frictions = limits + nl
+    couplings = frictions + nf
+    ropes = couplings + ne
+    return limits, frictions, couplings, ropes, ropes + nr
+
+
+@inline
 def open_gap(d, dt):
     """The gap's term of a rigid contact's normal row or a limit's row (K23, K26): ``d /
     dt`` for an open gap (the step may close it, no sooner), 0 for a penetration (the step

@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from .._jit import inline
-from ..kernels.rigid import rigid_frame, rigid_rotate
+from ..kernels.rigid import point_velocity, rigid_frame, rigid_rotate
 
 __all__ = ["ROPE_COLUMNS", "ROPE_ROW", "rope_arrays", "rope_bounds", "rope_point",
            "rope_rates", "rope_row", "rope_system"]
@@ -106,9 +106,10 @@ def rope_rates(ropes, i, bodies, p1, p2, rates):
             s = 1.0 if end == 0 else -1.0
             p = p1 if end == 0 else p2
             b = bodies[j, t]
-            rates[t, 0] += s * (b[0] + b[4] * p[2] - b[5] * p[1])
-            rates[t, 1] += s * (b[1] + b[5] * p[0] - b[3] * p[2])
-            rates[t, 2] += s * (b[2] + b[3] * p[1] - b[4] * p[0])
+            x, y, z = point_velocity(b[0], b[1], b[2], b[3], b[4], b[5], p[0], p[1], p[2])
+            rates[t, 0] += s * x
+            rates[t, 1] += s * y
+            rates[t, 2] += s * z
 
 
 @inline
@@ -125,9 +126,8 @@ def rope_row(m, Sw, ropes, rows, k, J, r):
         s = rows[k, SIGN] if end == 0 else -rows[k, SIGN]
         while j >= 0:
             for c in range(m.iv[j], m.iv[j + 1]):
-                vx = Sw[c, 0] + Sw[c, 4] * pz - Sw[c, 5] * py
-                vy = Sw[c, 1] + Sw[c, 5] * px - Sw[c, 3] * pz
-                vz = Sw[c, 2] + Sw[c, 3] * py - Sw[c, 4] * px
+                vx, vy, vz = point_velocity(Sw[c, 0], Sw[c, 1], Sw[c, 2], Sw[c, 3], Sw[c, 4],
+                                            Sw[c, 5], px, py, pz)
                 J[r, c] += s * (ux * vx + uy * vy + uz * vz)
             j = m.parents[j]
 

@@ -157,7 +157,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         tendon_arrays,
     )
     from .limits import joint_limits as joint_limits_of
-    from .problem import open_gap
+    from .problem import open_gap, row_starts
     from .ropes import GAP as ROPE_GAP
     from .ropes import ROPE_ROW, rope_system
     from .solve import solve_contacts
@@ -211,12 +211,11 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
                            np.zeros((0, 3)), np.zeros(model.nv), np.zeros(model.nv),
                            velocities=np.zeros((0, 3)), collisions=cm)
     frames = np.array([ground_frame(n) for n in contacts.normal]).reshape(nc, 3, 3)  # K37
-    J = np.zeros((3 * nc + nl + nf + ne + nr, model.nv))
-    n1, n2 = 3 * nc + nl, 3 * nc + nl + nf  # the first friction row, coupling row
-    n3 = n2 + ne  # the first rope row
-    J[:3 * nc] = contact_jacobian(model, q, contacts, frames)  # K20, K37
+    n0, n1, n2, n3, end = row_starts(nc, nl, nf, ne, nr)  # the first limit, friction,
+    J = np.zeros((end, model.nv))  # coupling and rope row
+    J[:n0] = contact_jacobian(model, q, contacts, frames)  # K20, K37
     for k in range(nl):  # ±e_v, or -aᵀ on a cone-limited joint's ω (K26, K26')
-        limit_row(rows, k, tendons, J, 3 * nc + k)
+        limit_row(rows, k, tendons, J, n0 + k)
     J[n1:n2] = frictions[:, :model.nv]  # K30: e_k, or a tendon's c
     J[n2:n3] = tied[:, :model.nv]  # K45
     J[n3:] = rope_J  # K46
@@ -226,8 +225,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     stiffness = contact_compliance(cm, contacts)
     term, compliance = gap_velocity(contacts.distance, step, stiffness)  # K41
     g[3 * np.arange(nc) + 2] += term  # K23, K41
-    g[3 * nc + np.arange(nl)] += [limit_gap(rows, k, step)  # K26, K26a
-                                  for k in range(nl)]
+    g[n0:n1] += [limit_gap(rows, k, step) for k in range(nl)]  # K26, K26a
     g[n3:] += [open_gap(d, step) for d in ropes[:, ROPE_GAP]]  # K46
     soft_rows = np.zeros(len(g))  # R: the compliance of each row (K41)
     soft_rows[3 * np.arange(nc) + 2] = compliance
@@ -252,10 +250,10 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
                          f"raise ContactSettings' max_iterations or accept")
     impulse = J.T @ lam  # joint impulses of the contacts
     v_next = v_free + aba(model, q, np.zeros(model.nv), impulse, gravity=np.zeros(3))  # K24
-    forces = np.einsum("ki,kij->kj", lam[:3 * nc].reshape(nc, 3), frames) / step  # world
-    limit_torques = J[3 * nc:n1].T @ lam[3 * nc:n1] / step
+    forces = np.einsum("ki,kij->kj", lam[:n0].reshape(nc, 3), frames) / step  # world
+    limit_torques = J[n0:n1].T @ lam[n0:n1] / step
     friction_torques = J[n1:n2].T @ lam[n1:n2] / step
-    sigma = (G[:3 * nc] @ lam + g[:3 * nc]).reshape(nc, 3)  # σ = G λ + g (K11)
+    sigma = (G[:n0] @ lam + g[:n0]).reshape(nc, 3)  # σ = G λ + g (K11)
     q_next = step_moved_configuration(model, q, step * v_next)  # K24a
     limit_shift(limits, tendons, rows, nl, stabilization, q_next)  # past a bound: back (K26a)
     depth = np.where(np.any(stiffness != 0.0, axis=1), np.nan, contacts.distance)
@@ -263,7 +261,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     deepest = correction_targets(G, g, lam, depth, nc, stabilization, step, b)  # K43
     if deepest > 0.0:  # a contact ends the step inside: q⁺ ⊕ M⁻¹ J_Nᵀ μ
         correction_impulses(G, nc, b, deepest, mu)
-        shift = aba(model, q, np.zeros(model.nv), J[2:3 * nc:3].T @ mu,
+        shift = aba(model, q, np.zeros(model.nv), J[2:n0:3].T @ mu,
                     gravity=np.zeros(3))
         q_next = integrate(model, q_next, shift)
     back = stabilization * np.maximum(-ropes[:, ROPE_GAP], 0.0) / np.diag(G)[n3:]

@@ -151,6 +151,14 @@ def rigid_motion(r, p, w0, w1, w2, v0, v1, v2):
 
 
 @inline
+def point_velocity(v0, v1, v2, w0, w1, w2, p0, p1, p2):
+    """``v + ω × p``: the velocity of the point p under the twist whose angular velocity is
+    ω and whose linear part v is the velocity of the point at the origin (world axes); with
+    a coordinate's world twist, that coordinate's column of the point's Jacobian (C1)."""
+    return (v0 + (w1 * p2 - w2 * p1), v1 + (w2 * p0 - w0 * p2), v2 + (w0 * p1 - w1 * p0))
+
+
+@inline
 def rigid_move_twist(r, p, x, out):
     """``out = M X ~M`` (eq. 4) for a twist X, from M's R and p (``rigid_frame``):
     ``rigid_motion`` on X's physical components."""

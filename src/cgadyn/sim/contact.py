@@ -75,7 +75,7 @@ from ..contact.limits import (
     limit_row,
     limit_shift,
 )
-from ..contact.problem import normal_row, open_gap
+from ..contact.problem import normal_row, open_gap, row_starts
 from ..contact.ropes import GAP as ROPE_GAP
 from ..contact.ropes import ROPE_ROW, rope_bounds, rope_point, rope_rates, rope_row
 from ..contact.ropes import SLOT as ROPE_SLOT
@@ -425,7 +425,8 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     nc, nl, nrp, failed = _detect(m, w_, k_, q, v, vn, dt)
     if failed >= 0:  # a pair's depth not computed: stop rather than go on without it
         return fault(CONTACT_PAIR, failed)
-    nf = w_.world.frictions.shape[0] + w_.world.couplings.shape[0]  # interval rows, slots
+    nf, ne = w_.world.frictions.shape[0], w_.world.couplings.shape[0]
+    n0, n1, n2, n3, end = row_starts(nc, nl, nf, ne, nrp)
     for k in range(w_.force.shape[0]):  # the slots read (``had``): zero unless _keep writes
         if w_.had[k] != 0.0:
             for i in range(3):
@@ -436,15 +437,14 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     for i in range(2):
         for k in range(m.nv):
             w_.joint_torques[i, k] = 0.0
-    w_.factored[1] = 1.0 if nc + nl + nf + nrp > 0 else 0.0
-    if nc + nl + nf + nrp == 0:
+    w_.factored[1] = 1.0 if end > 0 else 0.0
+    if end == 0:
         for k in range(w_.had.shape[0]):
             w_.had[k] = 0.0
         for k in range(w_.lhad.shape[0]):
             w_.lhad[k] = 0.0
         return OK
-    nb = bilateral_count(con)
-    mc = 3 * nc + nl + nf + nrp + nb
+    mc = end + bilateral_count(con)
     p = ws.data_pointer(w_.big)
     J, o = ws.carve(p, 0, (mc, m.nv))
     G, o = ws.carve(p, o, (mc, mc))
@@ -455,7 +455,7 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     w = ws.carve(p, o, (SCRATCH_ROWS, max(mc, 6)))[0]
     k_ = constraint_workspace(ws.data_pointer(w_.cwork), m, mc)
     warm = _rows(m, w_, k_, nc, nl, nrp, J, lam, R, dt)
-    status = _bilateral(m, con, q, v, J, w_.bounds, lam, mc - nb, nl + nf + nrp, sc)
+    status = _bilateral(m, con, q, v, J, w_.bounds, lam, end, end - n0, sc)
     if status != OK:
         return status
     if w_.factored[0] == 0.0:  # the free velocity came from ABA: M's factors here
@@ -464,15 +464,15 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
             return status
     _delassus(m, J, k_, G)  # G = J M⁻¹ Jᵀ from M's factors (L7)
     _free_term(m, w_, nc, nl, nrp, J, g, R, vn, dt)
-    for r in range(mc - nb, mc):
+    for r in range(end, mc):
         g[r] = 0.0  # J v⁺ = J v_free on the bilateral rows (C14)
-    status = _solve(w_, nc, nl + nf + nrp + nb, warm, G, g, lam, R, Cs, w)
+    status = _solve(w_, nc, mc - n0, warm, G, g, lam, R, Cs, w)
     if status != OK:
         return status
     _correction(m, w_, k_, nc, J, G, g, lam, dt, w)  # K43, applied after the step
-    _rope_correction(m, w_, k_, 3 * nc + nl + nf, nrp, J, G)  # K46a, likewise
-    _keep_bilateral(con, lam, mc - nb, dt, sc)
-    return _keep(m, w_, k_, nc, nl, nf, nrp, J, lam, vn, dt)
+    _rope_correction(m, w_, k_, n3, nrp, J, G)  # K46a, likewise
+    _keep_bilateral(con, lam, end, dt, sc)
+    return _keep(m, w_, k_, nc, nl, nrp, J, lam, vn, dt)
 
 
 @core
@@ -603,6 +603,8 @@ def _rows(m, w_, k_, nc, nl, nrp, J, lam, R, dt):
     links, out, frame, prev, had = wa.links, w_.out, wa.frame, w_.prev, w_.had
     lrows, bounds, lprev, lhad = w_.lrows, w_.bounds, w_.lprev, w_.lhad
     shapes, nf, L = links.shape[0], wa.frictions.shape[0], 2 * wa.limits.shape[0]
+    ne = wa.couplings.shape[0]
+    n0, n1, n2, n3, _ = row_starts(nc, nl, nf, ne, nrp)
     for r in range(J.shape[0]):
         R[r] = 0.0
         for k in range(m.nv):
@@ -632,37 +634,36 @@ def _rows(m, w_, k_, nc, nl, nrp, J, lam, R, dt):
                               w_.mu, lam, prev, had, c, shapes)
     warm = warm or warm_pairs
     for k in range(nl):
-        r, slot = 3 * nc + k, int(lrows[k, ROW_SLOT])
+        r, slot = n0 + k, int(lrows[k, ROW_SLOT])
         limit_row(lrows, k, wa.tendons, J, r)  # ±e_v, a cone's -aᵀ on ω, a tendon's ±c
         lam[r] = lprev[slot] if lhad[slot] != 0.0 else 0.0
         if lhad[slot] != 0.0:
             warm = True
-        bounds[k, 0], bounds[k, 1] = 0.0, math.inf
+        bounds[r - n0, 0], bounds[r - n0, 1] = 0.0, math.inf
     for k in range(nf):
-        r, slot = 3 * nc + nl + k, L + k
+        r, slot = n1 + k, L + k
         for i in range(m.nv):  # e_k, or a tendon's c
             J[r, i] = wa.frictions[k, i]
         lam[r] = lprev[slot] if lhad[slot] != 0.0 else 0.0
         if lhad[slot] != 0.0:
             warm = True
-        bounds[nl + k, 0], bounds[nl + k, 1] = -dt * wa.frictions[k, m.nv], \
+        bounds[r - n0, 0], bounds[r - n0, 1] = -dt * wa.frictions[k, m.nv], \
             dt * wa.frictions[k, m.nv]
-    for k in range(wa.couplings.shape[0]):
-        r, slot = 3 * nc + nl + nf + k, L + nf + k
+    for k in range(ne):
+        r, slot = n2 + k, L + nf + k
         for i in range(m.nv):
             J[r, i] = wa.couplings[k, i]
         lam[r] = lprev[slot] if lhad[slot] != 0.0 else 0.0
         if lhad[slot] != 0.0:
             warm = True
-        bounds[nl + nf + k, 0], bounds[nl + nf + k, 1] = -math.inf, math.inf
-    ne = wa.couplings.shape[0]
+        bounds[r - n0, 0], bounds[r - n0, 1] = -math.inf, math.inf
     for k in range(nrp):  # K46
-        r, slot = 3 * nc + nl + nf + ne + k, L + nf + ne + int(w_.rrows[k, ROPE_SLOT])
+        r, slot = n3 + k, L + nf + ne + int(w_.rrows[k, ROPE_SLOT])
         rope_row(m, k_.Sw, wa.ropes, w_.rrows, k, J, r)
         lam[r] = lprev[slot] if lhad[slot] != 0.0 else 0.0
         if lhad[slot] != 0.0:
             warm = True
-        bounds[nl + nf + ne + k, 0], bounds[nl + nf + ne + k, 1] = 0.0, math.inf
+        bounds[r - n0, 0], bounds[r - n0, 1] = 0.0, math.inf
     return warm
 
 
@@ -687,11 +688,11 @@ def _free_term(m, w_, nc, nl, nrp, J, g, R, vn, dt):
             w_.depth[c] = d if k == 0.0 and damping == 0.0 else math.nan
             c += 1
     pair_gaps(wa.pairs, w_.pairs, g, w_.depth, c, dt)
+    n0, _, _, n3, _ = row_starts(nc, nl, wa.frictions.shape[0], wa.couplings.shape[0], nrp)
     for k in range(nl):
-        g[3 * nc + k] += limit_gap(w_.lrows, k, dt)  # K26, K26a
-    r0 = 3 * nc + nl + wa.frictions.shape[0] + wa.couplings.shape[0]
+        g[n0 + k] += limit_gap(w_.lrows, k, dt)  # K26, K26a
     for k in range(nrp):
-        g[r0 + k] += open_gap(w_.rrows[k, ROPE_GAP], dt)  # K46
+        g[n3 + k] += open_gap(w_.rrows[k, ROPE_GAP], dt)  # K46
 
 
 @inline
@@ -775,7 +776,7 @@ def _rope_correction(m, w_, k_, r0, nrp, J, G):
 
 
 @inline
-def _keep(m, w_, k_, nc, nl, nf, nrp, J, lam, vn, dt):
+def _keep(m, w_, k_, nc, nl, nrp, J, lam, vn, dt):
     """``v⁺ = v_free + M⁻¹ Jᵀ λ`` into ``vn`` (K24); each row's λ kept in its slot for the
     next step's warm start (K25), the contacts' forces in ``force``. A status:
     ``NONFINITE_RESULT`` where v⁺ is not finite."""
@@ -800,22 +801,24 @@ def _keep(m, w_, k_, nc, nl, nf, nrp, J, lam, vn, dt):
     keep_pairs(wa.pairs, w_.pairs, lam, w_.prev, had, w_.force, c, wa.kinds.shape[0], dt)
     for k in range(lhad.shape[0]):
         lhad[k] = 0.0
+    nf, ne = wa.frictions.shape[0], wa.couplings.shape[0]
+    n0, n1, _, n3, _ = row_starts(nc, nl, nf, ne, nrp)
     for k in range(nl):  # τ_limit = Σ J_rᵀ λ_r / dt
-        slot, r = int(lrows[k, ROW_SLOT]), 3 * nc + k
+        slot, r = int(lrows[k, ROW_SLOT]), n0 + k
         lhad[slot], lprev[slot] = 1.0, lam[r]
         for i in range(m.nv):
             if J[r, i] != 0.0:
                 w_.joint_torques[0, i] += J[r, i] * lam[r] / dt
-    L, nj = 2 * wa.limits.shape[0], wa.frictions.shape[0]
-    for k in range(nf):  # the friction rows, then the couplings': their impulses kept
-        lhad[L + k], lprev[L + k] = 1.0, lam[3 * nc + nl + k]
-    for k in range(nj):  # τ_friction = Σ e_k λ / dt
+    L = 2 * wa.limits.shape[0]
+    for k in range(nf + ne):  # the friction rows, then the couplings': their impulses kept
+        lhad[L + k], lprev[L + k] = 1.0, lam[n1 + k]
+    for k in range(nf):  # τ_friction = Σ e_k λ / dt
         for i in range(m.nv):
             if wa.frictions[k, i] != 0.0:
-                w_.joint_torques[1, i] += wa.frictions[k, i] * lam[3 * nc + nl + k] / dt
+                w_.joint_torques[1, i] += wa.frictions[k, i] * lam[n1 + k] / dt
     for k in range(nrp):  # the ropes' bounds (K46)
-        slot = L + nf + int(w_.rrows[k, ROPE_SLOT])
-        lhad[slot], lprev[slot] = 1.0, lam[3 * nc + nl + nf + k]
+        slot = L + nf + ne + int(w_.rrows[k, ROPE_SLOT])
+        lhad[slot], lprev[slot] = 1.0, lam[n3 + k]
     for i in range(m.nv):
         if not math.isfinite(vn[i]):
             return fault(NONFINITE_RESULT, -1)

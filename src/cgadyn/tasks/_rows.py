@@ -46,7 +46,7 @@ from .._jit import inline
 from ..algorithms.kinematics import link_motor
 from ..kernels import motor_log, motor_mul, motor_reverse, twist_sandwich
 from ..kernels.layout import physical
-from ..kernels.rigid import rigid_frame, rigid_rotate
+from ..kernels.rigid import point_velocity, rigid_frame, rigid_rotate
 from ._lie import jlog3, jlog6
 
 (POINT, PLANE, LINE, SPHERE, CIRCLE, LINE_LINE, PLANE_PLANE, ORIENTATION, POSE, RELATIVE,
@@ -90,9 +90,7 @@ def tool_jacobian(m, Mw, link, p0, p1, p2, tw, Jf):
         for k in range(m.iv[j], m.iv[j + 1]):
             twist_sandwich(Mw[j], m.S[k], tw)
             w0, w1, w2, v0, v1, v2 = physical(tw)  # v at the world origin
-            Jf[0, k] = v0 + w1 * p2 - w2 * p1  # v + ω × p
-            Jf[1, k] = v1 + w2 * p0 - w0 * p2
-            Jf[2, k] = v2 + w0 * p1 - w1 * p0
+            Jf[0, k], Jf[1, k], Jf[2, k] = point_velocity(v0, v1, v2, w0, w1, w2, p0, p1, p2)
             Jf[3, k], Jf[4, k], Jf[5, k] = w0, w1, w2
         j = m.parents[j]
 
@@ -120,9 +118,8 @@ def local_jacobian(m, Mw, link, F, tw, Jf):
 @inline
 def _point_rate(Jf, k, c0, c1, c2):
     """``ẋ = v + ω × c`` of the point at ``p + c`` for coordinate k."""
-    w0, w1, w2 = Jf[3, k], Jf[4, k], Jf[5, k]
-    return (Jf[0, k] + w1 * c2 - w2 * c1, Jf[1, k] + w2 * c0 - w0 * c2,
-            Jf[2, k] + w0 * c1 - w1 * c0)
+    return point_velocity(Jf[0, k], Jf[1, k], Jf[2, k], Jf[3, k], Jf[4, k], Jf[5, k], c0, c1,
+                          c2)
 
 
 @inline
