@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import inline
+from .additive import additive_move, additive_value
 
 __all__ = ["coupling_errors", "coupling_rows", "coupling_shift"]
 
@@ -41,12 +42,7 @@ def coupling_rows(model) -> np.ndarray:
 @inline
 def coupling_error(rows, c, nv, q):
     """``a_c · q - b_c``: how far ``q`` is off coupling ``c`` (a row of ``coupling_rows``)."""
-    e = -rows[c, nv]
-    for k in range(nv):
-        a = rows[c, k]
-        if a != 0.0:
-            e += a * q[int(rows[c, 2 * nv + 1 + k])]
-    return e
+    return additive_value(rows, c, 0, 2 * nv + 1, nv, q) - rows[c, nv]
 
 
 def coupling_errors(rows, q) -> np.ndarray:
@@ -67,9 +63,5 @@ def coupling_shift(rows, beta, q, e):
     for c in range(ne):
         e[c] = beta * coupling_error(rows, c, nv, q)
     for c in range(ne):
-        if e[c] == 0.0:
-            continue
-        for k in range(nv):
-            x = rows[c, nv + 1 + k]
-            if x != 0.0:
-                q[int(rows[c, 2 * nv + 1 + k])] -= x * e[c]
+        if e[c] != 0.0:
+            additive_move(rows, c, nv + 1, 2 * nv + 1, nv, -e[c], q)

@@ -21,6 +21,7 @@ import math
 import numpy as np
 
 from .._jit import inline, serial
+from .additive import additive_move, additive_value
 from .problem import open_gap
 
 __all__ = ["LIMIT_COLUMNS", "ROW_COLUMNS", "active_limits", "joint_frictions", "joint_limits",
@@ -135,14 +136,11 @@ def active_limits(limits, tendons, q, v, vn, dt, margin, rows):
 def _tendon(tendons, t, q, v, vn):
     """``(c · q, c · v, c · v_free)`` of fixed tendon ``t`` (a row of ``tendon_arrays``)."""
     nv = tendons.shape[1] // 2
-    length, rate, rate_free = 0.0, 0.0, 0.0
+    rate, rate_free = 0.0, 0.0
     for k in range(nv):
-        c = tendons[t, k]
-        if c != 0.0:
-            length += c * q[int(tendons[t, nv + k])]
-            rate += c * v[k]
-            rate_free += c * vn[k]
-    return length, rate, rate_free
+        rate += tendons[t, k] * v[k]
+        rate_free += tendons[t, k] * vn[k]
+    return additive_value(tendons, t, 0, nv, nv, q), rate, rate_free
 
 
 @inline
@@ -225,10 +223,7 @@ def _lengthen(tendons, t, amount, q):
     norm = 0.0
     for k in range(nv):
         norm += tendons[t, k] * tendons[t, k]
-    for k in range(nv):
-        c = tendons[t, k]
-        if c != 0.0:
-            q[int(tendons[t, nv + k])] += amount * c / norm
+    additive_move(tendons, t, 0, nv, nv, amount / norm, q)
 
 
 @inline
