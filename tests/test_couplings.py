@@ -99,8 +99,10 @@ def test_what_a_coupling_cannot_be_is_left_out_with_a_warning():
 
 def test_a_geared_pair_of_sliders_moves_as_one_body():
     """Under F on ``a`` alone, semi-implicit Euler's velocities are exactly ``t`` times the
-    closed-form accelerations, the coupling holds to rounding, the compiled loop equals
-    ``contact_step``, and MuJoCo's (soft, stiff) equality gives the same motion."""
+    closed-form accelerations, the coupling holds to rounding, its generalised force
+    (``coupling_torques``) is the closed form's and closes ``M (v⁺ - v) / dt = τ + aᵀ λ``,
+    the compiled loop equals ``contact_step``, and MuJoCo's (soft, stiff) equality gives
+    the same motion."""
     model = _sliders()
     world = cgadyn.World(ground=False)
     tau = np.tile([FORCE, 0.0], (STEPS, 1))
@@ -112,9 +114,16 @@ def test_a_geared_pair_of_sliders_moves_as_one_body():
                                rtol=1e-12)
     rows = coupling_rows(model)
     assert max(abs(coupling_errors(rows, q)[0]) for q in trajectory.q) < 1e-15
+    hold = -FORCE * MB / (GEAR ** 2 * MA + MB)  # the coupling's force: MA ẍ_a = F + λ
+    np.testing.assert_allclose(trajectory.coupling_torques, np.tile([hold, -GEAR * hold],
+                                                                    (STEPS + 1, 1)),
+                               rtol=1e-12)  # aᵀ λ, as M (v⁺ - v) / dt = τ + aᵀ λ
+    assert not trajectory.limit_torques.any() and not trajectory.friction_torques.any()
     q, v = _start(model), np.zeros(2)
     for _ in range(STEPS):
         step = cgadyn.contact_step(model, None, q, v, tau[0], DT, world=world)
+        np.testing.assert_allclose(
+            np.diag([MA, MB]) @ (step.v - v) / DT, tau[0] + step.coupling_torques, atol=1e-12)
         q, v = step.q, step.v
     np.testing.assert_allclose(trajectory.q[-1], q, atol=1e-15)
     np.testing.assert_allclose(trajectory.v[-1], v, atol=1e-15)

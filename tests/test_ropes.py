@@ -85,7 +85,8 @@ def test_the_compiled_loop_is_contact_step_with_a_rope():
     swings; the compiled loop equals ``contact_step`` to 1e-12 over 600 steps (cold solver
     starts in both; without the joints' dampers, which the loop takes implicitly), and the
     string is never longer than its range by 1e-4; the same for the pendulum, whose rope's
-    first end is fixed in the world."""
+    first end is fixed in the world, and whose rope's pull (``limit_torques``, the same in
+    both) points to the anchor and closes ``m (v⁺ - v) / dt = m g + pull``."""
     model = cgadyn.load("dm_control:ball_in_cup")
     collisions = cgadyn.collision_model(model)
     settings = cgadyn.ContactSettings(warm_start=False)
@@ -104,10 +105,16 @@ def test_the_compiled_loop_is_contact_step_with_a_rope():
     q, v = np.array([LENGTH * np.sin(ANGLE), -LENGTH * np.cos(ANGLE)]), np.zeros(2)  # fixed
     swing = cgadyn.simulate(pendulum, q, v, 1e-3, 200, integrator="semi_implicit_euler",
                             world=world, contact=settings)
-    for _ in range(200):
+    gravity = np.array([0.0, -0.1 * 9.81])
+    for k in range(200):
         step = cgadyn.contact_step(pendulum, None, q, v, np.zeros(2), 1e-3, world=world,
                                    contact=settings)
+        pull = step.limit_torques  # the rope's tension: a limit of its tendon's length
+        np.testing.assert_allclose(0.1 * (step.v - v) / 1e-3, gravity + pull, atol=1e-9)
+        np.testing.assert_allclose(swing.limit_torques[k], pull, atol=1e-9)
+        assert np.dot(pull, q) <= 0.0  # towards the anchor
         q, v = step.q, step.v
+    assert np.linalg.norm(swing.limit_torques[:200], axis=1).min() > 0.9  # ≈ m g cos θ
     np.testing.assert_allclose(swing.q[-1], q, atol=1e-12)
     np.testing.assert_allclose(swing.v[-1], v, atol=1e-12)
 

@@ -43,8 +43,9 @@ class ContactStep:
     found at the start of the step (``contacts``) and the force of each on its shape in the
     world frame (``forces`` (K, 3), the impulse over ``dt``; a pair contact's on its first
     shape, ``a``, K37); the joint torques of the
-    limits (``limit_torques`` (nv,), their impulse over ``dt``; zero where no limit acts)
-    and of the friction losses (``friction_torques`` (nv,));
+    limits (``limit_torques`` (nv,), their impulse over ``dt``; zero where no limit acts;
+    a rope's among them, K46), of the friction losses (``friction_torques`` (nv,)) and of
+    the couplings (``coupling_torques`` (nv,), K45);
     the solver's report (``info``, a ``ContactSolveInfo``; None without contacts or limits)
     and which solver gave the forces (``solver``); ``velocities`` (K, 3), each contact's
     velocity after the step in its frame ``(t₁, t₂, n)`` with the gap's term of K23 (an
@@ -64,6 +65,7 @@ class ContactStep:
     solver: str = ""
     velocities: np.ndarray = field(repr=False, default=None)
     collisions: object = field(repr=False, default=None)
+    coupling_torques: np.ndarray = field(repr=False, default=None)
 
     @property
     def criteria(self):
@@ -209,7 +211,8 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
         return ContactStep(step_moved_configuration(model, q, step * v_free),
                            step_moved_velocity(model, v_free, step), contacts,
                            np.zeros((0, 3)), np.zeros(model.nv), np.zeros(model.nv),
-                           velocities=np.zeros((0, 3)), collisions=cm)
+                           velocities=np.zeros((0, 3)), collisions=cm,
+                           coupling_torques=np.zeros(model.nv))
     frames = np.array([ground_frame(n) for n in contacts.normal]).reshape(nc, 3, 3)  # K37
     n0, n1, n2, n3, end = row_starts(nc, nl, nf, ne, nr)  # the first limit, friction,
     J = np.zeros((end, model.nv))  # coupling and rope row
@@ -251,8 +254,9 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     impulse = J.T @ lam  # joint impulses of the contacts
     v_next = v_free + aba(model, q, np.zeros(model.nv), impulse, gravity=np.zeros(3))  # K24
     forces = np.einsum("ki,kij->kj", lam[:n0].reshape(nc, 3), frames) / step  # world
-    limit_torques = J[n0:n1].T @ lam[n0:n1] / step
+    limit_torques = (J[n0:n1].T @ lam[n0:n1] + J[n3:].T @ lam[n3:]) / step  # ropes: K46
     friction_torques = J[n1:n2].T @ lam[n1:n2] / step
+    coupling_torques = J[n2:n3].T @ lam[n2:n3] / step
     sigma = (G[:n0] @ lam + g[:n0]).reshape(nc, 3)  # σ = G λ + g (K11)
     q_next = step_moved_configuration(model, q, step * v_next)  # K24a
     limit_shift(limits, tendons, rows, nl, stabilization, q_next)  # past a bound: back (K26a)
@@ -270,5 +274,6 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
                                               gravity=np.zeros(3)))
     coupling_shift(tied, stabilization, q_next, np.empty(ne))  # K45a
     return ContactStep(q_next, step_moved_velocity(model, v_next, step), contacts, forces,
-                       limit_torques, friction_torques, info, used, sigma, cm)
+                       limit_torques, friction_torques, info, used, sigma, cm,
+                       coupling_torques)
 

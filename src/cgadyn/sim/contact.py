@@ -127,10 +127,11 @@ the report of the step (``report``), the constraint workspace, the active
 limits' rows, the interval rows' bounds and previous impulses (``lprev``, ``lhad``), the
 shapes' link twists (K21a) and the joints' (``bodies``), ``factored`` (whether the
 workspace holds M's factors at this step's q; whether the last step had rows), the pairs'
-scratch (``sim.pairs.carve_pairs``; None without pairs), and ``joint_torques`` (2, nv): the
-generalised forces of the joint limits and of the friction losses in the last step (their
-impulses over dt, as ``contact.step.ContactStep``'s ``limit_torques`` and
-``friction_torques``); each contact's signed distance (``depth``, NaN for a compliant one)
+scratch (``sim.pairs.carve_pairs``; None without pairs), and ``joint_torques``
+(``JOINT_TORQUES``, nv): the generalised forces of the joint limits (with the ropes'), of
+the friction losses and of the couplings in the last step (their impulses over dt, as
+``contact.step.ContactStep``'s ``limit_torques``, ``friction_torques`` and
+``coupling_torques``); each contact's signed distance (``depth``, NaN for a compliant one)
 and the configuration's correction out of the contacts' penetrations (``shift`` (nv,),
 K43); the couplings' errors (``errors``, scratch of K45a); the ropes' bounds that are rows
 of the step (``rrows``, ``contact.ropes.rope_bounds``) and the scratch of their ends'
@@ -144,10 +145,14 @@ the solver tried first (``contact.solver``'s code), the residual a step may end 
 REPORT = 4
 """The report of the last contact step: ``[iterations (both solvers), primal, dual,
 complementarity]`` (zeros for a step without a contact problem)."""
+JOINT_TORQUES = 3
+"""The generalised forces a step keeps (``joint_torques``' rows): the joint limits' (with
+the ropes'), the friction losses', the couplings'."""
 KEPT = 3
 """A kept row's columns: the contacts' number, the solvers' iterations and the largest
 residual of the step (``rollout._keep_contacts``, which writes the slots' forces and the
-joint limits' and friction losses' generalised forces into arrays of their own)."""
+joint limits', friction losses' and couplings' generalised forces into arrays of their
+own)."""
 
 
 WORLDS_KEPT = 16
@@ -259,7 +264,8 @@ def scratch_size(n, nq, nv, nl, shapes, limits, frictions, couplings, ropes, nr)
             + m * nv + 2 * m * m + 3 * m + SCRATCH_ROWS * max(m, 6) + K + ncp.INFO
             + ncp.SETTINGS + 2 * K * 3 + K + 2 + REPORT
             + L * ROW_COLUMNS + 2 * (L + F + nr) + 2 * (L + F)
-            + constraint_workspace_size(n, nq, nv, nl, m) + n * 12 + 2 + 2 * nv + 1 + K
+            + constraint_workspace_size(n, nq, nv, nl, m) + n * 12 + 2
+            + JOINT_TORQUES * nv + 1 + K
             + nv + couplings + 2 * ropes * ROPE_ROW + 6)
 
 
@@ -296,7 +302,7 @@ def carve_scratch(world, buf, n, nq, nv, nl, nr):
     twists, o = ws.carve(p, o, (shapes, 2, 6))
     bodies, o = ws.carve(p, o, (n, 2, 6))
     factored, o = ws.carve(p, o, (2,))
-    joint_torques, o = ws.carve(p, o, (2, nv))
+    joint_torques, o = ws.carve(p, o, (JOINT_TORQUES, nv))
     depth, o = ws.carve(p, o, (K,))
     shift, o = ws.carve(p, o, (nv,))
     errors, o = ws.carve(p, o, (E,))
@@ -434,7 +440,7 @@ def contact_velocity(m, world, q, v, vn, dt, work, con, sc):
     w_.count[0], w_.count[1], w_.count[2] = nc, nl, 0.0  # correct_positions reads the last two
     for i in range(REPORT):
         w_.report[i] = 0.0
-    for i in range(2):
+    for i in range(JOINT_TORQUES):
         for k in range(m.nv):
             w_.joint_torques[i, k] = 0.0
     w_.factored[1] = 1.0 if end > 0 else 0.0
@@ -776,6 +782,15 @@ def _rope_correction(m, w_, k_, r0, nrp, J, G):
 
 
 @inline
+def _add_torque(J, r, f, torques, i):
+    """``torques[i] += J_rᵀ f``: a row's generalised force from its force ``f`` (its
+    impulse over dt)."""
+    for k in range(J.shape[1]):
+        if J[r, k] != 0.0:
+            torques[i, k] += J[r, k] * f
+
+
+@inline
 def _keep(m, w_, k_, nc, nl, nrp, J, lam, vn, dt):
     """``v⁺ = v_free + M⁻¹ Jᵀ λ`` into ``vn`` (K24); each row's λ kept in its slot for the
     next step's warm start (K25), the contacts' forces in ``force``. A status:
@@ -806,19 +821,16 @@ def _keep(m, w_, k_, nc, nl, nrp, J, lam, vn, dt):
     for k in range(nl):  # τ_limit = Σ J_rᵀ λ_r / dt
         slot, r = int(lrows[k, ROW_SLOT]), n0 + k
         lhad[slot], lprev[slot] = 1.0, lam[r]
-        for i in range(m.nv):
-            if J[r, i] != 0.0:
-                w_.joint_torques[0, i] += J[r, i] * lam[r] / dt
+        _add_torque(J, r, lam[r] / dt, w_.joint_torques, 0)
     L = 2 * wa.limits.shape[0]
     for k in range(nf + ne):  # the friction rows, then the couplings': their impulses kept
         lhad[L + k], lprev[L + k] = 1.0, lam[n1 + k]
-    for k in range(nf):  # τ_friction = Σ e_k λ / dt
-        for i in range(m.nv):
-            if wa.frictions[k, i] != 0.0:
-                w_.joint_torques[1, i] += wa.frictions[k, i] * lam[n1 + k] / dt
-    for k in range(nrp):  # the ropes' bounds (K46)
+    for r in range(n1, n3):  # τ_friction = Σ e_k λ / dt, τ_coupling = Σ a λ / dt
+        _add_torque(J, r, lam[r] / dt, w_.joint_torques, 1 if r < n1 + nf else 2)
+    for k in range(nrp):  # the ropes' bounds (K46), limits of a tendon's length
         slot = L + nf + ne + int(w_.rrows[k, ROPE_SLOT])
         lhad[slot], lprev[slot] = 1.0, lam[n3 + k]
+        _add_torque(J, n3 + k, lam[n3 + k] / dt, w_.joint_torques, 0)
     for i in range(m.nv):
         if not math.isfinite(vn[i]):
             return fault(NONFINITE_RESULT, -1)

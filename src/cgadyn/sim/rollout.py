@@ -348,12 +348,13 @@ def _kept(world):
 @core
 def _keep_contacts(kept, row, CS, CT, r):
     """``row = [count, iterations, residual]`` of the last contact step
-    (``sim.contact.KEPT``), and into row ``r`` of ``CS`` (K, rows, 3) and ``CT`` (2, nv,
-    rows), the forces of the slots that held a contact and the limits' and friction losses'
-    nonzero generalised forces; nothing without a world. ``CS`` and ``CT`` are slot-major
-    and come in as untouched zero pages of 4 KiB (``simulate``, ``sim/pages.py``): a slot
-    that never holds a contact, a coordinate no limit or friction loss acts on, is never
-    written and costs no memory, and each written stream is contiguous in the steps."""
+    (``sim.contact.KEPT``), and into row ``r`` of ``CS`` (K, rows, 3) and ``CT``
+    (``JOINT_TORQUES``, nv, rows), the forces of the slots that held a contact and the
+    limits', friction losses' and couplings' nonzero generalised forces; nothing without a
+    world. ``CS`` and ``CT`` are slot-major and come in as untouched zero pages of 4 KiB
+    (``simulate``, ``sim/pages.py``): a slot that never holds a contact, a coordinate no
+    limit, friction loss or coupling acts on, is never written and costs no memory, and
+    each written stream is contiguous in the steps."""
     if kept is None:
         return
     force, had, count, report, torques = kept
@@ -364,7 +365,7 @@ def _keep_contacts(kept, row, CS, CT, r):
         if had[k] != 0.0:
             for i in range(3):
                 CS[k, r, i] = force[k, i]
-    for i in range(2):
+    for i in range(torques.shape[0]):
         for k in range(torques.shape[1]):
             if torques[i, k] != 0.0:
                 CT[i, k, r] = torques[i, k]
@@ -379,7 +380,7 @@ def _unset_contacts(kept, CS, CT, r):
     for k in range(CS.shape[0]):
         for i in range(3):
             CS[k, r, i] = np.nan
-    for i in range(2):
+    for i in range(CT.shape[0]):
         for k in range(CT.shape[1]):
             CT[i, k, r] = np.nan
 
@@ -510,9 +511,9 @@ def rollouts(packed, method, q0, v0, u, f, flags, coords, tendons, q_ref, v_ref,
     compiles a loop without contact). Writes the kept states into ``Q``
     (B, rows, nq), ``V``, ``A`` (B, rows, nv), the constraints' record of each (``_record``)
     into ``X`` (B, rows, 3, nr), the contacts of each (``_keep_contacts``) into ``CF`` (B,
-    rows, KEPT), ``CS`` (B, K, rows, 3) and ``CT`` (B, 2, nv, rows), these two zeros when
-    they come in, a failed contact step's report into ``CR`` (B, REPORT), and
-    per rollout the steps ``completed`` and the ``status`` (0, or the fault that stopped it). The
+    rows, KEPT), ``CS`` (B, K, rows, 3) and ``CT`` (B, JOINT_TORQUES, nv, rows), these two
+    zeros when they come in, a failed contact step's report into ``CR`` (B, REPORT), and per
+    rollout the steps ``completed`` and the ``status`` (0, or the fault that stopped it). The
     acceleration at the last state takes the last open-loop torque. The outputs may come in
     unwritten (so that their pages are first touched by the thread that writes them, in
     parallel): each rollout writes every one of its rows once, a state or NaN (``_unset``);

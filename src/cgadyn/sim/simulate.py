@@ -44,7 +44,7 @@ from ..multibody.joints.table import spring_deflection
 from ..multibody.packed import DEFAULT_GRAVITY, with_armature
 from . import pages
 from .bodies import robot_and_bodies
-from .contact import KEPT, REPORT, slots, world_arrays
+from .contact import JOINT_TORQUES, KEPT, REPORT, slots, world_arrays
 from .controllers import PD, GravityCompensation, actuated_gains
 from .criteria import ContactScene
 from .rollout import (
@@ -160,7 +160,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     With constraints, the ``Trajectory`` also holds ``constraint_violation`` (the position
     and velocity error of each constraint at each state kept) and ``forces`` (λ). With a
     world, ``contact_count``, ``contact_forces``, ``contact_iterations``,
-    ``contact_residual``, ``limit_torques`` and ``friction_torques`` (``Trajectory``).
+    ``contact_residual``, ``limit_torques``, ``friction_torques`` and ``coupling_torques``
+    (``Trajectory``).
     A run whose states would not fit in the memory available is refused before it starts,
     with what to reduce.
 
@@ -275,7 +276,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     # major and zeros: pages no contact writes are never touched (rollout._keep_contacts,
     # sim/pages.py)
     CS = pages.zeros((B, K if world is not None else 0, rows, 3))
-    CT = pages.zeros((B, 2, model.nv if world is not None else 0, rows))
+    CT = pages.zeros((B, JOINT_TORQUES, model.nv if world is not None else 0, rows))
     CR = np.full((B, REPORT), np.nan)
     with PARALLEL_LOCK:
         rollouts(step_model, INTEGRATORS[integrator], q0, v0, u, f, flags, coords, tendons,
@@ -290,20 +291,20 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     diverged = status != 0
     last = np.array([_last_row(int(c), steps, every) if d else rows - 1
                      for c, d in zip(completed, diverged, strict=True)], dtype=np.int64)
-    count = forces = iterations = residual = limit = friction = None
+    count = forces = iterations = residual = limit = friction = coupling = None
     if world is not None:
         count = np.where(np.isnan(CF[..., 0]), -1, CF[..., 0]).astype(np.int64)
         iterations = np.where(np.isnan(CF[..., 1]), -1, CF[..., 1]).astype(np.int64)
         residual = CF[..., 2].copy()
         forces = CS.transpose(0, 2, 1, 3)  # (B, rows, K, 3), a view
-        limit, friction = CT[:, 0].transpose(0, 2, 1), CT[:, 1].transpose(0, 2, 1)
+        limit, friction, coupling = (CT[:, i].transpose(0, 2, 1) for i in range(3))
     if not batch:
         end = int(last[0]) + 1
         Q, V, A, X, t = Q[0, :end], V[0, :end], A[0, :end], X[0, :end], t[:end].copy()
         if world is not None:
             count, forces = count[0, :end], forces[0, :end]
             iterations, residual = iterations[0, :end], residual[0, :end]
-            limit, friction = limit[0, :end], friction[0, :end]
+            limit, friction, coupling = limit[0, :end], friction[0, :end], coupling[0, :end]
         completed, diverged = int(completed[0]), bool(diverged[0])
         if diverged:
             t[-1] = completed * dt  # the last state it reached
@@ -318,6 +319,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
                       contact_count=count, contact_forces=forces,
                       contact_iterations=iterations, contact_residual=residual,
                       limit_torques=limit, friction_torques=friction,
+                      coupling_torques=coupling,
                       scene=None if world is None else ContactScene(
                           model, shapes, world, contact, step_inertia,
                           robot_joints), activation=activation)

@@ -85,11 +85,13 @@ class Trajectory:
     a row no state reached), and ``contact_residual``, the largest residual (K19) of the
     forces it kept: at most ``ContactSettings.tolerance`` where the solver converged, up to
     ``accept`` where it stopped short (0 for a step without a contact problem);
-    ``limit_torques`` and ``friction_torques`` (rows, nv) or (B, rows, nv), the generalised
-    forces of the joint limits and of the friction losses in that step (their impulses over
-    dt, K26, K30: zero where none acts, NaN in a row no state reached): in a
-    semi-implicit Euler step without springs or dampers, ``M (v⁺ - v) / dt = τ - h + Jᵀ f
-    + limit_torques + friction_torques``, f the contact forces. None without a world.
+    ``limit_torques``, ``friction_torques`` and ``coupling_torques`` (rows, nv) or (B, rows,
+    nv), the generalised forces of the joint limits (a rope's among them: a limit of its
+    tendon's length), of the friction losses and of the couplings in that step (their
+    impulses over dt, K26, K46, K30, K45: zero where none acts, NaN in a row no state
+    reached): in a semi-implicit Euler step without springs or dampers, ``M (v⁺ - v) / dt
+    = τ - h + Jᵀ f + limit_torques + friction_torques + coupling_torques``, f the contact
+    forces. None without a world.
     ``scene`` (a ``sim.criteria.ContactScene``: the model, collisions, world and contact
     settings of the run) lets ``contacts(k)`` find the contacts of a kept
     state again, with their forces, and ``contact_criteria()`` compute the physical
@@ -125,6 +127,7 @@ class Trajectory:
     contact_residual: np.ndarray | None = None
     limit_torques: np.ndarray | None = None
     friction_torques: np.ndarray | None = None
+    coupling_torques: np.ndarray | None = None
     scene: object = None
     activation: np.ndarray | None = None
 
