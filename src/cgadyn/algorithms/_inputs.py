@@ -20,6 +20,15 @@ _NUMERIC = "biuf"
 """numpy dtype kinds taken as numbers: bool, signed and unsigned integers, floats."""
 
 
+def time_step(dt) -> float:
+    """``dt`` in seconds as a float: a finite real number > 0 (a bool is not one), else a
+    ``ValueError`` that says so; every entry that takes a time step checks it here."""
+    if isinstance(dt, bool) or not isinstance(dt, numbers.Real) or not np.isfinite(dt) \
+            or dt <= 0:
+        raise ValueError(f"dt must be a positive finite number of seconds, got {dt!r}")
+    return float(dt)
+
+
 def state(model, x, name: str, size: int) -> np.ndarray:
     """``x`` as a contiguous writable float64 array of shape (size,) or (B, size)."""
     if x is None:

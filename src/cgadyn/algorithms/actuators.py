@@ -38,6 +38,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..multibody.joints.table import additive_values
+from ._inputs import time_step
 
 
 def actuator_moments(model) -> np.ndarray:
@@ -104,9 +105,7 @@ def activations(model, ctrl, dt: float, act=None) -> np.ndarray:
     if u.ndim < 2:
         raise ValueError(f"ctrl must be a sequence of controls (steps, na), got shape "
                          f"{u.shape}")
-    step = float(dt)
-    if not (np.isfinite(step) and step > 0.0):
-        raise ValueError(f"dt must be a finite number > 0, got {dt!r}")
+    step = time_step(dt)
     kinds = np.array(model.actuator_dynamics)
     T = np.where(model.actuator_time_constant > 0.0, model.actuator_time_constant, 1.0)
     rate = np.select([kinds == "filter", kinds == "filterexact"],

@@ -28,6 +28,7 @@ from .ncp import (
     RATIO,
     RHO,
     WARM,
+    input_scale,
     passes,
     project_blocks,
     residuals,
@@ -103,14 +104,9 @@ def admm_solve(G, g, mu, bounds, R, settings, lam, info, C, w):
     nc = mu.shape[0]
     x, z, y, sigma, rhs, zold, xold, tmp = w[X], w[Z], w[Y], w[SIGMA], w[RHS], w[ZOLD], \
         w[XOLD], w[TMP]
-    gmax = 0.0
-    for r in range(m):
-        gmax = max(gmax, abs(g[r]))
-        if not (math.isfinite(g[r]) and math.isfinite(R[r])):
-            return fault(NONFINITE_INPUT, -1)
-        for c in range(m):
-            if not math.isfinite(G[r, c]):
-                return fault(NONFINITE_INPUT, -1)
+    gmax = input_scale(G, g, R)
+    if gmax < 0.0:
+        return fault(NONFINITE_INPUT, -1)
     warm = settings[WARM] != 0.0
     for r in range(m):  # z₀ = P_K(λ₀), x₀ = z₀
         z[r] = lam[r] if warm else 0.0

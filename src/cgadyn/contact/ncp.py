@@ -11,6 +11,8 @@ contacts).
 
 from __future__ import annotations
 
+import math
+
 from .._jit import inline
 from .cone import ncp_residuals, project
 from .sets import clamp, interval_residuals
@@ -26,6 +28,22 @@ ITERATIONS, PRIMAL, DUAL, COMPLEMENTARITY, CONVERGED, RHO = range(6)
 """Offsets in ``info``: iterations done, the three residuals (K19) at the returned ``λ``,
 1.0 where they passed the stopping rule, ADMM's last penalty ``ρ`` (0 for PGS)."""
 INFO = 6
+
+
+@inline
+def input_scale(G, g, R):
+    """``‖g‖∞``, the stopping rule's scale of the free velocity (K19), or -1 where ``g``,
+    ``R`` or ``G`` holds NaN or inf: the check each solver begins with."""
+    m = g.shape[0]
+    gmax = 0.0
+    for r in range(m):
+        gmax = max(gmax, abs(g[r]))
+        if not (math.isfinite(g[r]) and math.isfinite(R[r])):
+            return -1.0
+        for c in range(m):
+            if not math.isfinite(G[r, c]):
+                return -1.0
+    return gmax
 
 
 @inline

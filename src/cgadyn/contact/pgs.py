@@ -21,6 +21,7 @@ from .ncp import (
     REL_TOL,
     RHO,
     WARM,
+    input_scale,
     passes,
     project_blocks,
     residuals,
@@ -242,14 +243,9 @@ def pgs_solve(G, g, mu, bounds, R, settings, lam, info, C, w):
     nc = mu.shape[0]
     nb = bounds.shape[0]
     sigma, tmp, inv, pair = w[SIGMA], w[TMP], w[X][:m], w[RHS]
-    gmax = 0.0
-    for r in range(m):
-        gmax = max(gmax, abs(g[r]))
-        if not (math.isfinite(g[r]) and math.isfinite(R[r])):
-            return fault(NONFINITE_INPUT, -1)
-        for c in range(m):
-            if not math.isfinite(G[r, c]):
-                return fault(NONFINITE_INPUT, -1)
+    gmax = input_scale(G, g, R)
+    if gmax < 0.0:
+        return fault(NONFINITE_INPUT, -1)
     if settings[WARM] == 0.0:
         for r in range(m):
             lam[r] = 0.0

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import inline
+from ..algorithms._inputs import time_step
 from ..algorithms.api import aba
 from ..constraints.model import check_constraints
 from ..constraints.operators import constraint_jacobian, delassus
@@ -26,12 +27,7 @@ def contact_problem(model, q, v, tau, dt: float, constraints) -> tuple[np.ndarra
                              f"'local_world_aligned' frame to be a contact (its rows the "
                              f"world's x, y and z, the normal z), got kind {c.kind!r}, frame "
                              f"{c.frame!r}")
-    try:
-        step = float(dt)
-    except (TypeError, ValueError):
-        step = float("nan")
-    if not np.isfinite(step) or step <= 0.0:
-        raise ValueError(f"dt must be a finite number > 0, got {dt!r}")
+    step = time_step(dt)
     J = constraint_jacobian(model, q, constraints)
     G = delassus(model, q, constraints)
     v_free = np.asarray(v, dtype=float) + step * aba(model, q, v, tau)  # K20

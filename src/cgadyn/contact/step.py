@@ -139,6 +139,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     ``accept`` (naming the residuals) or for bad input.
     """
     from ..algorithms import aba, crba, integrate
+    from ..algorithms._inputs import time_step
     from ..algorithms.manifold import (
         step_free_velocity,
         step_moved_configuration,
@@ -170,12 +171,7 @@ def contact_step(model, collisions, q, v, tau, dt: float, world: World | None = 
     world = checked_world(world, "contact_step")
     contact = checked_settings(contact, "contact_step")
     margin, stabilization = contact.margin, contact.stabilization
-    try:
-        step = float(dt)
-    except (TypeError, ValueError):
-        step = float("nan")
-    if not np.isfinite(step) or step <= 0.0:
-        raise ValueError(f"dt must be a finite number > 0, got {dt!r}")
+    step = time_step(dt)
     cm = checked_collisions(model, collisions, world, "contact_step")
     robot_joints, robot_nv = model.njoints, model.nv
     # the bodies are links of the model (K36), the obstacles shapes of the world (K44)

@@ -168,7 +168,7 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
     dask arrays of states (``q0``/``v0`` (B, n), ``tau`` (B, steps, nv), chunked along B)
     give a ``Trajectory`` of dask arrays, one compiled call per chunk (``cgadyn.distributed``).
     """
-    dt = _positive(dt)
+    dt = _inputs.time_step(dt)
     steps = _steps(steps)
     servos = activation = None
     if act is not None and (ctrl is None or not np.any(dynamic(model))):
@@ -483,13 +483,6 @@ def speed_bounds(model, dt: float) -> np.ndarray:
         size = float(np.max(np.ptp(origins, axis=0))) + 1.0 if origins.size else 1.0
         out[[k == "linear" for k in kinds]] = size / dt
     return out
-
-
-def _positive(dt) -> float:
-    if isinstance(dt, bool) or not isinstance(dt, numbers.Real) or not np.isfinite(dt) \
-            or dt <= 0:
-        raise ValueError(f"dt must be a positive finite number of seconds, got {dt!r}")
-    return float(dt)
 
 
 def _steps(steps) -> int:
