@@ -1,13 +1,51 @@
-"""Small dense linear algebra for compiled cores: the inverse of a joint's inertia D_j,
+"""Small dense linear algebra for compiled cores: Cholesky's factor of a symmetric positive
+definite matrix and the solve with it (the constraint core's, ADMM's, the IK's), the
+inverse of a joint's inertia D_j,
 row operations ``r -= Σ a_t x_t`` over up to four rows at once (four multiply-adds per
 load and store of r, in loops the compiler vectorises), and the product ``-A X`` in blocks
 held in vector registers."""
 
 from __future__ import annotations
 
+import math
+
 from .._jit import inline
 from ..kernels.lane_arrays import positive
 from ..kernels.lanes import W, fnma, load, splat, store
+
+
+@inline
+def cholesky(A, n, pivot):
+    """Cholesky ``A = L Lᵀ`` in place: L below the diagonal, the reciprocals ``1 / L_aa`` on
+    it (so that ``cholesky`` and ``cholesky_substitute`` multiply, one division per row); the first
+    row whose pivot² falls below ``pivot`` times its count of rows, or -1."""
+    for a in range(n):
+        for c in range(a + 1):
+            acc = A[a, c]
+            for k in range(c):
+                acc -= A[a, k] * A[c, k]
+            if a == c:
+                if not acc > pivot * (a + 1):
+                    return a
+                A[a, a] = 1.0 / math.sqrt(acc)
+            else:
+                A[a, c] = acc * A[c, c]
+    return -1
+
+
+@inline
+def cholesky_substitute(L, n, x):
+    """``x = (L Lᵀ)⁻¹ x`` in place, L from ``cholesky``."""
+    for a in range(n):
+        acc = x[a]
+        for k in range(a):
+            acc -= L[a, k] * x[k]
+        x[a] = acc * L[a, a]
+    for a in range(n - 1, -1, -1):
+        acc = x[a]
+        for k in range(a + 1, n):
+            acc -= L[k, a] * x[k]
+        x[a] = acc * L[a, a]
 
 
 @inline

@@ -27,6 +27,7 @@ from numba import carray, prange
 from .._jit import core, inline, native, parallel, serial
 from .._views import data_pointer
 from ..algorithms._checks import check_configuration
+from ..algorithms._dense import cholesky, cholesky_substitute
 from ..algorithms._pointers import SIGNATURE, packed_array
 from ..algorithms._workspace import STACK_FLOATS, chunks, stack_buffer
 from ..algorithms.kinematics import world_motors
@@ -406,40 +407,6 @@ def _delassus(m, J, k_, G):
 
 
 @inline
-def _factor(A, n, pivot):
-    """Cholesky ``A = L Lᵀ`` in place: L below the diagonal, the reciprocals ``1 / L_aa`` on
-    it (so that ``_factor`` and ``_substitute`` multiply, one division per row); the first
-    row whose pivot² falls below ``pivot`` times its count of rows, or -1."""
-    for a in range(n):
-        for c in range(a + 1):
-            acc = A[a, c]
-            for k in range(c):
-                acc -= A[a, k] * A[c, k]
-            if a == c:
-                if not acc > pivot * (a + 1):
-                    return a
-                A[a, a] = 1.0 / math.sqrt(acc)
-            else:
-                A[a, c] = acc * A[c, c]
-    return -1
-
-
-@inline
-def _substitute(L, n, x):
-    """``x = (L Lᵀ)⁻¹ x`` in place, L from ``_factor``."""
-    for a in range(n):
-        acc = x[a]
-        for k in range(a):
-            acc -= L[a, k] * x[k]
-        x[a] = acc * L[a, a]
-    for a in range(n - 1, -1, -1):
-        acc = x[a]
-        for k in range(a + 1, n):
-            acc -= L[k, a] * x[k]
-        x[a] = acc * L[a, a]
-
-
-@inline
 def _finite(G, n):
     """Whether the n x n matrix G is finite: ``Σ 0·G_rs`` is 0 unless an entry is inf or NaN
     (a branch-free sum where a test per entry would branch n² times)."""
@@ -494,13 +461,13 @@ def solve_forces(G, b, settings, lam, info, k_):
             d[r] = 1.0 / d[r]  # the scaling's reciprocals
         for r in range(n):
             for s in range(r + 1):
-                C[r, s] = G[r, s] * (d[r] * d[s])  # the lower half: what _factor reads
-        row = _factor(C, n, SINGULAR_PIVOT)
+                C[r, s] = G[r, s] * (d[r] * d[s])  # the lower half: what cholesky reads
+        row = cholesky(C, n, SINGULAR_PIVOT)
         if row >= 0:
             return fault(DELASSUS_SINGULAR, row)
         for r in range(n):
             lam[r] = b[r] * d[r]
-        _substitute(C, n, lam)
+        cholesky_substitute(C, n, lam)
         change = 0.0
         for r in range(n):
             lam[r] *= d[r]
@@ -512,7 +479,7 @@ def solve_forces(G, b, settings, lam, info, k_):
         lam[r] = 0.0
         for s in range(n):
             C[r, s] = G[r, s] + (mu if r == s else 0.0)
-    if _factor(C, n, 0.0) >= 0:
+    if cholesky(C, n, 0.0) >= 0:
         return fault(DELASSUS_SINGULAR, -1)
     res = change = math.inf
     row = 0
@@ -521,7 +488,7 @@ def solve_forces(G, b, settings, lam, info, k_):
         it += 1
         for r in range(n):
             y[r] = b[r] + mu * lam[r]
-        _substitute(C, n, y)  # (G + μ I) λ_{k+1} = b + μ λ_k (C8)
+        cholesky_substitute(C, n, y)  # (G + μ I) λ_{k+1} = b + μ λ_k (C8)
         change = 0.0
         for r in range(n):
             change = max(change, abs(y[r] - lam[r]))

@@ -12,8 +12,8 @@ from __future__ import annotations
 import math
 
 from .._jit import core, inline
+from ..algorithms._dense import cholesky, cholesky_substitute
 from ..algorithms.status import DELASSUS_SINGULAR, NONFINITE_INPUT, NONFINITE_RESULT, OK, fault
-from ..constraints.core import _factor, _substitute
 from .cone import desaxce
 from .ncp import (
     COMPLEMENTARITY,
@@ -91,7 +91,7 @@ def _factor_shifted(G, R, shift, C):
         for c in range(m):
             C[r, c] = G[r, c]
         C[r, r] += R[r] + shift
-    return _factor(C, m, 0.0) < 0
+    return cholesky(C, m, 0.0) < 0
 
 
 @core
@@ -138,7 +138,7 @@ def admm_solve(G, g, mu, bounds, R, settings, lam, info, C, w):
             rhs[3 * i + 2] -= desaxce(mu[i], y, 3 * i)  # s = Γ(-y_k) (K13)
         for r in range(m):
             x[r] = rhs[r]
-        _substitute(C, m, x)
+        cholesky_substitute(C, m, x)
         for r in range(m):
             rhs[r] = x[r] + y[r] / rho
         project_blocks(mu, bounds, rhs, z)  # z = P_K(x + y / ρ) (K16, K27)

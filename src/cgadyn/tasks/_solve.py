@@ -38,6 +38,7 @@ from numba import prange
 
 from .._jit import core, inline, parallel, serial
 from .._views import data_pointer
+from ..algorithms._dense import cholesky, cholesky_substitute
 from ..algorithms._workspace import chunks
 from ..multibody.joints import is_additive, joint_integrate
 from ..multibody.packed import unpack
@@ -110,29 +111,13 @@ def _cost(r):
 @inline
 def _cholesky_solve(A, n, b, x):
     """``x = A⁻¹ b`` for the leading n x n block of a symmetric A, by Cholesky in place
-    (``A = L Lᵀ``, L in the lower triangle); x may be b. False if A is not positive
-    definite."""
+    (``algorithms._dense.cholesky``; A's lower triangle overwritten); x may be b. False if
+    A is not positive definite."""
+    if cholesky(A, n, 0.0) >= 0:
+        return False
     for a in range(n):
-        for c in range(a + 1):
-            acc = A[a, c]
-            for k in range(c):
-                acc -= A[a, k] * A[c, k]
-            if a == c:
-                if not acc > 0.0:
-                    return False
-                A[a, a] = math.sqrt(acc)
-            else:
-                A[a, c] = acc / A[c, c]
-    for a in range(n):  # L y = b
-        acc = b[a]
-        for k in range(a):
-            acc -= A[a, k] * x[k]
-        x[a] = acc / A[a, a]
-    for a in range(n - 1, -1, -1):  # Lᵀ x = y
-        acc = x[a]
-        for k in range(a + 1, n):
-            acc -= A[k, a] * x[k]
-        x[a] = acc / A[a, a]
+        x[a] = b[a]
+    cholesky_substitute(A, n, x)
     return True
 
 
