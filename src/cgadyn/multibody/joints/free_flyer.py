@@ -28,7 +28,7 @@ from ...kernels import (
 from ...kernels.lane_arrays import sqrt
 from ...kernels.layout import physical, quaternion, rotor
 from ...kernels.rigid import rigid_frame, rigid_rotate
-from .record import JointType
+from .record import JointType, unit_limits
 
 FREE_FLYER = 3
 
@@ -176,13 +176,6 @@ def _every_twist(B: np.ndarray) -> np.ndarray:
     return twist_from_motion(np.eye(6))  # [v, ω] of the body
 
 
-def _unit_quaternion(lower: np.ndarray, upper: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    lower, upper = lower.copy(), upper.copy()
-    lower[3:7] = np.maximum(lower[3:7], -1.0)
-    upper[3:7] = np.minimum(upper[3:7], 1.0)
-    return lower, upper
-
-
 def _random(rng: np.random.Generator, q: np.ndarray, box: float) -> None:
     """A uniform position in ``[-box, box]³``, a uniformly random rotation."""
     q[0:3] = rng.uniform(-box, box, 3)
@@ -237,7 +230,7 @@ TYPES = (
               v_names=("vx", "vy", "vz", "wx", "wy", "wz"),
               speeds=("free",) * 3 + ("angular",) * 3, actuated=False, floating=True,
               additive=False, quaternion=3, neutral=(0.0,) * 6 + (1.0,),
-              subspace=_every_twist, limits=_unit_quaternion, random=_random,
+              subspace=_every_twist, limits=unit_limits(3, 7), random=_random,
               pinocchio=("JointModelFreeFlyer",), mujoco="free", to_mujoco=_to_mujoco,
               from_mujoco=_from_mujoco, mujoco_velocity=_mujoco_velocity,
               from_mujoco_velocity=_from_mujoco_velocity,

@@ -29,7 +29,7 @@ from ...kernels import (
 )
 from ...kernels.lane_arrays import select_nonnegative, sqrt
 from ...kernels.layout import physical, quaternion
-from .record import JointType
+from .record import JointType, unit_limits
 
 PLANAR = 5
 
@@ -136,13 +136,6 @@ def _plane(B: np.ndarray) -> np.ndarray:
     return twist_from_motion(np.eye(6)[[0, 1, 5]])  # vx, vy, ωz of the child body
 
 
-def _unit_direction(lower: np.ndarray, upper: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    lower, upper = lower.copy(), upper.copy()
-    lower[2:4] = np.maximum(lower[2:4], -1.0)
-    upper[2:4] = np.minimum(upper[2:4], 1.0)
-    return lower, upper
-
-
 def _random(rng: np.random.Generator, q: np.ndarray, box: float) -> None:
     """The position as drawn within the limits, a uniformly random angle."""
     theta = rng.uniform(-np.pi, np.pi)
@@ -154,7 +147,7 @@ TYPES = (
               q_names=("x", "y", "cos", "sin"), v_names=("vx", "vy", "wz"),
               speeds=("linear", "linear", "angular"), actuated=True, floating=False,
               additive=False, quaternion=2, unit_length=2, neutral=(0.0, 0.0, 1.0, 0.0),
-              subspace=_plane, limits=_unit_direction, random=_random,
+              subspace=_plane, limits=unit_limits(2, 4), random=_random,
               pinocchio=("JointModelPlanar",), mujoco=None),
 )
 """The planar type's record (``record.JointType``): actuated (a gantry's two slides and

@@ -23,6 +23,20 @@ def _kept(lower: np.ndarray, upper: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     return lower, upper
 
 
+def unit_limits(start: int, stop: int) -> Callable:
+    """The ``limits`` map of a joint whose coordinates ``start:stop`` are the components of a
+    unit vector (a quaternion, a direction ``(cos θ, sin θ)``): the limits given, with those
+    components' cut to ``[-1, 1]``, the most they can reach."""
+
+    def limits(lower: np.ndarray, upper: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        lower, upper = lower.copy(), upper.copy()
+        lower[start:stop] = np.maximum(lower[start:stop], -1.0)
+        upper[start:stop] = np.minimum(upper[start:stop], 1.0)
+        return lower, upper
+
+    return limits
+
+
 def _unchanged_velocity(q: np.ndarray, v: np.ndarray) -> np.ndarray:
     return v
 

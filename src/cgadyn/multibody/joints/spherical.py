@@ -18,7 +18,7 @@ from ..._jit import inline
 from ...cga.conventions import twist_from_motion
 from ...kernels import motor_mul_rotor
 from .free_flyer import quaternion_rotor
-from .record import JointType
+from .record import JointType, unit_limits
 
 SPHERICAL = 4
 
@@ -33,10 +33,6 @@ def spherical_motor(X, q, i, tmp, out):
 
 def _rotations(B: np.ndarray) -> np.ndarray:
     return twist_from_motion(np.eye(6)[3:])  # ω of the child body, in its frame
-
-
-def _unit_quaternion(lower: np.ndarray, upper: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    return np.maximum(lower, -1.0), np.minimum(upper, 1.0)
 
 
 def _random(rng: np.random.Generator, q: np.ndarray, box: float) -> None:
@@ -58,7 +54,7 @@ TYPES = (
               nq=4, nv=3, q_names=("qx", "qy", "qz", "qw"), v_names=("wx", "wy", "wz"),
               speeds=("angular",) * 3, actuated=True, floating=False, additive=False,
               quaternion=0, cone=True, neutral=(0.0, 0.0, 0.0, 1.0), subspace=_rotations,
-              limits=_unit_quaternion, random=_random, pinocchio=("JointModelSpherical",),
+              limits=unit_limits(0, 4), random=_random, pinocchio=("JointModelSpherical",),
               mujoco="ball", to_mujoco=_to_mujoco, from_mujoco=_from_mujoco),
 )
 """The spherical type's record (``record.JointType``): actuated (a motor per axis, as
