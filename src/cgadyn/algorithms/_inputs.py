@@ -20,6 +20,15 @@ _NUMERIC = "biuf"
 """numpy dtype kinds taken as numbers: bool, signed and unsigned integers, floats."""
 
 
+def nonnegative(x, name: str) -> float:
+    """``x`` as a float: a finite real number >= 0 (a bool is not one), else a
+    ``ValueError`` naming ``name``; every setting that must be such a number is checked
+    here."""
+    if isinstance(x, bool) or not isinstance(x, numbers.Real) or not np.isfinite(x) or x < 0:
+        raise ValueError(f"{name} must be a finite number >= 0, got {x!r}")
+    return float(x)
+
+
 def time_step(dt) -> float:
     """``dt`` in seconds as a float: a finite real number > 0 (a bool is not one), else a
     ``ValueError`` that says so; every entry that takes a time step checks it here."""

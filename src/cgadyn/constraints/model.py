@@ -12,7 +12,6 @@ its origin).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -59,16 +58,6 @@ def _joint_frame(model, link: int, P: np.ndarray) -> tuple[int, np.ndarray]:
     world), and that frame in the joint's frame (in the world for -1): what compiled code
     moves by the joint's world motor (``constraints/core.py``), one motor product per end."""
     return int(model.link_joint[link]), model.link_placement_matrices[link] @ P
-
-
-def _gain(value, name: str) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        x = math.nan
-    if not math.isfinite(x) or x < 0.0:
-        raise ValueError(f"corrector {name} must be a finite number >= 0, got {value!r}")
-    return x
 
 
 @dataclass(frozen=True, eq=False)
@@ -138,7 +127,8 @@ class Constraint:
         label += " on the world" if j is None else f" on {model.link_names[j]}"
         for name, value in (("model", model), ("kind", kind), ("link", i), ("placement", P1),
                             ("other", j), ("other_placement", P2), ("frame", frame),
-                            ("corrector", (_gain(kp, "Kp"), _gain(kd, "Kd"))),
+                            ("corrector", (_inputs.nonnegative(kp, "corrector Kp"),
+                                           _inputs.nonnegative(kd, "corrector Kd"))),
                             ("name", label)):
             object.__setattr__(self, name, value)
         P1.flags.writeable = False

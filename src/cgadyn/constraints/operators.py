@@ -53,12 +53,7 @@ def checked_settings(damping, iterations=1, accuracy=0.0, restitution=0.0) -> np
     if isinstance(iterations, bool) or not isinstance(iterations, int | np.integer) \
             or iterations < 1:
         raise ValueError(f"iterations must be an integer >= 1, got {iterations!r}")
-    try:
-        acc = float(accuracy)
-    except (TypeError, ValueError):
-        acc = float("nan")
-    if not np.isfinite(acc) or acc < 0.0:
-        raise ValueError(f"accuracy must be a finite number >= 0, got {accuracy!r}")
+    acc = _inputs.nonnegative(accuracy, "accuracy")
     try:
         e = float(restitution)
     except (TypeError, ValueError):
@@ -105,13 +100,7 @@ def constraint_drift(model, q, v, constraints) -> np.ndarray:
 
 
 def damping_value(damping) -> float:
-    try:
-        mu = float(damping)
-    except (TypeError, ValueError):
-        mu = float("nan")
-    if not np.isfinite(mu) or mu < 0.0:
-        raise ValueError(f"damping must be a finite number >= 0, got {damping!r}")
-    return mu
+    return _inputs.nonnegative(damping, "damping")
 
 
 PLAIN = checked_settings(NO_DAMPING)

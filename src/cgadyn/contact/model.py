@@ -18,6 +18,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from ..algorithms._inputs import nonnegative
 from . import distance as D
 from .api import check_rigid, explain
 from .shapes import (
@@ -105,7 +106,8 @@ class CollisionModel(tuple):
         at each contact point, along its normal (K41): a soft sole, which sinks by its
         load over its stiffness and settles on its outermost points, where a rigid one
         rocks on the highest bumps of its mesh. ``stiffness = damping = 0``: rigid again."""
-        k, c = _non_negative(stiffness, "stiffness"), _non_negative(damping, "damping")
+        k = nonnegative(stiffness, "compliant: stiffness")
+        c = nonnegative(damping, "compliant: damping")
         chosen = None
         if links is not None:
             names = [links] if isinstance(links, (str, int, np.integer)) else list(links)
@@ -200,16 +202,6 @@ class CollisionModel(tuple):
     def __repr__(self):
         return f"CollisionModel({len(self)} shapes: {', '.join(self.names[:6])}" \
                f"{' ...' if len(self) > 6 else ''})"
-
-
-def _non_negative(x, name: str) -> float:
-    try:
-        value = float(x)
-    except (TypeError, ValueError):
-        value = float("nan")
-    if not (np.isfinite(value) and value >= 0.0):
-        raise ValueError(f"compliant: {name} must be a finite number >= 0, got {x!r}")
-    return value
 
 
 def collision_model(model, source=None, max_vertices: int = 64) -> CollisionModel:

@@ -11,6 +11,7 @@ import numba
 import numpy as np
 
 from .._threads import PARALLEL_LOCK
+from ..algorithms._inputs import nonnegative
 from ..algorithms.status import DELASSUS_SINGULAR, NONFINITE_INPUT, OK, decode
 from . import ncp
 from .admm import SCRATCH_ROWS
@@ -72,9 +73,7 @@ def _settings(tolerance, relative_tolerance, max_iterations, warm: bool,
               proximal) -> np.ndarray:
     for name, value in (("tolerance", tolerance), ("relative_tolerance", relative_tolerance),
                         ("proximal", proximal)):
-        if not isinstance(value, int | float | np.floating | np.integer) or \
-                not np.isfinite(value) or value < 0:
-            raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+        nonnegative(value, name)
     if proximal <= 0:
         raise ValueError(f"proximal must be > 0 (ADMM's proximal weight η), got {proximal!r}")
     if isinstance(max_iterations, bool) or not isinstance(max_iterations, int | np.integer) \

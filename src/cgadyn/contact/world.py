@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..algorithms._inputs import nonnegative
 from . import manifold as C
 from .shapes import Plane
 
@@ -193,8 +194,7 @@ def ground_contacts(model, collisions, q, world: World | None = None,
     from .pairs import bounding_radii
 
     world = checked_world(world, "ground_contacts")
-    if not (isinstance(margin, (int, float)) and np.isfinite(margin) and margin >= 0):
-        raise ValueError(f"margin must be a finite number >= 0, got {margin!r}")
+    nonnegative(margin, "margin")
     cm = _collisions(collisions, model)
     q = np.asarray(q, dtype=float)
     if q.shape != (model.nq,):
@@ -205,8 +205,7 @@ def ground_contacts(model, collisions, q, world: World | None = None,
     K = len(cm)
     twists = shape_twists(model, cm, q, v, v_free)
     for name, x in (("dt", dt), ("patch", patch)):
-        if not (isinstance(x, (int, float)) and np.isfinite(x) and x >= 0):
-            raise ValueError(f"{name} must be a finite number >= 0, got {x!r}")
+        nonnegative(x, name)
     out = np.empty((K, C.MAX_CONTACTS, C.OUT))
     counts = np.zeros(K)  # float, as the rollouts' scratch holds it: one compiled variant
     C.shapes_on_plane(cm.kinds, cm.sizes, cm.vertices, cm.offsets, poses,
