@@ -145,6 +145,7 @@ the solver tried first (``contact.solver``'s code), the residual a step may end 
 REPORT = 4
 """The report of the last contact step: ``[iterations (both solvers), primal, dual,
 complementarity]`` (zeros for a step without a contact problem)."""
+LIMIT_TORQUE, FRICTION_TORQUE, COUPLING_TORQUE = range(3)
 JOINT_TORQUES = 3
 """The generalised forces a step keeps (``joint_torques``' rows): the joint limits' (with
 the ropes'), the friction losses', the couplings'."""
@@ -821,16 +822,17 @@ def _keep(m, w_, k_, nc, nl, nrp, J, lam, vn, dt):
     for k in range(nl):  # τ_limit = Σ J_rᵀ λ_r / dt
         slot, r = int(lrows[k, ROW_SLOT]), n0 + k
         lhad[slot], lprev[slot] = 1.0, lam[r]
-        _add_torque(J, r, lam[r] / dt, w_.joint_torques, 0)
+        _add_torque(J, r, lam[r] / dt, w_.joint_torques, LIMIT_TORQUE)
     L = 2 * wa.limits.shape[0]
     for k in range(nf + ne):  # the friction rows, then the couplings': their impulses kept
         lhad[L + k], lprev[L + k] = 1.0, lam[n1 + k]
     for r in range(n1, n3):  # τ_friction = Σ e_k λ / dt, τ_coupling = Σ a λ / dt
-        _add_torque(J, r, lam[r] / dt, w_.joint_torques, 1 if r < n1 + nf else 2)
+        _add_torque(J, r, lam[r] / dt, w_.joint_torques,
+                    FRICTION_TORQUE if r < n1 + nf else COUPLING_TORQUE)
     for k in range(nrp):  # the ropes' bounds (K46), limits of a tendon's length
         slot = L + nf + ne + int(w_.rrows[k, ROPE_SLOT])
         lhad[slot], lprev[slot] = 1.0, lam[n3 + k]
-        _add_torque(J, n3 + k, lam[n3 + k] / dt, w_.joint_torques, 0)
+        _add_torque(J, n3 + k, lam[n3 + k] / dt, w_.joint_torques, LIMIT_TORQUE)
     for i in range(m.nv):
         if not math.isfinite(vn[i]):
             return fault(NONFINITE_RESULT, -1)

@@ -44,7 +44,16 @@ from ..multibody.joints.table import spring_deflection
 from ..multibody.packed import DEFAULT_GRAVITY, with_armature
 from . import pages
 from .bodies import robot_and_bodies
-from .contact import JOINT_TORQUES, KEPT, REPORT, slots, world_arrays
+from .contact import (
+    COUPLING_TORQUE,
+    FRICTION_TORQUE,
+    JOINT_TORQUES,
+    KEPT,
+    LIMIT_TORQUE,
+    REPORT,
+    slots,
+    world_arrays,
+)
 from .controllers import PD, GravityCompensation, actuated_gains
 from .criteria import ContactScene
 from .rollout import (
@@ -297,7 +306,8 @@ def simulate(model, q0, v0, dt, steps, tau=None, integrator: str = "rk4", gravit
         iterations = np.where(np.isnan(CF[..., 1]), -1, CF[..., 1]).astype(np.int64)
         residual = CF[..., 2].copy()
         forces = CS.transpose(0, 2, 1, 3)  # (B, rows, K, 3), a view
-        limit, friction, coupling = (CT[:, i].transpose(0, 2, 1) for i in range(3))
+        limit, friction, coupling = (CT[:, i].transpose(0, 2, 1) for i in
+                                     (LIMIT_TORQUE, FRICTION_TORQUE, COUPLING_TORQUE))
     if not batch:
         end = int(last[0]) + 1
         Q, V, A, X, t = Q[0, :end], V[0, :end], A[0, :end], X[0, :end], t[:end].copy()
